@@ -1,0 +1,133 @@
+// The L1-resident kernel benchmark: R rays x P primitives, every pair tested, in three forms
+// that run the same kernel text:
+//   scalar           one ray x one primitive, float (compiled in its own translation unit
+//                    with -fno-tree-vectorize -fno-tree-slp-vectorize: a true scalar baseline)
+//   rays_in_lanes    K = 8 rays x 1 primitive (primitive broadcast)
+//   prims_in_lanes   1 ray (broadcast) x M = 8 primitives
+// and three cases: every pair hits, every pair misses, half the pairs hit (ray class i%2 hits
+// primitive class j%2 only, so both SIMD mappings see half their lanes hit).
+//
+// A bench spec (bench/specs.hpp) says how to make a primitive and a ray of a given class and
+// which kernel to run: see SphereGeometricSpec for the shape.
+#pragma once
+
+#include "core/counted.hpp"
+#include "soa/prims.hpp"
+#include "soa/rays.hpp"
+
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace rb::bench {
+
+enum class Case { hit, miss, half };
+inline const char* case_name(Case c) { return c == Case::hit ? "hit" : c == Case::miss ? "miss" : "half"; }
+enum class Variant { scalar, rays_in_lanes, prims_in_lanes };
+inline const char* variant_name(Variant v) {
+  return v == Variant::scalar ? "scalar" : v == Variant::rays_in_lanes ? "rays_in_lanes" : "prims_in_lanes";
+}
+
+inline constexpr std::size_t kBenchRays = 256;   // 256 rays x 11 floats = 11 KiB
+inline constexpr std::size_t kBenchPrims = 64;   // 64 primitives: < 4 KiB for every kind here
+inline constexpr std::uint32_t kBenchSeed = 20261122;
+
+using Rng = std::mt19937;
+inline float uni(Rng& g, float a, float b) { return std::uniform_real_distribution<float>(a, b)(g); }
+
+// Class of ray i / primitive j for a case: a class-c ray hits exactly the class-c primitives.
+inline int ray_class(Case c, std::size_t i) { return c == Case::hit ? 0 : c == Case::miss ? 1 : int(i % 2); }
+inline int prim_class(Case c, std::size_t j) { return c == Case::half ? int(j % 2) : 0; }
+
+// Default ray of class c: from z = -50 towards +z with a little jitter, shifted by 10 in x per
+// class; bounded primitives of class c sit around (10 c, 0, z > 0) with extent >= 0.5.
+inline Ray<float> default_ray(int cls, Rng& g) {
+  const Vec3f o{10.f * float(cls) + uni(g, -0.3f, 0.3f), uni(g, -0.3f, 0.3f), -50.f};
+  const Vec3f d{uni(g, -0.002f, 0.002f), uni(g, -0.002f, 0.002f), 1.f};
+  return make_ray(o, d);
+}
+
+template <class Spec>
+struct BenchData {
+  RaySoA rays;
+  typename Spec::Soa prims;
+  std::size_t tests() const { return rays.count * Spec::count(prims); }
+};
+
+template <class Spec>
+BenchData<Spec> make_bench_data(Case c) {
+  Rng g(kBenchSeed);
+  BenchData<Spec> d;
+  std::vector<typename Spec::Input> in;
+  for (std::size_t j = 0; j < kBenchPrims; ++j) in.push_back(Spec::make(prim_class(c, j), int(j), g));
+  d.prims = Spec::build(in);
+  for (std::size_t i = 0; i < kBenchRays; ++i) d.rays.push(Spec::ray(ray_class(c, i), g));
+  return d;
+}
+
+struct Acc {
+  double tsum = 0;
+  std::uint64_t hits = 0;
+};
+
+template <class F>
+RB_INLINE void accumulate(Acc& a, const Hit<F>& h, F& tsum, std::uint64_t& hits) {
+  tsum = tsum + vselect(h.mask, h.t, F(0));
+  for (int k = 0; k < lanes_v<F>; ++k) hits += lane_mask<F>(h.mask, k) ? 1u : 0u;
+  (void)a;
+}
+
+// Rays in lanes: every primitive broadcast against packets of K rays.
+template <class Spec, class F>
+RB_INLINE Acc run_rays_in_lanes(const BenchData<Spec>& d) {
+  F tsum = F(0);
+  std::uint64_t hits = 0;
+  Acc a;
+  const std::size_t np = d.prims.size(), nr = d.rays.size();
+  for (std::size_t j = 0; j < np; ++j) {
+    const auto p = d.prims.template broadcast<F>(j);
+    for (std::size_t i = 0; i < nr; i += lanes_v<F>) {
+      const Hit<F> h = Spec::run(d.rays.template packet<F>(i), p, d.prims, j);
+      accumulate(a, h, tsum, hits);
+    }
+  }
+  for (int k = 0; k < lanes_v<F>; ++k) a.tsum += double(lane(tsum, k));
+  a.hits = hits;
+  return a;
+}
+
+// Primitives in lanes: every ray broadcast against groups of M primitives.
+template <class Spec, class F>
+RB_INLINE Acc run_prims_in_lanes(const BenchData<Spec>& d) {
+  F tsum = F(0);
+  std::uint64_t hits = 0;
+  Acc a;
+  const std::size_t np = d.prims.size(), nr = d.rays.size();
+  for (std::size_t i = 0; i < nr; ++i) {
+    const Ray<F> r = d.rays.template broadcast<F>(i);
+    for (std::size_t j = 0; j < np; j += lanes_v<F>) {
+      const Hit<F> h = Spec::run(r, d.prims.template load<F>(j), d.prims, j);
+      accumulate(a, h, tsum, hits);
+    }
+  }
+  for (int k = 0; k < lanes_v<F>; ++k) a.tsum += double(lane(tsum, k));
+  a.hits = hits;
+  return a;
+}
+
+// Operations per test (per lane, so masked-off SIMD lanes count as work done) measured by
+// running the variant once with Counted numbers.
+template <class Spec>
+double ops_per_test(const BenchData<Spec>& d, Variant v) {
+  const ops::Scope s;
+  if (v == Variant::scalar) (void)run_rays_in_lanes<Spec, cfloat>(d);
+  else if (v == Variant::rays_in_lanes) (void)run_rays_in_lanes<Spec, cf8>(d);
+  else (void)run_prims_in_lanes<Spec, cf8>(d);
+  const double lanes = v == Variant::scalar ? 1.0 : 8.0;
+  // tests counted over the padded arrays, as the timed loops run them
+  const double tests = double(d.rays.size()) * double(d.prims.size());
+  return double(s.elapsed().flops() + s.elapsed().cmp + s.elapsed().minmax + s.elapsed().select) * lanes / tests;
+}
+
+}  // namespace rb::bench

@@ -1,0 +1,44 @@
+// The operations table: for every kernel and method, the lecture's counts (where the slides
+// give them) next to the counts Counted<float> measures on a ray that hits and a ray that
+// misses, and the per-lane count of the 8-lane SIMD instantiation.
+#pragma once
+
+#include "core/counted.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace rb::opstable {
+
+// A slide's count: +- (add), * (mul), / (div), comparisons (< and <=), sqrt.
+struct Lecture {
+  int add = 0, mul = 0, div = 0, cmp = 0, sqrt = 0;
+};
+
+struct Row {
+  std::string kernel, method, kase;   // kase: "hit" or "miss"
+  std::string number;                 // "float" or "simd8"
+  std::optional<Lecture> lecture;
+  OpCounts measured;                  // simd8: a packet whose other lanes take the other case
+  std::optional<OpCounts> uniform;    // simd8: a packet whose lanes all take this case
+  std::string note;                   // why measured differs from the lecture (or what it counts)
+};
+
+// Every row, measured now.
+std::vector<Row> build();
+
+// Differences measured - lecture on the five lecture kinds (FMA counted as 1 mul + 1 add).
+struct Diff {
+  long add, mul, div, cmp, sqrt;
+  bool zero() const { return !add && !mul && !div && !cmp && !sqrt; }
+};
+Diff diff(const Row& r);
+
+nlohmann::json to_json(const std::vector<Row>& rows);
+std::string to_markdown(const std::vector<Row>& rows);
+std::string to_text(const std::vector<Row>& rows);
+
+}  // namespace rb::opstable

@@ -1,0 +1,44 @@
+// Registers the Google Benchmark cases of one bench spec and variant. Included by exactly two
+// translation units: bench_scalar.cpp (compiled with auto-vectorisation off, the true scalar
+// baseline) and bench_simd.cpp (the two SIMD mappings); each instantiates only its variants.
+#pragma once
+
+#include "bench/harness.hpp"
+
+#include <benchmark/benchmark.h>
+
+#include <memory>
+#include <string>
+
+namespace rb::bench {
+
+template <class Spec, Variant V>
+void register_one() {
+  for (Case c : {Case::hit, Case::miss, Case::half}) {
+    const std::string name = std::string(Spec::kernel) + "/" + Spec::method + "/" + variant_name(V) + "/" + case_name(c);
+    benchmark::RegisterBenchmark(name.c_str(), [c](benchmark::State& st) {
+      const auto d = std::make_unique<BenchData<Spec>>(make_bench_data<Spec>(c));  // set-up, not timed
+      const double opt = ops_per_test(*d, V);
+      Acc a;
+      for (auto _ : st) {
+        if constexpr (V == Variant::scalar) a = run_rays_in_lanes<Spec, float>(*d);
+        else if constexpr (V == Variant::rays_in_lanes) a = run_rays_in_lanes<Spec, f8>(*d);
+        else a = run_prims_in_lanes<Spec, f8>(*d);
+        benchmark::DoNotOptimize(a);
+      }
+      const double tests = double(d->tests());
+      st.counters["tests_per_s"] = benchmark::Counter(tests, benchmark::Counter::kIsIterationInvariantRate);
+      st.counters["ops_per_test"] = opt;
+      st.counters["hit_fraction"] = double(a.hits) / tests;
+    });
+  }
+}
+
+void register_scalar_benchmarks();  // bench_scalar.cpp
+void register_simd_benchmarks();    // bench_simd.cpp
+inline void register_all_benchmarks() {
+  register_scalar_benchmarks();
+  register_simd_benchmarks();
+}
+
+}  // namespace rb::bench

@@ -1,0 +1,156 @@
+// The number-type layer: every kernel is written once over a number type F and calls only the
+// functions in this header (vmin, vmax, vselect, vsqrt, vabs, vfma, any_of, all_of, none_of,
+// lane, load, ...). Each supported type is described once, by a specialisation of num<F>.
+//
+// Supported: float, double, the 8-lane float batch (AVX2+FMA), the 4-lane double batch, and
+// Counted<T> over each of those (core/counted.hpp).
+//
+// Names are deliberately not min/max/select/any/all: unqualified calls on xsimd batches would
+// find xsimd's overloads by argument-dependent lookup and the result would depend on include
+// order (DESIGN.md section 3).
+#pragma once
+
+#include <xsimd/xsimd.hpp>
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <type_traits>
+
+#define RB_INLINE inline __attribute__((always_inline))
+
+namespace rb {
+
+// Pinned, never default_arch: that becomes 16 lanes on an AVX-512 host.
+using simd_arch = xsimd::fma3<xsimd::avx2>;
+using f8 = xsimd::batch<float, simd_arch>;
+using d4 = xsimd::batch<double, simd_arch>;
+using f8_mask = xsimd::batch_bool<float, simd_arch>;
+using d4_mask = xsimd::batch_bool<double, simd_arch>;
+inline constexpr std::size_t kSimdAlign = 32;
+
+template <class F>
+struct num;  // one specialisation per number type
+
+// ---- plain IEEE scalars ---------------------------------------------------------------------
+template <class T>
+struct scalar_num {
+  using type = T;
+  using scalar = T;  // the IEEE type of one lane
+  using mask = bool;
+  static constexpr int lanes = 1;
+  // a < b ? a : b, the semantics of minps/maxps: a NaN in the first argument yields the second.
+  // (std::min and xsimd 8.1's scalar min differ: DESIGN.md section 6.)
+  static RB_INLINE T min(T a, T b) { return a < b ? a : b; }
+  static RB_INLINE T max(T a, T b) { return a > b ? a : b; }
+  static RB_INLINE T select(bool m, T a, T b) { return m ? a : b; }
+  static RB_INLINE T sqrt(T a) { return std::sqrt(a); }
+  static RB_INLINE T abs(T a) { return std::fabs(a); }
+  static RB_INLINE T fma(T a, T b, T c) { return std::fma(a, b, c); }
+  static RB_INLINE T copysign(T a, T b) { return std::copysign(a, b); }
+  static RB_INLINE bool any(bool m) { return m; }
+  static RB_INLINE bool all(bool m) { return m; }
+  static RB_INLINE bool mnot(bool m) { return !m; }
+  static RB_INLINE bool mconst(bool b) { return b; }
+  static RB_INLINE bool lane_mask(bool m, int) { return m; }
+  static RB_INLINE T lane(T v, int) { return v; }
+  template <class S>
+  static RB_INLINE T load(const S* p) { return static_cast<T>(*p); }
+  template <class S>
+  static RB_INLINE void store(S* p, T v) { *p = static_cast<S>(v); }
+};
+template <> struct num<float> : scalar_num<float> { static constexpr const char* name = "float"; };
+template <> struct num<double> : scalar_num<double> { static constexpr const char* name = "double"; };
+
+// ---- xsimd batches (AVX2 + FMA, pinned) -------------------------------------------------------
+template <class T>
+struct batch_num {
+  using type = xsimd::batch<T, simd_arch>;
+  using scalar = T;
+  using mask = xsimd::batch_bool<T, simd_arch>;
+  static constexpr int lanes = static_cast<int>(type::size);
+  static RB_INLINE type min(const type& a, const type& b) { return xsimd::min(a, b); }
+  static RB_INLINE type max(const type& a, const type& b) { return xsimd::max(a, b); }
+  static RB_INLINE type select(const mask& m, const type& a, const type& b) { return xsimd::select(m, a, b); }
+  static RB_INLINE type sqrt(const type& a) { return xsimd::sqrt(a); }
+  static RB_INLINE type abs(const type& a) { return xsimd::abs(a); }
+  static RB_INLINE type fma(const type& a, const type& b, const type& c) { return xsimd::fma(a, b, c); }
+  static RB_INLINE type copysign(const type& a, const type& b) { return xsimd::copysign(a, b); }
+  static RB_INLINE bool any(const mask& m) { return xsimd::any(m); }
+  static RB_INLINE bool all(const mask& m) { return xsimd::all(m); }
+  static RB_INLINE mask mnot(const mask& m) { return ~m; }
+  static RB_INLINE mask mconst(bool b) { return mask(b); }
+  static RB_INLINE bool lane_mask(const mask& m, int i) {
+    alignas(kSimdAlign) bool b[type::size];
+    m.store_unaligned(b);
+    return b[i];
+  }
+  static RB_INLINE T lane(const type& v, int i) {
+    alignas(kSimdAlign) T b[type::size];
+    v.store_aligned(b);
+    return b[i];
+  }
+  // Loads `lanes` consecutive values. Same type: an aligned load (the SoA containers guarantee
+  // 32-byte alignment of every lane group). Float data into a double batch: converted lane by lane.
+  template <class S>
+  static RB_INLINE type load(const S* p) {
+    if constexpr (std::is_same_v<S, T>) {
+      return type::load_aligned(p);
+    } else {
+      alignas(kSimdAlign) T b[type::size];
+      for (std::size_t i = 0; i < type::size; ++i) b[i] = static_cast<T>(p[i]);
+      return type::load_aligned(b);
+    }
+  }
+  template <class S>
+  static RB_INLINE void store(S* p, const type& v) {
+    if constexpr (std::is_same_v<S, T>) {
+      v.store_aligned(p);
+    } else {
+      alignas(kSimdAlign) T b[type::size];
+      v.store_aligned(b);
+      for (std::size_t i = 0; i < type::size; ++i) p[i] = static_cast<S>(b[i]);
+    }
+  }
+};
+template <> struct num<f8> : batch_num<float> { static constexpr const char* name = "simd8"; };
+template <> struct num<d4> : batch_num<double> { static constexpr const char* name = "simd4d"; };
+
+// ---- the functions kernels call ---------------------------------------------------------------
+template <class F> using mask_t = typename num<F>::mask;
+template <class F> using scalar_t = typename num<F>::scalar;
+template <class F> inline constexpr int lanes_v = num<F>::lanes;
+
+template <class F> RB_INLINE F vmin(const F& a, const F& b) { return num<F>::min(a, b); }
+template <class F> RB_INLINE F vmax(const F& a, const F& b) { return num<F>::max(a, b); }
+template <class F> RB_INLINE F vselect(const mask_t<F>& m, const F& a, const F& b) { return num<F>::select(m, a, b); }
+template <class F> RB_INLINE F vsqrt(const F& a) { return num<F>::sqrt(a); }
+template <class F> RB_INLINE F vabs(const F& a) { return num<F>::abs(a); }
+template <class F> RB_INLINE F vfma(const F& a, const F& b, const F& c) { return num<F>::fma(a, b, c); }
+template <class F> RB_INLINE F vcopysign(const F& a, const F& b) { return num<F>::copysign(a, b); }
+template <class F> RB_INLINE F vclamp(const F& x, const F& lo, const F& hi) { return vmin(vmax(x, lo), hi); }
+template <class F> RB_INLINE bool any_of(const mask_t<F>& m) { return num<F>::any(m); }
+template <class F> RB_INLINE bool all_of(const mask_t<F>& m) { return num<F>::all(m); }
+template <class F> RB_INLINE bool none_of(const mask_t<F>& m) { return !num<F>::any(m); }
+template <class F> RB_INLINE mask_t<F> mask_not(const mask_t<F>& m) { return num<F>::mnot(m); }
+template <class F> RB_INLINE scalar_t<F> lane(const F& v, int i) { return num<F>::lane(v, i); }
+template <class F> RB_INLINE bool lane_mask(const mask_t<F>& m, int i) { return num<F>::lane_mask(m, i); }
+template <class F, class S> RB_INLINE F load(const S* p) { return num<F>::load(p); }
+template <class F, class S> RB_INLINE void store(S* p, const F& v) { num<F>::store(p, v); }
+// A mask with every lane set / clear (free: no comparison is counted).
+template <class F> RB_INLINE mask_t<F> mask_true() { return num<F>::mconst(true); }
+template <class F> RB_INLINE mask_t<F> mask_false() { return num<F>::mconst(false); }
+
+template <class F> inline constexpr scalar_t<F> kInf = std::numeric_limits<scalar_t<F>>::infinity();
+
+// Whether all lanes of two values are identical bit patterns (NaNs included): the test of
+// "scalar == SIMD bit for bit".
+template <class S>
+inline bool same_bits(S a, S b) {
+  static_assert(std::is_floating_point_v<S>);
+  return std::memcmp(&a, &b, sizeof(S)) == 0;
+}
+
+}  // namespace rb

@@ -1,0 +1,154 @@
+// Ray x triangle.
+//   lecture (seed 000 "Triangle"): R(u,v) = R0 + u U + v V, 0 <= u, v, u + v <= 1. The plane
+//     n = U x V, D = -n . R0 is intersected (t), the point [x,y,z] found, and [u,v] solved from
+//     the 2x2 system of the two coordinates that drop the dominant axis of n ("inverse
+//     transformation on the plane"). Lecture positive case: 14+- 14* 3/ 3<=.
+//     The dropped axis is a per-primitive constant; batches group primitives by it so it is
+//     uniform over the lanes of a SIMD call (TriLectureSoA).
+//   Moller-Trumbore (1997): the same system by Cramer's rule with the triple products shared.
+// Both are two-sided and return [u,v] (the barycentric coordinates of v1 and v2).
+#pragma once
+
+#include "core/ray.hpp"
+#include "soa/prims.hpp"
+
+#include <algorithm>
+#include <vector>
+
+namespace rb {
+
+// ---- lecture method ---------------------------------------------------------------------------
+template <class F>
+struct TriLecture {
+  Vec3<F> n;               // U x V (not normalised)
+  F D;                     // -n . R0
+  F r0a, r0b, ua, ub, va, vb, det;  // R0, U, V projected on the two kept axes; det = ua vb - va ub
+  auto fields() { return std::tie(n.x, n.y, n.z, D, r0a, r0b, ua, ub, va, vb, det); }
+  static TriLecture never() { return {{F(0), F(0), F(0)}, F(0), F(0), F(0), F(0), F(0), F(0), F(0), F(1)}; }
+};
+
+// The dropped axis of a lecture triangle: the largest component of its normal.
+inline int dominant_axis(const Vec3d& n) {
+  const double ax = std::fabs(n.x), ay = std::fabs(n.y), az = std::fabs(n.z);
+  return ax >= ay && ax >= az ? 0 : (ay >= az ? 1 : 2);
+}
+
+// Builds the lecture form of triangle (v0, v1, v2) (parallelogram: same data, different test).
+// Zero area or non-finite input gives never(); `axis` receives the dropped axis.
+template <class T>
+inline TriLecture<float> make_tri_lecture(Vec3<T> v0, Vec3<T> v1, Vec3<T> v2, int& axis) {
+  const Vec3d R0 = to_double(v0), U = to_double(v1) - R0, V = to_double(v2) - R0;
+  const Vec3d n = cross(U, V);
+  axis = 2;
+  if (!finite3(R0) || !finite3(U) || !finite3(V) || !finite3(n) || dot(n, n) == 0.0) return TriLecture<float>::never();
+  axis = dominant_axis(n);
+  const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+  TriLecture<float> t;
+  t.n = to_float(n);
+  t.D = float(-dot(n, R0));
+  t.r0a = float(R0[a]); t.r0b = float(R0[b]);
+  t.ua = float(U[a]); t.ub = float(U[b]); t.va = float(V[a]); t.vb = float(V[b]);
+  const double det = double(t.ua) * double(t.vb) - double(t.va) * double(t.ub);
+  if (det == 0.0 || !std::isfinite(float(det)) || float(det) == 0.f) { axis = 2; return TriLecture<float>::never(); }
+  t.det = float(det);
+  return t;
+}
+
+template <class F>
+RB_INLINE Hit<F> intersect_triangle_lecture(const Ray<F>& r, const TriLecture<F>& q, int axis) {
+  const F den = dot(q.n, r.d);                      // 2+- 3*
+  mask_t<F> m = den != F(0);                        // 1 cmp
+  if (none_of<F>(m)) return miss_hit<F>();
+  const F t = -(dot(q.n, r.o) + q.D) / den;         // 3+- 3* 1/
+  m = m & (t >= r.tmin) & (t <= r.tmax);            // 2 cmp
+  if (none_of<F>(m)) return miss_hit<F>();
+  const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+  const F pa = r.o[a] + r.d[a] * t;                 // the two kept coordinates of [x,y,z]: 2+- 2*
+  const F pb = r.o[b] + r.d[b] * t;
+  const F dx = pa - q.r0a, dy = pb - q.r0b;         // 2+-
+  const F u = (dx * q.vb - dy * q.va) / q.det;      // 1+- 2* 1/
+  const F v = (q.ua * dy - q.ub * dx) / q.det;      // 1+- 2* 1/
+  m = m & (u >= F(0)) & (v >= F(0)) & (u + v <= F(1));  // 1+- 3 cmp
+  return make_hit<F>(m, t, u, v);                   // 1 select
+}
+
+// Batch of lecture triangles grouped by dropped axis, each group padded to 8 lanes, so that
+// `axis_of(i)` is uniform over any aligned lane group.
+struct TriLectureSoA {
+  PrimSoA<TriLecture> prims;
+  std::vector<std::int8_t> axis;   // per slot (padded)
+  std::vector<std::uint32_t> id;   // input index per slot (UINT32_MAX for padding)
+  std::size_t real = 0;
+
+  template <class T>
+  static TriLectureSoA build(const std::vector<std::array<Vec3<T>, 3>>& tris) {
+    std::vector<TriLecture<float>> t(tris.size());
+    std::vector<int> ax(tris.size());
+    for (std::size_t i = 0; i < tris.size(); ++i) t[i] = make_tri_lecture(tris[i][0], tris[i][1], tris[i][2], ax[i]);
+    TriLectureSoA s;
+    s.real = tris.size();
+    for (int a = 0; a < 3; ++a) {
+      for (std::size_t i = 0; i < tris.size(); ++i)
+        if (ax[i] == a) { s.prims.push(t[i]); s.axis.push_back(std::int8_t(a)); s.id.push_back(std::uint32_t(i)); }
+      s.prims.seal();
+      while (s.axis.size() < s.prims.size()) { s.axis.push_back(std::int8_t(a)); s.id.push_back(UINT32_MAX); }
+    }
+    return s;
+  }
+  int axis_of(std::size_t i) const { return axis[i]; }
+  std::size_t size() const { return prims.size(); }
+  template <class F> RB_INLINE TriLecture<F> load(std::size_t i) const { return prims.load<F>(i); }
+  template <class F> RB_INLINE TriLecture<F> broadcast(std::size_t i) const { return prims.broadcast<F>(i); }
+};
+
+// ---- Moller-Trumbore --------------------------------------------------------------------------
+template <class F>
+struct Triangle {
+  Vec3<F> v0, e1, e2;
+  auto fields() { return std::tie(v0.x, v0.y, v0.z, e1.x, e1.y, e1.z, e2.x, e2.y, e2.z); }
+  static Triangle never() {
+    const F nan = F(std::numeric_limits<scalar_t<F>>::quiet_NaN());
+    return {{nan, nan, nan}, {nan, nan, nan}, {nan, nan, nan}};
+  }
+};
+
+// Edges are formed in double and rounded once. Zero area or non-finite input: never().
+template <class T>
+inline Triangle<float> make_triangle(Vec3<T> a, Vec3<T> b, Vec3<T> c) {
+  const Vec3d A = to_double(a), e1 = to_double(b) - A, e2 = to_double(c) - A;
+  const Vec3d n = cross(e1, e2);
+  if (!finite3(A) || !finite3(e1) || !finite3(e2) || !finite3(n) || dot(n, n) == 0.0) return Triangle<float>::never();
+  const Triangle<float> t{to_float(A), to_float(e1), to_float(e2)};
+  const Vec3d nr = cross(to_double(t.e1), to_double(t.e2));  // the rounded edges may be parallel
+  if (dot(nr, nr) == 0.0)
+    return Triangle<float>::never();
+  return t;
+}
+
+template <class F>
+RB_INLINE Hit<F> intersect_triangle_mt(const Ray<F>& r, const Triangle<F>& q) {
+  const Vec3<F> p = cross(r.d, q.e2);               // 3+- 6*
+  const F det = dot(q.e1, p);                       // 2+- 3*
+  mask_t<F> m = det != F(0);                        // 1 cmp
+  if (none_of<F>(m)) return miss_hit<F>();
+  const F inv = F(1) / det;                         // 1/
+  const Vec3<F> s = r.o - q.v0;                     // 3+-
+  const F u = dot(s, p) * inv;                      // 2+- 4*
+  m = m & (u >= F(0)) & (u <= F(1));                // 2 cmp
+  if (none_of<F>(m)) return miss_hit<F>();
+  const Vec3<F> qv = cross(s, q.e1);                // 3+- 6*
+  const F v = dot(r.d, qv) * inv;                   // 2+- 4*
+  m = m & (v >= F(0)) & (u + v <= F(1));            // 1+- 2 cmp
+  if (none_of<F>(m)) return miss_hit<F>();
+  const F t = dot(q.e2, qv) * inv;                  // 2+- 4*
+  m = m & (t >= r.tmin) & (t <= r.tmax);            // 2 cmp
+  return make_hit<F>(m, t, u, v);                   // 1 select
+}
+
+// Geometric normal (not normalised), e1 x e2: 3+- 6*.
+template <class F>
+RB_INLINE Vec3<F> triangle_normal(const Triangle<F>& q) { return cross(q.e1, q.e2); }
+template <class F>
+RB_INLINE Vec3<F> triangle_normal(const TriLecture<F>& q) { return q.n; }
+
+}  // namespace rb

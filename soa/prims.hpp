@@ -1,0 +1,85 @@
+// PrimSoA<P>: one structure-of-arrays batch for a primitive kind P.
+//
+// A primitive kind is a struct template P<F> whose members are numbers of type F (directly or in
+// Vec3<F>) and which lists them once, in `auto fields()` returning std::tie(...). The batch then
+// holds exactly those fields, one aligned float array each, padded to 8 lanes with a filler that
+// never hits. The same kernel text runs on both SIMD mappings:
+//   rays in lanes:       kernel(rays.packet<F>(i), prims.broadcast<F>(j))
+//   primitives in lanes: kernel(rays.broadcast<F>(i), prims.load<F>(j))
+#pragma once
+
+#include "soa/aligned.hpp"
+
+#include <array>
+#include <tuple>
+
+namespace rb {
+
+template <template <class> class P>
+struct PrimSoA {
+  static constexpr std::size_t kFields = std::tuple_size_v<decltype(std::declval<P<float>&>().fields())>;
+  std::array<avec<float>, kFields> f;
+  std::size_t count = 0;
+
+  std::size_t size() const { return f[0].size(); }  // padded
+
+  // `filler` is a primitive that no ray hits (each kind provides P<float>::never()).
+  void push(const P<float>& p) {
+    for (auto& a : f) a.resize(count);
+    put(p);
+    ++count;
+    const P<float> pad = P<float>::never();
+    while (f[0].size() % kPadLanes) put(pad);
+  }
+  // Makes the current padding permanent (the next push starts a new aligned lane group);
+  // `count` then includes the filler slots.
+  void seal() { count = size(); }
+  void reserve(std::size_t n) {
+    for (auto& a : f) a.reserve(round_up(n, kPadLanes));
+  }
+  std::size_t bytes() const { return kFields * size() * sizeof(float); }
+
+  P<float> get(std::size_t i) const { return load<float>(i); }
+  template <class F>
+  RB_INLINE P<F> load(std::size_t i) const {
+    P<F> p;
+    load_fields<F>(p.fields(), i, std::make_index_sequence<kFields>{});
+    return p;
+  }
+  template <class F>
+  RB_INLINE P<F> broadcast(std::size_t i) const {
+    P<F> p;
+    broadcast_fields<F>(p.fields(), i, std::make_index_sequence<kFields>{});
+    return p;
+  }
+
+ private:
+  void put(P<float> p) {
+    auto t = p.fields();
+    put_fields(t, std::make_index_sequence<kFields>{});
+  }
+  template <class Tup, std::size_t... I>
+  void put_fields(Tup& t, std::index_sequence<I...>) { (f[I].push_back(std::get<I>(t)), ...); }
+  template <class F, class Tup, std::size_t... I>
+  RB_INLINE void load_fields(Tup t, std::size_t i, std::index_sequence<I...>) const {
+    ((std::get<I>(t) = rb::load<F>(&f[I][i])), ...);
+  }
+  template <class F, class Tup, std::size_t... I>
+  RB_INLINE void broadcast_fields(Tup t, std::size_t i, std::index_sequence<I...>) const {
+    ((std::get<I>(t) = F(f[I][i])), ...);
+  }
+};
+
+// One primitive in every lane of another number type (broadcast of each field).
+template <class F, template <class> class P>
+RB_INLINE P<F> prim_cast(P<float> p) {
+  P<F> q;
+  auto src = p.fields();
+  auto dst = q.fields();
+  [&]<std::size_t... I>(std::index_sequence<I...>) {
+    ((std::get<I>(dst) = F(std::get<I>(src))), ...);
+  }(std::make_index_sequence<std::tuple_size_v<decltype(src)>>{});
+  return q;
+}
+
+}  // namespace rb

@@ -1,0 +1,67 @@
+// RaySoA: rays as a structure of arrays, 32-byte aligned, padded to a multiple of 8 lanes with
+// invalid rays (empty interval). packet<F>(i) is the K-ray view starting at ray i (K = lanes
+// of F, i a multiple of K); broadcast<F>(i) puts ray i in every lane.
+#pragma once
+
+#include "core/ray.hpp"
+#include "soa/aligned.hpp"
+
+#include <stdexcept>
+
+namespace rb {
+
+struct RaySoA {
+  avec<float> ox, oy, oz, dx, dy, dz, rx, ry, rz, tmin, tmax;
+  std::size_t count = 0;  // real rays; size() is the padded length
+
+  std::size_t size() const { return ox.size(); }
+  void reserve(std::size_t n) {
+    for (auto* a : arrays()) a->reserve(round_up(n, kPadLanes));
+  }
+  void clear() {
+    for (auto* a : arrays()) a->clear();
+    count = 0;
+  }
+  // Appends a validated ray (make_ray); keeps the arrays padded.
+  void push(const Ray<float>& r) {
+    trim_padding();
+    put(r);
+    ++count;
+    pad();
+  }
+  template <class T>
+  void push(Vec3<T> o, Vec3<T> d, T t0 = T(0), T t1 = std::numeric_limits<T>::infinity()) {
+    push(make_ray(o, d, t0, t1));
+  }
+
+  Ray<float> get(std::size_t i) const {
+    return {{ox[i], oy[i], oz[i]}, {dx[i], dy[i], dz[i]}, {rx[i], ry[i], rz[i]}, tmin[i], tmax[i]};
+  }
+  template <class F>
+  RB_INLINE Ray<F> packet(std::size_t i) const {
+    return {{load<F>(&ox[i]), load<F>(&oy[i]), load<F>(&oz[i])},
+            {load<F>(&dx[i]), load<F>(&dy[i]), load<F>(&dz[i])},
+            {load<F>(&rx[i]), load<F>(&ry[i]), load<F>(&rz[i])},
+            load<F>(&tmin[i]), load<F>(&tmax[i])};
+  }
+  template <class F>
+  RB_INLINE Ray<F> broadcast(std::size_t i) const { return Ray<F>::broadcast(get(i)); }
+
+ private:
+  std::vector<avec<float>*> arrays() { return {&ox, &oy, &oz, &dx, &dy, &dz, &rx, &ry, &rz, &tmin, &tmax}; }
+  void put(const Ray<float>& r) {
+    ox.push_back(r.o.x); oy.push_back(r.o.y); oz.push_back(r.o.z);
+    dx.push_back(r.d.x); dy.push_back(r.d.y); dz.push_back(r.d.z);
+    rx.push_back(r.rd.x); ry.push_back(r.rd.y); rz.push_back(r.rd.z);
+    tmin.push_back(r.tmin); tmax.push_back(r.tmax);
+  }
+  void trim_padding() {
+    for (auto* a : arrays()) a->resize(count);
+  }
+  void pad() {
+    const Ray<float> invalid = make_ray(Vec3f{0, 0, 0}, Vec3f{0, 0, 0});
+    while (ox.size() % kPadLanes) put(invalid);
+  }
+};
+
+}  // namespace rb
