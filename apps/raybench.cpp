@@ -1,4 +1,5 @@
 // raybench: the command-line front end. `raybench --help` lists the subcommands.
+#include "apps/commands.hpp"
 #include "apps/machine.hpp"
 #include "apps/report.hpp"
 #include "bench/ops_table.hpp"
@@ -39,6 +40,9 @@ int main(int argc, char** argv) {
   bench->add_option("--filter", bench_filter, "Regex on kernel/method/variant/case")->capture_default_str();
   bench->add_option("-r,--repetitions", bench_reps, "Repetitions")->capture_default_str()->check(CLI::Range(1, 100));
   bench->add_option("--min-time", bench_min, "Seconds per repetition")->capture_default_str()->check(CLI::Range(0.001, 10.0));
+
+  rb::app::add_info_command(app);
+  rb::app::add_query_command(app);
 
   auto* mach = app.add_subcommand("machine", "Print the machine and build description recorded with every result (JSON)");
 

@@ -1,6 +1,7 @@
 #include "apps/report.hpp"
 
 #include "apps/machine.hpp"
+#include "apps/report_sections.hpp"
 #include "bench/ops_table.hpp"
 #include "bench/register.hpp"
 
@@ -185,7 +186,10 @@ int run_report(const ReportOptions& o) {
   md += "![SIMD speedup over scalar](simd_speedup.png)\n\n";
   md += "### Targets (issue 2)\n\n" + targets_section(summary) + "\n";
 
-  std::cerr << "[report 3/3] charts\n";
+  std::cerr << "[report 3/3] scenes\n";
+  md += report_section_scenes(o, out, summary);
+
+  std::cerr << "[report] charts\n";
   write_file(out / "summary.json", summary.dump(2));
   if (o.charts) {
     const std::string cmd = std::string("/usr/bin/python3 '") + RB_SOURCE_DIR + "/tools/charts.py' '" + out.string() + "'";

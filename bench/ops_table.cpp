@@ -1,23 +1,12 @@
 #include "bench/ops_table.hpp"
 
+#include "bench/ops_detail.hpp"
 #include "bench/specs.hpp"
 
 #include <fmt/format.h>
 
 namespace rb::opstable {
 namespace {
-
-using bench::Case;
-using bench::Rng;
-
-// What each (kernel, method, case) row says. `lecture` empty: the slides give no count.
-struct Entry {
-  const char* kernel;
-  const char* method;
-  const char* kase;
-  std::optional<Lecture> lecture;
-  const char* note;
-};
 
 // Notes state every difference from the slide and its reason (tests/test_ops.cpp checks that a
 // row with a difference has a note).
@@ -49,99 +38,34 @@ const Entry kEntries[] = {
     {"box", "slab", "miss", std::nullopt, "no early exit: the same 12 min/max and 1 cmp as a hit"},
 };
 
-const Entry* find_entry(const std::string& k, const std::string& m, const std::string& c) {
-  for (const auto& e : kEntries)
-    if (k == e.kernel && m == e.method && c == e.kase) return &e;
-  return nullptr;
-}
-
-// Counts of fn(ray<F>, prim<F>) for F = cfloat on the given ray, and F = cf8 on a packet of 8
-// rays: lane 0 the given ray and lanes 1..7 `other` (no lane can exit early on its own), and
-// all eight the given ray (`uniform`: the packet exits early when every lane agrees).
-template <template <class> class P, class Fn>
-std::array<OpCounts, 3> count3(Fn fn, const P<float>& prim, const Ray<float>& ray, const Ray<float>& other) {
-  std::array<OpCounts, 3> out;
-  {
-    const auto p = prim_cast<cfloat>(prim);
-    const auto r = Ray<cfloat>::broadcast(ray);
-    const ops::Scope s;
-    fn(r, p);
-    out[0] = s.elapsed();
-  }
-  for (int u = 0; u < 2; ++u) {
-    RaySoA rays;
-    for (int k = 0; k < 8; ++k) rays.push(k == 0 || u == 1 ? ray : other);
-    const auto p = prim_cast<cf8>(prim);
-    const auto r = rays.packet<cf8>(0);
-    const ops::Scope s;
-    fn(r, p);
-    out[1 + u] = s.elapsed();
-  }
-  return out;
-}
-
-void add_rows(std::vector<Row>& rows, const char* kernel, const char* method, const char* kase,
-              const std::array<OpCounts, 3>& c) {
-  const Entry* e = find_entry(kernel, method, kase);
-  Row r;
-  r.kernel = kernel; r.method = method; r.kase = kase;
-  r.lecture = e ? e->lecture : std::nullopt;
-  r.note = e ? e->note : "";
-  r.number = "float";
-  r.measured = c[0];
-  rows.push_back(r);
-  r.number = "simd8";
-  r.measured = c[1];
-  r.uniform = c[2];
-  rows.push_back(r);
-}
-
-// The miss ray of the ops table: the spec's own (the lecture's negative case) or its class-1 ray.
-template <class Spec>
-Ray<float> ops_miss_ray(Rng& g) {
-  if constexpr (requires { Spec::ops_miss_ray(g); }) return Spec::ops_miss_ray(g);
-  else return Spec::ray(1, g);
-}
-
-// Rows of a bench spec: its class-0 primitive, its class-0 ray (hit) and class-1 ray (miss).
-template <class Spec>
-void add_spec_rows(std::vector<Row>& rows) {
-  Rng g(bench::kBenchSeed);
-  const auto soa = Spec::build({Spec::make(0, 0, g)});
-  const Ray<float> hit = Spec::ray(0, g), miss = ops_miss_ray<Spec>(g);
-  const auto prim = soa.template broadcast<float>(0);
-  auto fn = [&soa](const auto& r, const auto& p) { (void)Spec::run(r, p, soa, 0); };
-  for (const char* kase : {"hit", "miss"}) {
-    if (!find_entry(Spec::kernel, Spec::method, kase)) continue;
-    const bool h = kase[0] == 'h';
-    add_rows(rows, Spec::kernel, Spec::method, kase, count3(fn, prim, h ? hit : miss, h ? miss : hit));
-  }
-}
-
-// Rows of a function of the hit (point, normal) on the spec's hit ray.
-template <class Spec, class Fn>
-void add_extra_rows(std::vector<Row>& rows, const char* kernel, const char* method, Fn fn) {
-  Rng g(bench::kBenchSeed);
-  const auto soa = Spec::build({Spec::make(0, 0, g)});
-  const Ray<float> hit = Spec::ray(0, g);
-  add_rows(rows, kernel, method, "hit", count3(fn, soa.template broadcast<float>(0), hit, hit));
-}
-
 }  // namespace
 
-std::vector<Row> build() {
-  std::vector<Row> rows;
-  bench::for_each_spec([&]<class Spec>() { add_spec_rows<Spec>(rows); });
-  add_extra_rows<bench::PlaneSpec>(rows, "plane", "point", [](const auto& r, const auto&) {
+void add_basic_rows(std::vector<Row>& rows) {
+  const std::span<const Entry> e = kEntries;
+  add_spec_rows<bench::PlaneSpec>(e, rows);
+  add_spec_rows<bench::TriangleLectureSpec>(e, rows);
+  add_spec_rows<bench::TriangleMTSpec>(e, rows);
+  add_spec_rows<bench::SphereGeometricSpec>(e, rows);
+  add_spec_rows<bench::SphereAlgebraicSpec>(e, rows);
+  add_spec_rows<bench::BoxSpec>(e, rows);
+  add_extra_rows<bench::PlaneSpec>(e, rows, "plane", "point", [](const auto& r, const auto&) {
     using F = std::remove_cvref_t<decltype(r.tmin)>;
     (void)hit_point(r, F(3));
   });
-  add_extra_rows<bench::SphereGeometricSpec>(rows, "sphere", "normal", [](const auto& r, const auto& s) {
+  add_extra_rows<bench::SphereGeometricSpec>(e, rows, "sphere", "normal", [](const auto& r, const auto& s) {
     (void)sphere_normal(s, r.o);
   });
-  add_extra_rows<bench::TriangleMTSpec>(rows, "triangle", "normal_mt", [](const auto&, const auto& q) {
+  add_extra_rows<bench::TriangleMTSpec>(e, rows, "triangle", "normal_mt", [](const auto&, const auto& q) {
     (void)triangle_normal(q);
   });
+}
+
+std::vector<Row> build() {
+  std::vector<Row> rows;
+  add_basic_rows(rows);
+  add_planar_rows(rows);
+  add_quadric_rows(rows);
+  add_solver_rows(rows);
   return rows;
 }
 

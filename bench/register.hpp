@@ -1,6 +1,6 @@
 // Registers the Google Benchmark cases of one bench spec and variant. Included by exactly two
-// translation units: bench_scalar.cpp (compiled with auto-vectorisation off, the true scalar
-// baseline) and bench_simd.cpp (the two SIMD mappings); each instantiates only its variants.
+// translation units per kernel family: bench_<family>_scalar.cpp (compiled with auto-vectorisation
+// off, the true scalar baseline) and bench_<family>_simd.cpp (the two SIMD mappings).
 #pragma once
 
 #include "bench/harness.hpp"
@@ -34,11 +34,24 @@ void register_one() {
   }
 }
 
-void register_scalar_benchmarks();  // bench_scalar.cpp
-void register_simd_benchmarks();    // bench_simd.cpp
+// One pair per kernel family: bench_<family>_scalar.cpp and bench_<family>_simd.cpp.
+void register_basic_scalar();
+void register_basic_simd();
+void register_planar_scalar();
+void register_planar_simd();
+void register_quadric_scalar();
+void register_quadric_simd();
+void register_solver_scalar();
+void register_solver_simd();
 inline void register_all_benchmarks() {
-  register_scalar_benchmarks();
-  register_simd_benchmarks();
+  register_basic_scalar();
+  register_basic_simd();
+  register_planar_scalar();
+  register_planar_simd();
+  register_quadric_scalar();
+  register_quadric_simd();
+  register_solver_scalar();
+  register_solver_simd();
 }
 
 }  // namespace rb::bench

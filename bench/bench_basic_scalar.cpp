@@ -6,7 +6,7 @@
 #include "bench/specs.hpp"
 
 namespace rb::bench {
-void register_scalar_benchmarks() {
+void register_basic_scalar() {
   for_each_spec([]<class Spec>() { register_one<Spec, Variant::scalar>(); });
 }
 }  // namespace rb::bench

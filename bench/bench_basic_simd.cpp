@@ -3,7 +3,7 @@
 #include "bench/specs.hpp"
 
 namespace rb::bench {
-void register_simd_benchmarks() {
+void register_basic_simd() {
   for_each_spec([]<class Spec>() {
     register_one<Spec, Variant::rays_in_lanes>();
     register_one<Spec, Variant::prims_in_lanes>();

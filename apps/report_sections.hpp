@@ -1,0 +1,14 @@
+// Report sections contributed by other parts of the engine. Each returns markdown (with a
+// heading of level 2) and adds its figures to `summary` (written as report/summary.json);
+// `out` is the report folder for any JSON or PNG the section writes.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <string>
+
+namespace rb::app {
+struct ReportOptions;
+std::string report_section_scenes(const ReportOptions& o, const std::filesystem::path& out, nlohmann::json& summary);  // report_scenes.cpp
+}  // namespace rb::app

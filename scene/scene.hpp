@@ -1,0 +1,93 @@
+// The scene model: model no more than a scene needs.
+//
+// A scene is a camera, lights, the few material parameters the lecture's shading uses (NFF's
+// `f` line), and one array per primitive kind it actually contains, in input form (what the
+// file or generator said). Kernel batches (SoA, kernels/*.hpp) are built from these arrays by
+// the code that traces; a kind with no primitives costs nothing. A sphere stays a sphere, a
+// cone a cone; polygons with more than three vertices stay polygons. No virtual dispatch.
+#pragma once
+
+#include "core/vec3.hpp"
+
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace rb::scene {
+
+// NFF `f`: colour, diffuse Kd, specular Ks, Phong exponent, transmittance T, index of refraction.
+// Reflectance of mirror-like surfaces is Ks (as in Haines' SPD renderer conventions).
+struct Material {
+  Vec3f color{1, 1, 1};
+  float kd = 1, ks = 0, shine = 0, t = 0, ior = 1;
+};
+
+// NFF `v` block (from, at, up, angle in degrees, hither, resolution).
+struct Camera {
+  Vec3f from{0, 0, -1}, at{0, 0, 0}, up{0, 1, 0};
+  float angle = 45, hither = 0;
+  int width = 512, height = 512;
+};
+
+struct Light {
+  Vec3f pos{0, 0, 0};
+  Vec3f color{1, 1, 1};
+};
+
+struct SphereIn {
+  Vec3f c;
+  float r;
+  std::uint32_t mat;
+};
+
+// NFF `c`: a truncated cone between two capless circles (a cylinder when the radii are equal).
+struct ConeIn {
+  Vec3f base;
+  float base_r;
+  Vec3f apex;
+  float apex_r;
+  std::uint32_t mat;
+};
+
+// A planar polygon: vertices [first, first + count) of Scene::poly_verts (and poly_normals when
+// the scene has per-vertex normals, NFF `pp`).
+struct PolygonIn {
+  std::uint32_t first, count;
+  std::uint32_t mat;
+};
+
+// A triangle: three indices into Scene::verts (meshes share vertices).
+struct TriangleIn {
+  std::array<std::uint32_t, 3> v;
+  std::uint32_t mat;
+};
+
+struct Bounds {
+  Vec3f lo{std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity()};
+  Vec3f hi{-std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity()};
+  void grow(const Vec3f& p) { lo = vmin3(lo, p); hi = vmax3(hi, p); }
+  bool empty() const { return !(lo.x <= hi.x); }
+};
+
+struct Scene {
+  std::string name;    // file name or generator call, e.g. "balls(4)"
+  Camera camera;
+  Vec3f background{0, 0, 0};
+  std::vector<Light> lights;
+  std::vector<Material> materials;  // primitives index into this
+
+  std::vector<SphereIn> spheres;
+  std::vector<ConeIn> cones;
+  std::vector<Vec3f> poly_verts, poly_normals;  // poly_normals empty or parallel to poly_verts
+  std::vector<PolygonIn> polygons;
+  std::vector<Vec3f> verts;                     // triangle mesh vertices
+  std::vector<Vec3f> vert_normals;              // empty or parallel to verts
+  std::vector<TriangleIn> triangles;
+
+  Bounds bounds() const;
+  std::size_t primitive_count() const { return spheres.size() + cones.size() + polygons.size() + triangles.size(); }
+};
+
+}  // namespace rb::scene
