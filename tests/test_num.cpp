@@ -1,0 +1,99 @@
+// The number-type layer and Counted: counting rules, minps semantics, lane access, counting
+// inside TBB worker threads.
+#include "core/counted.hpp"
+#include "core/vec3.hpp"
+
+#include <gtest/gtest.h>
+#include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_arena.h>
+
+#include <cmath>
+#include <limits>
+
+namespace rb {
+namespace {
+
+TEST(Counted, CountsEachKindOnce) {
+  const ops::Scope s;
+  const cfloat a(2.f), b(3.f);
+  cfloat c = a + b;         // add
+  c = c - a;                // add
+  c = c * b;                // mul
+  c = c / a;                // div
+  c = vsqrt(c);             // sqrt
+  c = vmin(c, a);           // minmax
+  c = vmax(c, a);           // minmax
+  c = vselect<cfloat>(a < b, a, b);  // cmp + select
+  c = vfma(a, b, c);        // fma
+  c = -c;                   // free
+  c = vabs(c);              // free
+  const OpCounts o = s.elapsed();
+  EXPECT_EQ(o.add, 2u);
+  EXPECT_EQ(o.mul, 1u);
+  EXPECT_EQ(o.div, 1u);
+  EXPECT_EQ(o.sqrt, 1u);
+  EXPECT_EQ(o.minmax, 2u);
+  EXPECT_EQ(o.cmp, 1u);
+  EXPECT_EQ(o.select, 1u);
+  EXPECT_EQ(o.fma, 1u);
+  EXPECT_EQ(o.flops(), 2u + 1 + 1 + 1 + 2);
+  EXPECT_FLOAT_EQ(c.v, std::fabs(-(2.f * 3.f + 2.f)));
+}
+
+TEST(Counted, SimdCountsPerInstruction) {
+  const ops::Scope s;
+  const cf8 a(f8(1.f)), b(f8(2.f));
+  const Vec3<cf8> u{a, b, a}, v{b, a, b};
+  (void)dot(u, v);  // 3 mul, 2 add: one per vector instruction, the per-lane count
+  EXPECT_EQ(s.elapsed().mul, 3u);
+  EXPECT_EQ(s.elapsed().add, 2u);
+}
+
+TEST(Counted, CountingWorksInTbbWorkers) {
+  ops::reset_all();
+  const int n = 10000;
+  tbb::task_arena arena(2);
+  arena.execute([&] {
+    tbb::parallel_for(0, n, [](int i) {
+      const cfloat x{float(i)};
+      (void)(x * x + x);
+    });
+  });
+  const OpCounts t = ops::total();
+  EXPECT_EQ(t.mul, std::uint64_t(n));
+  EXPECT_EQ(t.add, std::uint64_t(n));
+}
+
+TEST(Num, MinMaxFollowMinpsNaNRule) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  // a < b ? a : b: a NaN in either argument returns the second argument.
+  EXPECT_EQ(vmin(nan, 1.f), 1.f);
+  EXPECT_TRUE(std::isnan(vmin(1.f, nan)));
+  EXPECT_EQ(vmax(nan, 1.f), 1.f);
+  EXPECT_TRUE(std::isnan(vmax(1.f, nan)));
+  // The SIMD instantiation agrees lane by lane.
+  EXPECT_EQ(lane(vmin(f8(nan), f8(1.f)), 3), 1.f);
+  EXPECT_TRUE(std::isnan(lane(vmin(f8(1.f), f8(nan)), 5)));
+  EXPECT_EQ(lane(vmax(f8(nan), f8(1.f)), 0), 1.f);
+}
+
+TEST(Num, LoadsStoresAndLanes) {
+  alignas(32) float in[8] = {0, 1, 2, 3, 4, 5, 6, 7};
+  const f8 v = load<f8>(in);
+  for (int k = 0; k < 8; ++k) EXPECT_EQ(lane(v, k), float(k));
+  const d4 w = load<d4>(in + 4);  // float data into a double batch
+  for (int k = 0; k < 4; ++k) EXPECT_EQ(lane(w, k), double(4 + k));
+  const f8_mask m = v > f8(3.5f);
+  EXPECT_FALSE(lane_mask<f8>(m, 3));
+  EXPECT_TRUE(lane_mask<f8>(m, 4));
+  EXPECT_TRUE(any_of<f8>(m));
+  EXPECT_FALSE(all_of<f8>(m));
+  EXPECT_TRUE(none_of<f8>(mask_false<f8>()));
+  EXPECT_TRUE(all_of<f8>(mask_true<f8>()));
+  EXPECT_EQ(lanes_v<f8>, 8);
+  EXPECT_EQ(lanes_v<d4>, 4);
+  EXPECT_EQ(lanes_v<cf8>, 8);
+}
+
+}  // namespace
+}  // namespace rb
