@@ -22,6 +22,13 @@ namespace rb::scene {
 struct Material {
   Vec3f color{1, 1, 1};
   float kd = 1, ks = 0, shine = 0, t = 0, ior = 1;
+  // Checkerboard (the lecture's scenes, scene/lecture_scenes.cpp; no NFF file sets it): when
+  // checker > 0 the surface colour alternates between `color` (even cells) and `color2` (odd
+  // cells) of a solid checker of cell size `checker`, parity of
+  // floor(x/checker) + floor(y/checker) + floor(z/checker) at the hit point. A floor lies
+  // mid-cell along its normal axis (so that axis never flips the parity).
+  float checker = 0;
+  Vec3f color2{0, 0, 0};
 };
 
 // NFF `v` block (from, at, up, angle in degrees, hither, resolution).
