@@ -95,6 +95,12 @@ struct Scene {
 
   Bounds bounds() const;
   std::size_t primitive_count() const { return spheres.size() + cones.size() + polygons.size() + triangles.size(); }
+  // Bytes of the input-form arrays (sizes, not capacities).
+  std::size_t memory_bytes() const {
+    return lights.size() * sizeof(Light) + materials.size() * sizeof(Material) + spheres.size() * sizeof(SphereIn) +
+           cones.size() * sizeof(ConeIn) + (poly_verts.size() + poly_normals.size() + verts.size() + vert_normals.size()) * sizeof(Vec3f) +
+           polygons.size() * sizeof(PolygonIn) + triangles.size() * sizeof(TriangleIn);
+  }
 };
 
 }  // namespace rb::scene
