@@ -217,6 +217,12 @@ struct PlyReader {
     const unsigned char* b = base();
     const std::size_t cs = tsize(count_t);
     const double nv = double(s.verts.size());
+    s.triangles.reserve(s.triangles.size() + std::size_t(e.count));  // count was capped by the bytes left
+    auto idx = [&](std::size_t p, std::uint64_t r) -> std::uint32_t {
+      const I v = load_as<I>(b + p, Swap);
+      if (!(double(v) >= 0 && double(v) < nv) || double(v) != std::floor(double(v))) bad_index(double(v), e, r, p, false);
+      return std::uint32_t(v);
+    };
     for (std::uint64_t r = 0; r < e.count; ++r) {
       need(at, cs, e, r);
       const double c = load_val(count_t, b + at, Swap);
@@ -225,18 +231,14 @@ struct PlyReader {
       const std::size_t rec_at = at;
       at += cs;
       need(at, n * sizeof(I), e, r);
-      face.clear();
-      for (std::size_t k = 0; k < n; ++k, at += sizeof(I)) {
-        const I v = load_as<I>(b + at, Swap);
-        if constexpr (std::is_integral_v<I>) {
-          if (!(double(v) >= 0 && double(v) < nv)) bad_index(double(v), e, r, at, false);
-          face.push_back(std::uint32_t(v));
-        } else {
-          index(double(v), e, false, r, at, false);
-        }
+      if (n == 3) {  // the common case: straight into the triangle array
+        s.triangles.push_back({{idx(at, r), idx(at + sizeof(I), r), idx(at + 2 * sizeof(I), r)}, 0});
+        at += 3 * sizeof(I);
+        continue;
       }
-      if (n == 3) s.triangles.push_back({{face[0], face[1], face[2]}, 0});
-      else add_face(r, rec_at, false);
+      face.clear();
+      for (std::size_t k = 0; k < n; ++k, at += sizeof(I)) face.push_back(idx(at, r));
+      add_face(r, rec_at, false);
     }
     return at;
   }
