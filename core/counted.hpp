@@ -13,6 +13,8 @@
 //                               vmin vmax               -> minmax (vclamp counts 2)
 //                               vselect                 -> select
 //                               vfma                    -> fma (reports also show it as 1 mul + 1 add)
+//                               vsin vcos vacos vatan2 vcbrt -> a separate per-thread tally,
+//                                 ops::trans_current() (OpCounts keeps its eight kinds)
 // What is free, by convention:  unary minus and vabs, vcopysign (sign-bit operations), mask
 //                               logic (& | ~), loads, stores, broadcasts of constants, conversion,
 //                               any_of/all_of/none_of (movemask and a branch).
@@ -78,6 +80,13 @@ void reset();         // this thread
 OpCounts total();     // every thread, live and ended
 void reset_all();     // every thread
 
+// Transcendental calls (vsin, vcos, vacos, vatan2, vcbrt) on Counted numbers, this thread.
+inline std::uint64_t& trans_local() {
+  thread_local std::uint64_t n = 0;
+  return n;
+}
+inline std::uint64_t trans_current() { return trans_local(); }
+
 // RAII measurement on this thread: counts since construction.
 struct Scope {
   OpCounts start = current();
@@ -130,11 +139,17 @@ struct num<Counted<T>> {
   static RB_INLINE type abs(const type& a) { return type(base::abs(a.v)); }
   static RB_INLINE type fma(const type& a, const type& b, const type& c) { ops::local().bump(ops::kFma); return type(base::fma(a.v, b.v, c.v)); }
   static RB_INLINE type copysign(const type& a, const type& b) { return type(base::copysign(a.v, b.v)); }
+  static RB_INLINE type sin(const type& a) { ++ops::trans_local(); return type(base::sin(a.v)); }
+  static RB_INLINE type cos(const type& a) { ++ops::trans_local(); return type(base::cos(a.v)); }
+  static RB_INLINE type acos(const type& a) { ++ops::trans_local(); return type(base::acos(a.v)); }
+  static RB_INLINE type atan2(const type& a, const type& b) { ++ops::trans_local(); return type(base::atan2(a.v, b.v)); }
+  static RB_INLINE type cbrt(const type& a) { ++ops::trans_local(); return type(base::cbrt(a.v)); }
   static RB_INLINE bool any(const mask& m) { return base::any(m); }
   static RB_INLINE bool all(const mask& m) { return base::all(m); }
   static RB_INLINE mask mnot(const mask& m) { return base::mnot(m); }
   static RB_INLINE mask mconst(bool b) { return base::mconst(b); }
   static RB_INLINE bool lane_mask(const mask& m, int i) { return base::lane_mask(m, i); }
+  static RB_INLINE int count(const mask& m) { return base::count(m); }
   static RB_INLINE scalar lane(const type& v, int i) { return base::lane(v.v, i); }
   template <class S> static RB_INLINE type load(const S* p) { return type(base::load(p)); }
   template <class S> static RB_INLINE void store(S* p, const type& v) { base::store(p, v.v); }

@@ -50,11 +50,18 @@ struct scalar_num {
   static RB_INLINE T abs(T a) { return std::fabs(a); }
   static RB_INLINE T fma(T a, T b, T c) { return std::fma(a, b, c); }
   static RB_INLINE T copysign(T a, T b) { return std::copysign(a, b); }
+  // Transcendentals (implicit surfaces, closed-form cubic/quartic roots, [u,v] angles).
+  static RB_INLINE T sin(T a) { return std::sin(a); }
+  static RB_INLINE T cos(T a) { return std::cos(a); }
+  static RB_INLINE T acos(T a) { return std::acos(a); }
+  static RB_INLINE T atan2(T a, T b) { return std::atan2(a, b); }
+  static RB_INLINE T cbrt(T a) { return std::cbrt(a); }
   static RB_INLINE bool any(bool m) { return m; }
   static RB_INLINE bool all(bool m) { return m; }
   static RB_INLINE bool mnot(bool m) { return !m; }
   static RB_INLINE bool mconst(bool b) { return b; }
   static RB_INLINE bool lane_mask(bool m, int) { return m; }
+  static RB_INLINE int count(bool m) { return m ? 1 : 0; }
   static RB_INLINE T lane(T v, int) { return v; }
   template <class S>
   static RB_INLINE T load(const S* p) { return static_cast<T>(*p); }
@@ -78,10 +85,19 @@ struct batch_num {
   static RB_INLINE type abs(const type& a) { return xsimd::abs(a); }
   static RB_INLINE type fma(const type& a, const type& b, const type& c) { return xsimd::fma(a, b, c); }
   static RB_INLINE type copysign(const type& a, const type& b) { return xsimd::copysign(a, b); }
+  static RB_INLINE type sin(const type& a) { return xsimd::sin(a); }
+  static RB_INLINE type cos(const type& a) { return xsimd::cos(a); }
+  static RB_INLINE type acos(const type& a) { return xsimd::acos(a); }
+  static RB_INLINE type atan2(const type& a, const type& b) { return xsimd::atan2(a, b); }
+  static RB_INLINE type cbrt(const type& a) { return xsimd::cbrt(a); }
   static RB_INLINE bool any(const mask& m) { return xsimd::any(m); }
   static RB_INLINE bool all(const mask& m) { return xsimd::all(m); }
   static RB_INLINE mask mnot(const mask& m) { return ~m; }
   static RB_INLINE mask mconst(bool b) { return mask(b); }
+  static RB_INLINE int count(const mask& m) {  // set lanes: movemask + popcount
+    if constexpr (std::is_same_v<T, float>) return __builtin_popcount(unsigned(_mm256_movemask_ps(m)));
+    else return __builtin_popcount(unsigned(_mm256_movemask_pd(m)));
+  }
   static RB_INLINE bool lane_mask(const mask& m, int i) {
     alignas(kSimdAlign) bool b[type::size];
     m.store_unaligned(b);
@@ -130,6 +146,13 @@ template <class F> RB_INLINE F vsqrt(const F& a) { return num<F>::sqrt(a); }
 template <class F> RB_INLINE F vabs(const F& a) { return num<F>::abs(a); }
 template <class F> RB_INLINE F vfma(const F& a, const F& b, const F& c) { return num<F>::fma(a, b, c); }
 template <class F> RB_INLINE F vcopysign(const F& a, const F& b) { return num<F>::copysign(a, b); }
+// Transcendentals: xsimd's vectorised sin/cos/acos/atan2/cbrt are not bit-identical to libm, so
+// a SIMD lane may differ from the scalar result by a few ulps wherever these are used.
+template <class F> RB_INLINE F vsin(const F& a) { return num<F>::sin(a); }
+template <class F> RB_INLINE F vcos(const F& a) { return num<F>::cos(a); }
+template <class F> RB_INLINE F vacos(const F& a) { return num<F>::acos(a); }
+template <class F> RB_INLINE F vatan2(const F& y, const F& x) { return num<F>::atan2(y, x); }
+template <class F> RB_INLINE F vcbrt(const F& a) { return num<F>::cbrt(a); }
 template <class F> RB_INLINE F vclamp(const F& x, const F& lo, const F& hi) { return vmin(vmax(x, lo), hi); }
 template <class F> RB_INLINE bool any_of(const mask_t<F>& m) { return num<F>::any(m); }
 template <class F> RB_INLINE bool all_of(const mask_t<F>& m) { return num<F>::all(m); }
@@ -137,6 +160,7 @@ template <class F> RB_INLINE bool none_of(const mask_t<F>& m) { return !num<F>::
 template <class F> RB_INLINE mask_t<F> mask_not(const mask_t<F>& m) { return num<F>::mnot(m); }
 template <class F> RB_INLINE scalar_t<F> lane(const F& v, int i) { return num<F>::lane(v, i); }
 template <class F> RB_INLINE bool lane_mask(const mask_t<F>& m, int i) { return num<F>::lane_mask(m, i); }
+template <class F> RB_INLINE int count_true(const mask_t<F>& m) { return num<F>::count(m); }
 template <class F, class S> RB_INLINE F load(const S* p) { return num<F>::load(p); }
 template <class F, class S> RB_INLINE void store(S* p, const F& v) { num<F>::store(p, v); }
 // A mask with every lane set / clear (free: no comparison is counted).
