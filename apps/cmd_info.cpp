@@ -1,5 +1,169 @@
+// `raybench info SCENE`: what a scene holds and what it costs in memory.
 #include "apps/commands.hpp"
+#include "apps/scene_info.hpp"
+#include "kernels/sphere.hpp"
+#include "kernels/triangle.hpp"
+#include "scene/sources.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <fstream>
+#include <iostream>
+#include <malloc.h>
 
 namespace rb::app {
-void add_info_command(CLI::App& app) { (void)app; }
+
+namespace {
+using nlohmann::json;
+json vec(const Vec3f& v) { return json::array({v.x, v.y, v.z}); }
+double status_mib(const char* key) {
+  std::ifstream f("/proc/self/status");
+  std::string line;
+  const std::string k = std::string(key) + ":";
+  while (std::getline(f, line))
+    if (line.rfind(k, 0) == 0) return std::stod(line.substr(k.size())) / 1024.0;  // kB
+  return 0;
+}
+}  // namespace
+
+void PeakRss::reset() {
+  malloc_trim(0);
+  std::ofstream f("/proc/self/clear_refs");
+  f << "5";
+  f.close();
+  ok = bool(f);
+  base_mib = status_mib("VmRSS");
+  if (ok && status_mib("VmHWM") > base_mib + 1.0) ok = false;  // the reset did not take
+}
+double PeakRss::peak_mib() const { return status_mib("VmHWM") - base_mib; }
+
+json scene_info(const rb::scene::Scene& s) {
+  json j;
+  j["name"] = s.name;
+  const auto b = s.bounds();
+  j["bounds"] = b.empty() ? json(nullptr) : json{{"lo", vec(b.lo)}, {"hi", vec(b.hi)}};
+  const auto& c = s.camera;
+  j["camera"] = {{"from", vec(c.from)}, {"at", vec(c.at)}, {"up", vec(c.up)}, {"angle", c.angle}, {"hither", c.hither},
+                 {"width", c.width}, {"height", c.height}};
+  j["lights"] = s.lights.size();
+  j["materials"] = s.materials.size();
+  j["primitives"] = s.primitive_count();
+  json kinds = json::array();
+  // Spheres: PrimSoA<Sphere> (c, r^2, 1/r).
+  if (!s.spheres.empty()) {
+    PrimSoA<Sphere> soa;
+    soa.reserve(s.spheres.size());
+    for (const auto& sp : s.spheres) soa.push(make_sphere(sp.c, sp.r));
+    kinds.push_back({{"kind", "sphere"}, {"count", s.spheres.size()}, {"input_bytes", s.spheres.size() * sizeof(rb::scene::SphereIn)},
+                     {"batches", json::array({{{"batch", "PrimSoA<Sphere>"}, {"bytes", soa.bytes()}}})}});
+  }
+  if (!s.cones.empty())
+    kinds.push_back({{"kind", "cone"}, {"count", s.cones.size()}, {"input_bytes", s.cones.size() * sizeof(rb::scene::ConeIn)},
+                     {"batches", json::array()}, {"note", "kernel batch: see issue 3"}});
+  if (!s.polygons.empty())
+    kinds.push_back({{"kind", "polygon"}, {"count", s.polygons.size()}, {"vertices", s.poly_verts.size()},
+                     {"input_bytes", s.polygons.size() * sizeof(rb::scene::PolygonIn) + (s.poly_verts.size() + s.poly_normals.size()) * sizeof(Vec3f)},
+                     {"batches", json::array()}, {"note", "kernel batch: see issue 3"}});
+  if (!s.triangles.empty()) {
+    PrimSoA<Triangle> mt;
+    mt.reserve(s.triangles.size());
+    std::vector<std::array<Vec3f, 3>> tris(s.triangles.size());
+    for (std::size_t i = 0; i < s.triangles.size(); ++i) {
+      const auto& t = s.triangles[i];
+      tris[i] = {s.verts[t.v[0]], s.verts[t.v[1]], s.verts[t.v[2]]};
+      mt.push(make_triangle(tris[i][0], tris[i][1], tris[i][2]));
+    }
+    const TriLectureSoA lec = TriLectureSoA::build(tris);
+    const std::size_t lec_bytes = lec.prims.bytes() + lec.axis.size() * sizeof(std::int8_t) + lec.id.size() * sizeof(std::uint32_t);
+    kinds.push_back({{"kind", "triangle"}, {"count", s.triangles.size()}, {"vertices", s.verts.size()},
+                     {"vertex_normals", !s.vert_normals.empty()},
+                     {"input_bytes", s.triangles.size() * sizeof(rb::scene::TriangleIn) + (s.verts.size() + s.vert_normals.size()) * sizeof(Vec3f)},
+                     {"batches", json::array({{{"batch", "PrimSoA<Triangle> (Moller-Trumbore)"}, {"bytes", mt.bytes()}},
+                                              {{"batch", "TriLectureSoA (lecture, by dropped axis)"}, {"bytes", lec_bytes}}})}});
+  }
+  j["kinds"] = kinds;
+  j["input_bytes"] = s.memory_bytes();
+  return j;
+}
+
+namespace {
+std::string mib(std::size_t bytes) {
+  return bytes < 1024 * 1024 ? fmt::format("{:.1f} KiB", double(bytes) / 1024.0) : fmt::format("{:.2f} MiB", double(bytes) / (1024.0 * 1024.0));
+}
+std::string v3(const json& v) { return fmt::format("({:.6g}, {:.6g}, {:.6g})", v[0].get<double>(), v[1].get<double>(), v[2].get<double>()); }
+}  // namespace
+
+std::string scene_info_text(const json& j) {
+  std::string o = fmt::format("scene       {}\n", j["name"].get<std::string>());
+  o += fmt::format("primitives  {}\n", j["primitives"].get<std::size_t>());
+  if (j["bounds"].is_null()) o += "bounds      empty\n";
+  else o += fmt::format("bounds      {} .. {}\n", v3(j["bounds"]["lo"]), v3(j["bounds"]["hi"]));
+  const auto& c = j["camera"];
+  o += fmt::format("camera      from {} at {} up {}, angle {} deg, hither {}, {}x{}\n", v3(c["from"]), v3(c["at"]), v3(c["up"]),
+                   c["angle"].get<double>(), c["hither"].get<double>(), c["width"].get<int>(), c["height"].get<int>());
+  o += fmt::format("lights      {}\nmaterials   {}\n", j["lights"].get<std::size_t>(), j["materials"].get<std::size_t>());
+  o += fmt::format("{:<10} {:>10} {:>10} {:>12}   {}\n", "kind", "count", "vertices", "input", "kernel batch");
+  for (const auto& k : j["kinds"]) {
+    std::string batches;
+    for (const auto& b : k["batches"]) batches += fmt::format("{}{} {}", batches.empty() ? "" : "; ", b["batch"].get<std::string>(), mib(b["bytes"]));
+    if (k.contains("note")) batches = k["note"].get<std::string>();
+    o += fmt::format("{:<10} {:>10} {:>10} {:>12}   {}\n", k["kind"].get<std::string>(), k["count"].get<std::size_t>(),
+                     k.contains("vertices") ? std::to_string(k["vertices"].get<std::size_t>()) : "-", mib(k["input_bytes"]), batches);
+  }
+  o += fmt::format("{:<10} {:>10} {:>10} {:>12}\n", "total", j["primitives"].get<std::size_t>(), "", mib(j["input_bytes"]));
+  if (j.contains("load_ms")) o += fmt::format("loaded in   {:.1f} ms\n", j["load_ms"].get<double>());
+  return o;
+}
+
+std::string scene_info_markdown(const json& j) {
+  const std::string label = j.contains("source") ? j["source"].get<std::string>() : j["name"].get<std::string>();
+  std::string o = fmt::format("**{}**: {} primitives, {} lights, {} materials", label, j["primitives"].get<std::size_t>(),
+                              j["lights"].get<std::size_t>(), j["materials"].get<std::size_t>());
+  if (!j["bounds"].is_null()) o += fmt::format(", bounds {} .. {}", v3(j["bounds"]["lo"]), v3(j["bounds"]["hi"]));
+  o += "\n\n| kind | count | vertices | input form | kernel batch |\n|---|---:|---:|---:|---|\n";
+  for (const auto& k : j["kinds"]) {
+    std::string batches;
+    for (const auto& b : k["batches"]) batches += fmt::format("{}{}: {}", batches.empty() ? "" : "<br>", b["batch"].get<std::string>(), mib(b["bytes"]));
+    if (k.contains("note")) batches = k["note"].get<std::string>();
+    o += fmt::format("| {} | {} | {} | {} | {} |\n", k["kind"].get<std::string>(), k["count"].get<std::size_t>(),
+                     k.contains("vertices") ? std::to_string(k["vertices"].get<std::size_t>()) : "-", mib(k["input_bytes"]), batches);
+  }
+  return o + "\n";
+}
+
+void add_info_command(CLI::App& app) {
+  struct Opts {
+    std::string scene, json_out;
+  };
+  auto o = std::make_shared<Opts>();
+  auto* cmd = app.add_subcommand("info", "Describe a scene: primitive counts per kind, bounds, camera, lights, materials and memory "
+                                         "per batch (input form and SoA kernel batch)");
+  cmd->add_option("scene", o->scene, "A .obj/.ply/.nff file, spd:NAME[:SIZE] (balls gears mount rings teapot tetra tree) or lecture:NAME")
+      ->required();
+  cmd->add_option("--json", o->json_out, "Write the description as JSON to this file ('-' for stdout) instead of the table");
+  cmd->final_callback([o] {
+    try {
+      const auto t0 = std::chrono::steady_clock::now();
+      const rb::scene::Scene s = rb::scene::load_scene(o->scene);
+      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      json j = scene_info(s);
+      j["source"] = o->scene;
+      j["load_ms"] = ms;
+      if (o->json_out.empty()) {
+        std::cout << scene_info_text(j);
+      } else if (o->json_out == "-") {
+        std::cout << j.dump(2) << "\n";
+      } else {
+        std::ofstream f(o->json_out);
+        f << j.dump(2) << "\n";
+        if (!f) throw rb::scene::SceneError(o->json_out + ": cannot write");
+      }
+    } catch (const std::exception& e) {
+      std::cerr << "raybench info: " << e.what() << "\n";
+      throw CLI::RuntimeError(1);
+    }
+  });
+}
+
 }  // namespace rb::app
