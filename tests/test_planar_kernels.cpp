@@ -1,0 +1,804 @@
+// The planar kernel family (issue 3): plane with [u,v], parallelogram, triangle by Cramer's rule
+// and by Woop-Benthin-Wald, general polygon (crossing test), parallel planes, convex polyhedron
+// (halfspaces, slabs).
+//   - hand-worked hit / miss / t / [u,v] cases, typed over every number type;
+//   - degenerate primitives and bad rays: a defined miss (t = +inf) or a construction error;
+//   - seeded random rays against an independent double-precision reference;
+//   - every SIMD lane equals the scalar result, in both mappings (bit for bit with
+//     -ffp-contract=off);
+//   - Woop is watertight on rays aimed exactly at shared edges and vertices of a fan;
+//   - golden operation counts (Counted<float>) of every ops-table row of the family.
+#include "bench/ops_table.hpp"
+#include "bench/specs_planar.hpp"
+#include "kernels/box.hpp"
+#include "kernel_test_util.hpp"
+
+#include <cstring>
+#include <limits>
+#include <numbers>
+#include <tuple>
+
+namespace rb::test {
+namespace {
+
+const float kInfF = std::numeric_limits<float>::infinity();
+const float kNaNF = std::numeric_limits<float>::quiet_NaN();
+const double kInfD = std::numeric_limits<double>::infinity();
+constexpr double kTol = 1e-5;
+
+#ifdef RB_FP_CONTRACT_off
+constexpr bool kExact = true;
+#else
+constexpr bool kExact = false;
+#endif
+
+template <class F>
+struct Planar : ::testing::Test {};
+TYPED_TEST_SUITE(Planar, AllNumbers);
+
+// Runs a kernel on one ray and one primitive of a batch (primitive broadcast to every lane).
+template <class F, class Soa, class Fn>
+HitF run_soa(Fn fn, const Soa& soa, std::size_t j, const Ray<float>& r) {
+  const Hit<F> h = fn(Ray<F>::broadcast(r), soa.template broadcast<F>(j), j);
+  const HitF h0 = lane_hit(h, 0);
+  for (int k = 1; k < lanes_v<F>; ++k) {
+    EXPECT_EQ(lane_hit(h, k).hit, h0.hit);
+    EXPECT_EQ(lane_hit(h, k).t, h0.t);
+  }
+  if (!h0.hit) EXPECT_EQ(h0.t, kInfD);
+  return h0;
+}
+
+// One-primitive batches.
+TriLectureSoA uv_soa(Vec3f p0, Vec3f u, Vec3f v) {
+  int ax = 0;
+  const auto q = make_plane_uv(p0, u, v, ax);
+  return lecture_soa({q}, {ax});
+}
+template <template <class> class P>
+PrimSoA<P> one(const P<float>& p) {
+  PrimSoA<P> s;
+  s.push(p);
+  return s;
+}
+std::size_t slot_of(const PolygonSoA& s, std::size_t id) {
+  for (std::size_t j = 0; j < s.size(); ++j)
+    if (s.id[j] == id) return j;
+  ADD_FAILURE() << "no polygon " << id;
+  return 0;
+}
+
+Ray<float> zray(float x, float y, float z = 0.f, float dz = 1.f) { return make_ray(Vec3f{x, y, z}, Vec3f{0, 0, dz}); }
+
+// ---- hand-worked cases ------------------------------------------------------------------------
+
+TYPED_TEST(Planar, PlaneUV) {
+  using F = TypeParam;
+  // PI0 = (1, 2, 5), U = (2, 0, 0), V = (0, 4, 0): P = (2, 4, 5) is u = 0.5, v = 0.5.
+  const auto s = uv_soa(Vec3f{1, 2, 5}, Vec3f{2, 0, 0}, Vec3f{0, 4, 0});
+  auto k = [](const auto& r, const auto& q, std::size_t) { return intersect_plane_uv(r, q, 2); };
+  HitF h = run_soa<F>(k, s, 0, zray(2, 4));
+  EXPECT_TRUE(h.hit);
+  EXPECT_NEAR(h.t, 5.0, kTol);
+  EXPECT_NEAR(h.u, 0.5, kTol);
+  EXPECT_NEAR(h.v, 0.5, kTol);
+  // Unbounded: u = -2, v = 1.5; from behind.
+  h = run_soa<F>(k, s, 0, zray(-3, 8, 9, -1));
+  EXPECT_TRUE(h.hit);
+  EXPECT_NEAR(h.t, 4.0, kTol);
+  EXPECT_NEAR(h.u, -2.0, kTol);
+  EXPECT_NEAR(h.v, 1.5, kTol);
+  // A frame in the plane x = 3 (dropped axis x): U = (0, 0, 2), V = (0, 1, 0), oblique ray.
+  int ax = -1;
+  const auto q = make_plane_uv(Vec3f{3, 0, 0}, Vec3f{0, 0, 2}, Vec3f{0, 1, 0}, ax);
+  EXPECT_EQ(ax, 0);
+  const auto s2 = lecture_soa({q}, {ax});
+  // From (0, 1, 1) along (3, 0, 4)/5: t = 5, P = (3, 1, 5): u = 2.5, v = 1.
+  h = run_soa<F>([ax](const auto& r, const auto& p, std::size_t) { return intersect_plane_uv(r, p, ax); }, s2, 0,
+                 make_ray(Vec3f{0, 1, 1}, Vec3f{3, 0, 4}));
+  EXPECT_TRUE(h.hit);
+  EXPECT_NEAR(h.t, 5.0, kTol);
+  EXPECT_NEAR(h.u, 2.5, kTol);
+  EXPECT_NEAR(h.v, 1.0, kTol);
+  // Parallel, behind, beyond tmax.
+  EXPECT_FALSE(run_soa<F>(k, s, 0, make_ray(Vec3f{0, 0, 0}, Vec3f{1, 1, 0})).hit);
+  EXPECT_FALSE(run_soa<F>(k, s, 0, zray(0, 0, 0, -1)).hit);
+  EXPECT_FALSE(run_soa<F>(k, s, 0, make_ray(Vec3f{0, 0, 0}, Vec3f{0, 0, 1}, 0.f, 4.9f)).hit);
+  // Degenerate frames (parallel U, V; zero U; NaN) never hit.
+  for (const auto& [u, v] : {std::pair{Vec3f{1, 0, 0}, Vec3f{2, 0, 0}}, std::pair{Vec3f{0, 0, 0}, Vec3f{0, 1, 0}},
+                             std::pair{Vec3f{kNaNF, 0, 0}, Vec3f{0, 1, 0}}}) {
+    int a = 0;
+    const auto d = make_plane_uv(Vec3f{0, 0, 5}, u, v, a);
+    EXPECT_FALSE((run_soa<F>([a](const auto& r, const auto& p, std::size_t) { return intersect_plane_uv(r, p, a); },
+                             lecture_soa({d}, {a}), 0, zray(0.1f, 0.1f))
+                      .hit));
+  }
+  // [u,v] of a point alone.
+  F u, v;
+  plane_uv_of_point(s.template broadcast<F>(0), 2, Vec3<F>{F(3), F(6), F(5)}, u, v);
+  EXPECT_NEAR(double(lane(u, 0)), 1.0, kTol);
+  EXPECT_NEAR(double(lane(v, 0)), 1.0, kTol);
+}
+
+TYPED_TEST(Planar, Parallelogram) {
+  using F = TypeParam;
+  // R0 = (0, 0, 5), U = (2, 0, 0), V = (1, 2, 0) (sheared): P = R0 + u U + v V.
+  int ax = -1;
+  const auto q = make_parallelogram(Vec3f{0, 0, 5}, Vec3f{2, 0, 0}, Vec3f{1, 2, 0}, ax);
+  EXPECT_EQ(ax, 2);
+  const auto s = lecture_soa({q}, {ax});
+  auto k = [](const auto& r, const auto& p, std::size_t) { return intersect_parallelogram(r, p, 2); };
+  struct Case { float x, y; bool hit; double u, v; };
+  for (const Case c : {Case{1.0f, 1.0f, true, 0.25, 0.5}, Case{2.5f, 1.0f, true, 1.0, 0.5},   // on the edge u = 1
+                       Case{2.8f, 1.8f, true, 0.95, 0.9},                                     // outside the triangle half
+                       Case{0.0f, 0.0f, true, 0.0, 0.0},                                      // corner R0
+                       Case{3.0f, 1.0f, false, 0, 0}, Case{0.2f, 1.8f, false, 0, 0},
+                       Case{1.0f, -0.1f, false, 0, 0}, Case{2.0f, 2.1f, false, 0, 0}}) {
+    const HitF h = run_soa<F>(k, s, 0, zray(c.x, c.y));
+    EXPECT_EQ(h.hit, c.hit) << c.x << " " << c.y;
+    if (c.hit) {
+      EXPECT_NEAR(h.t, 5.0, kTol);
+      EXPECT_NEAR(h.u, c.u, kTol);
+      EXPECT_NEAR(h.v, c.v, kTol);
+    }
+  }
+  // The same data through TriLectureSoA::build (R0, R0 + U, R0 + V).
+  const auto s2 = TriLectureSoA::build(std::vector<std::array<Vec3f, 3>>{{Vec3f{0, 0, 5}, Vec3f{2, 0, 5}, Vec3f{1, 2, 5}}});
+  EXPECT_TRUE(run_soa<F>([&](const auto& r, const auto& p, std::size_t j) { return intersect_parallelogram(r, p, s2.axis_of(j)); },
+                         s2, 0, zray(2.8f, 1.8f))
+                  .hit);
+  EXPECT_FALSE(run_soa<F>(k, s, 0, make_ray(Vec3f{1, 1, 0}, Vec3f{1, 0, 0})).hit);  // parallel
+  // Collinear corners: never.
+  int a2 = 0;
+  const auto d = make_parallelogram(Vec3f{0, 0, 5}, Vec3f{1, 1, 0}, Vec3f{2, 2, 0}, a2);
+  EXPECT_FALSE(run_soa<F>(k, lecture_soa({d}, {a2}), 0, zray(0.f, 0.f)).hit);
+}
+
+TYPED_TEST(Planar, TriangleCramerAndWoop) {
+  using F = TypeParam;
+  const Vec3f a{0, 0, 5}, b{2, 0, 5}, c{0, 2, 5};
+  const auto cs = one(make_triangle(a, b, c));
+  const auto ws = one(make_tri_verts(a, b, c));
+  auto kc = [](const auto& r, const auto& q, std::size_t) { return intersect_triangle_cramer(r, q); };
+  auto kw = [](const auto& r, const auto& q, std::size_t) { return intersect_triangle_woop(make_woop_ray(r), r, q); };
+  auto run = [&](int m, const Ray<float>& r) { return m == 0 ? run_soa<F>(kc, cs, 0, r) : run_soa<F>(kw, ws, 0, r); };
+  for (int m = 0; m < 2; ++m) {
+    HitF h = run(m, zray(0.5f, 0.25f));
+    EXPECT_TRUE(h.hit) << m;
+    EXPECT_NEAR(h.t, 5.0, kTol);
+    EXPECT_NEAR(h.u, 0.25, kTol);
+    EXPECT_NEAR(h.v, 0.125, kTol);
+    h = run(m, zray(0.5f, 0.25f, 8, -1));  // from behind
+    EXPECT_TRUE(h.hit);
+    EXPECT_NEAR(h.t, 3.0, kTol);
+    EXPECT_NEAR(h.u, 0.25, kTol);
+    // Oblique, x-dominant direction (Woop's kz = x): from (-5, 0.5, 0.25) to (0.5, 0.5, 5)... through P = (0.5, 0.5, 5).
+    h = run(m, make_ray(Vec3f{-5.5f, 0.5f, 2.f}, Vec3f{6.f, 0.f, 3.f}));
+    EXPECT_TRUE(h.hit) << m;
+    EXPECT_NEAR(h.t, std::sqrt(45.0), 1e-5);
+    EXPECT_NEAR(h.u, 0.25, kTol);
+    EXPECT_NEAR(h.v, 0.25, kTol);
+    // Exactly on edges and a vertex (inclusive; Woop takes its double fallback here).
+    EXPECT_TRUE(run(m, zray(1.f, 0.f)).hit) << m;
+    EXPECT_TRUE(run(m, zray(1.f, 1.f)).hit) << m;
+    EXPECT_TRUE(run(m, zray(0.f, 0.f)).hit) << m;
+    // Outside each edge, parallel, behind, beyond tmax.
+    EXPECT_FALSE(run(m, zray(-0.1f, 0.5f)).hit);
+    EXPECT_FALSE(run(m, zray(0.5f, -0.1f)).hit);
+    EXPECT_FALSE(run(m, zray(1.1f, 1.1f)).hit);
+    EXPECT_FALSE(run(m, make_ray(Vec3f{0.5f, 0.25f, 0}, Vec3f{1, 0, 0})).hit);
+    EXPECT_FALSE(run(m, make_ray(Vec3f{0.5f, 0.25f, 5}, Vec3f{1, 0, 0})).hit);  // in the plane
+    EXPECT_FALSE(run(m, zray(0.5f, 0.25f, 0, -1)).hit);
+    EXPECT_FALSE(run(m, make_ray(Vec3f{0.5f, 0.25f, 0}, Vec3f{0, 0, 1}, 0.f, 4.f)).hit);
+  }
+  // Degenerate triangles (repeated vertex, collinear, NaN vertex) never hit.
+  for (const auto& t : {std::array<Vec3f, 3>{a, a, c}, std::array<Vec3f, 3>{a, Vec3f{1, 0, 5}, b},
+                        std::array<Vec3f, 3>{a, b, Vec3f{kNaNF, 0, 5}}}) {
+    EXPECT_FALSE(run_soa<F>(kc, one(make_triangle(t[0], t[1], t[2])), 0, zray(0.f, 0.f)).hit);
+    EXPECT_FALSE(run_soa<F>(kw, one(make_tri_verts(t[0], t[1], t[2])), 0, zray(0.f, 0.f)).hit);
+  }
+  // Normal of the Woop data.
+  const Vec3<F> n = triangle_normal(ws.template broadcast<F>(0));
+  EXPECT_EQ(double(lane(n.z, 0)), 4.0);
+}
+
+// A concave "U" in z = 5: the notch 1 < x < 2, 1 < y < 3 is outside.
+std::vector<Vec3f> u_shape(float z = 5.f) {
+  return {Vec3f{0, 0, z}, Vec3f{3, 0, z}, Vec3f{3, 3, z}, Vec3f{2, 3, z}, Vec3f{2, 1, z}, Vec3f{1, 1, z}, Vec3f{1, 3, z}, Vec3f{0, 3, z}};
+}
+
+TYPED_TEST(Planar, Polygon) {
+  using F = TypeParam;
+  // Polygon 0: the U; 1: a triangle in the plane x = 3 (dropped axis x); 2..6 degenerate.
+  const std::vector<std::vector<Vec3f>> polys = {
+      u_shape(),
+      {Vec3f{3, 0, 0}, Vec3f{3, 4, 0}, Vec3f{3, 0, 4}},
+      {Vec3f{0, 0, 1}, Vec3f{1, 0, 1}},                                   // < 3 vertices
+      {Vec3f{0, 0, 1}, Vec3f{1, 1, 1}, Vec3f{2, 2, 1}, Vec3f{3, 3, 1}},   // collinear
+      {Vec3f{0, 0, 1}, Vec3f{1, 0, 1}, Vec3f{0, 0, 1}, Vec3f{1, 0, 1}},   // zero area
+      {Vec3f{0, 0, 1}, Vec3f{kNaNF, 0, 1}, Vec3f{0, 1, 1}},               // NaN vertex
+      {Vec3f{0, 0, 1}, Vec3f{1, 0, 1}, Vec3f{0, kInfF, 1}}};              // inf vertex
+  const auto s = PolygonSoA::build(polys);
+  EXPECT_EQ(s.degenerate, 5u);
+  EXPECT_THROW(PolygonSoA::build(polys, true), std::invalid_argument);
+  auto k = [](const auto& r, const auto& p, std::size_t) { return intersect_polygon(r, p); };
+  const std::size_t j0 = slot_of(s, 0), j1 = slot_of(s, 1);
+  struct Case { float x, y; bool hit; };
+  for (const Case c : {Case{0.5f, 0.5f, true}, Case{2.5f, 2.5f, true}, Case{0.5f, 2.5f, true}, Case{1.5f, 0.5f, true},
+                       Case{1.5f, 2.f, false}, Case{1.5f, 1.5f, false}, Case{4.f, 1.f, false}, Case{-1.f, 1.f, false},
+                       Case{0.5f, 3.5f, false}, Case{2.5f, -0.5f, false}}) {
+    const HitF h = run_soa<F>(k, s, j0, zray(c.x, c.y));
+    EXPECT_EQ(h.hit, c.hit) << c.x << " " << c.y;
+    if (c.hit) EXPECT_NEAR(h.t, 5.0, kTol);
+  }
+  // From behind and obliquely: from (0.5, 0.5, 10) towards (2.5, 2.5, 5): t = |(2, 2, -5)|.
+  HitF h = run_soa<F>(k, s, j0, make_ray(Vec3f{0.5f, 0.5f, 10}, Vec3f{2, 2, -5}));
+  EXPECT_TRUE(h.hit);
+  EXPECT_NEAR(h.t, std::sqrt(33.0), 1e-5);
+  // The x = 3 triangle: ray along +x.
+  h = run_soa<F>(k, s, j1, make_ray(Vec3f{0, 1, 1}, Vec3f{1, 0, 0}));
+  EXPECT_TRUE(h.hit);
+  EXPECT_NEAR(h.t, 3.0, kTol);
+  EXPECT_FALSE(run_soa<F>(k, s, j1, make_ray(Vec3f{0, 3, 3}, Vec3f{1, 0, 0})).hit);
+  // Parallel, beyond tmax.
+  EXPECT_FALSE(run_soa<F>(k, s, j0, make_ray(Vec3f{0.5f, 0.5f, 0}, Vec3f{1, 0, 0})).hit);
+  EXPECT_FALSE(run_soa<F>(k, s, j0, make_ray(Vec3f{0.5f, 0.5f, 0}, Vec3f{0, 0, 1}, 0.f, 4.f)).hit);
+  // Degenerate polygons never hit, through any point of their (would-be) plane.
+  for (std::size_t id = 2; id < polys.size(); ++id) {
+    const std::size_t j = slot_of(s, id);
+    for (const Ray<float>& r : {zray(0.1f, 0.f), zray(0.5f, 0.5f), make_ray(Vec3f{0.2f, 0.1f, 0}, Vec3f{0.01f, 0.02f, 1})})
+      EXPECT_FALSE(run_soa<F>(k, s, j, r).hit) << id;
+  }
+  EXPECT_NEAR(double(lane(polygon_normal(s.template broadcast<F>(j0)).z, 0)), 1.0, 1e-6);
+}
+
+TYPED_TEST(Planar, ParallelPlanes) {
+  using F = TypeParam;
+  // z = 5, 7, 3 (offsets d with n = (0, 0, 2): 2z + d = 0).
+  const auto s = one<ParallelPlanes4>(make_parallel_planes<4>(Vec3f{0, 0, 2}, std::vector<float>{-10, -14, -6}));
+  auto k = [](const auto& r, const auto& p, std::size_t) { return intersect_parallel_planes(r, p); };
+  HitF h = run_soa<F>(k, s, 0, zray(1, 2));
+  EXPECT_TRUE(h.hit);
+  EXPECT_NEAR(h.t, 3.0, kTol);
+  h = run_soa<F>(k, s, 0, make_ray(Vec3f{1, 2, 0}, Vec3f{0, 0, 1}, 4.f, 100.f));
+  EXPECT_NEAR(h.t, 5.0, kTol);
+  h = run_soa<F>(k, s, 0, zray(0, 0, 10, -1));
+  EXPECT_NEAR(h.t, 3.0, kTol);
+  h = run_soa<F>(k, s, 0, make_ray(Vec3f{0, 0, 0}, Vec3f{0, 3, 4}));  // t = z / 0.8
+  EXPECT_NEAR(h.t, 3.75, kTol);
+  EXPECT_FALSE(run_soa<F>(k, s, 0, make_ray(Vec3f{0, 0, 4}, Vec3f{1, 0, 0})).hit);   // parallel
+  EXPECT_FALSE(run_soa<F>(k, s, 0, zray(0, 0, 0, -1)).hit);                          // all behind
+  EXPECT_FALSE(run_soa<F>(k, s, 0, make_ray(Vec3f{0, 0, 0}, Vec3f{0, 0, 1}, 7.5f, 9.f)).hit);
+  // Every t_i.
+  F t[4];
+  const auto m = parallel_planes_all(Ray<F>::broadcast(zray(0, 0)), s.template broadcast<F>(0), t);
+  EXPECT_TRUE(lane_mask<F>(m, 0));
+  EXPECT_NEAR(double(lane(t[0], 0)), 5.0, kTol);
+  EXPECT_NEAR(double(lane(t[1], 0)), 7.0, kTol);
+  EXPECT_NEAR(double(lane(t[2], 0)), 3.0, kTol);
+  EXPECT_TRUE(std::isnan(double(lane(t[3], 0))));  // unused slot
+  // Zero normal: never; too many offsets: an error.
+  EXPECT_FALSE(run_soa<F>(k, one<ParallelPlanes4>(make_parallel_planes<4>(Vec3f{0, 0, 0}, std::vector<float>{-5})), 0, zray(0, 0)).hit);
+  EXPECT_THROW((make_parallel_planes<4>(Vec3f{0, 0, 1}, std::vector<float>{1, 2, 3, 4, 5})), std::invalid_argument);
+}
+
+TYPED_TEST(Planar, Polyhedron) {
+  using F = TypeParam;
+  // Octahedron |x| + |y| + |z| <= 1.
+  std::vector<HalfspaceIn> hs;
+  for (int s = 0; s < 8; ++s) {
+    const Vec3f n{s & 1 ? -1.f : 1.f, s & 2 ? -1.f : 1.f, s & 4 ? -1.f : 1.f};
+    hs.push_back({n, Vec3f{n.x, 0, 0}});
+  }
+  const auto s = one<Halfspaces8>(make_halfspaces<8>(hs));
+  auto k = [](const auto& r, const auto& p, std::size_t) { return intersect_polyhedron(r, p); };
+  HitF h = run_soa<F>(k, s, 0, zray(0, 0, -5));
+  EXPECT_TRUE(h.hit);
+  EXPECT_NEAR(h.t, 4.0, kTol);
+  h = run_soa<F>(k, s, 0, zray(0.5f, 0, -5));
+  EXPECT_NEAR(h.t, 4.5, kTol);
+  h = run_soa<F>(k, s, 0, make_ray(Vec3f{0.1f, 0.2f, 0}, Vec3f{0, 1, 0}));  // inside: tmin
+  EXPECT_TRUE(h.hit);
+  EXPECT_EQ(h.t, 0.0);
+  EXPECT_FALSE(run_soa<F>(k, s, 0, zray(2, 0, -5)).hit);
+  EXPECT_FALSE(run_soa<F>(k, s, 0, zray(0.6f, 0.6f, -5)).hit);
+  EXPECT_FALSE(run_soa<F>(k, s, 0, zray(0, 0, -5, -1)).hit);
+  EXPECT_FALSE(run_soa<F>(k, s, 0, make_ray(Vec3f{0, 0, -5}, Vec3f{0, 0, 1}, 0.f, 3.5f)).hit);
+  // Roots: entry and exit of the line.
+  const auto roots = polyhedron_roots(Ray<F>::broadcast(zray(0, 0, -5)), s.template broadcast<F>(0));
+  EXPECT_TRUE(lane_mask<F>(roots.valid[0], 0));
+  EXPECT_NEAR(double(lane(roots.t[0], 0)), 4.0, kTol);
+  EXPECT_NEAR(double(lane(roots.t[1], 0)), 6.0, kTol);
+  const auto none = polyhedron_roots(Ray<F>::broadcast(zray(2, 0, -5)), s.template broadcast<F>(0));
+  EXPECT_FALSE(lane_mask<F>(none.valid[0], 0));
+  // Normal at (0.25, 0.25, -0.5): the face (1, 1, -1) / sqrt 3.
+  const Vec3<F> n = polyhedron_normal(s.template broadcast<F>(0), Vec3<F>{F(0.25f), F(0.25f), F(-0.5f)});
+  EXPECT_NEAR(double(lane(n.z, 0)), -1.0 / std::sqrt(3.0), 1e-6);
+  // Slabs: the unit cube [-1, 1]^3 as three axis slabs; an oriented slab pair.
+  const auto sb = one<Slabs3>(make_box_slabs(Vec3f{-1, -1, -1}, Vec3f{1, 1, 1}));
+  auto ks = [](const auto& r, const auto& p, std::size_t) { return intersect_slabs(r, p); };
+  h = run_soa<F>(ks, sb, 0, zray(0.5f, 0.5f, -5));
+  EXPECT_TRUE(h.hit);
+  EXPECT_NEAR(h.t, 4.0, kTol);
+  EXPECT_FALSE(run_soa<F>(ks, sb, 0, zray(1.5f, 0.5f, -5)).hit);
+  const auto sr = slabs_roots(Ray<F>::broadcast(zray(0.5f, 0.5f, -5)), sb.template broadcast<F>(0));
+  EXPECT_NEAR(double(lane(sr.t[1], 0)), 6.0, kTol);
+  // Degenerate inputs: zero normal, inverted box, NaN bounds: never; too many halfspaces: an error.
+  EXPECT_FALSE(run_soa<F>(k, one<Halfspaces8>(make_halfspaces<8>({{Vec3f{0, 0, 0}, Vec3f{0, 0, 0}}})), 0, zray(0, 0, -5)).hit);
+  EXPECT_FALSE(run_soa<F>(k, one<Halfspaces8>(make_box_halfspaces(Vec3f{1, -1, -1}, Vec3f{-1, 1, 1})), 0, zray(0, 0, -5)).hit);
+  EXPECT_FALSE(run_soa<F>(ks, one<Slabs3>(make_box_slabs(Vec3f{kNaNF, -1, -1}, Vec3f{1, 1, 1})), 0, zray(0, 0, -5)).hit);
+  EXPECT_FALSE(run_soa<F>(ks, one<Slabs3>(make_slabs<3>({Vec3f{0, 0, 0}, Vec3f{0, 1, 0}, Vec3f{0, 0, 1}}, {-1, -1, -1}, {1, 1, 1})), 0,
+                          zray(0, 0, -5))
+                   .hit);
+  EXPECT_THROW(make_halfspaces<2>(hs), std::invalid_argument);
+}
+
+// NaN, inf and zero-direction rays, and empty intervals: a miss with t = +inf in every kernel.
+TYPED_TEST(Planar, BadRaysMiss) {
+  using F = TypeParam;
+  const std::vector<Ray<float>> bad = {
+      make_ray(Vec3f{0, 0, 0}, Vec3f{0, 0, 0}),     make_ray(Vec3f{kNaNF, 0, 0}, Vec3f{0, 0, 1}),
+      make_ray(Vec3f{0, 0, 0}, Vec3f{0, kNaNF, 1}), make_ray(Vec3f{kInfF, 0, 0}, Vec3f{0, 0, 1}),
+      make_ray(Vec3f{0.5f, 0.5f, 0}, Vec3f{0, 0, 1}, 5.f, 1.f), make_ray(Vec3f{0.5f, 0.5f, 0}, Vec3f{0, 0, 1}, kNaNF, 1.f)};
+  int ax = 0;
+  const auto lec = lecture_soa({make_parallelogram(Vec3f{-1, -1, 5}, Vec3f{3, 0, 0}, Vec3f{0, 3, 0}, ax)}, {2});
+  const auto tri = one(make_triangle(Vec3f{-1, -1, 5}, Vec3f{2, -1, 5}, Vec3f{-1, 2, 5}));
+  const auto tv = one(make_tri_verts(Vec3f{-1, -1, 5}, Vec3f{2, -1, 5}, Vec3f{-1, 2, 5}));
+  const auto poly = PolygonSoA::build(std::vector<std::vector<Vec3f>>{u_shape()});
+  const auto pp = one<ParallelPlanes4>(make_parallel_planes<4>(Vec3f{0, 0, 1}, std::vector<float>{-5, -6}));
+  const auto ph = one<Halfspaces8>(make_box_halfspaces(Vec3f{-1, -1, -1}, Vec3f{1, 1, 1}));
+  const auto sl = one<Slabs3>(make_box_slabs(Vec3f{-1, -1, -1}, Vec3f{1, 1, 1}));
+  for (const auto& r : bad) {
+    EXPECT_FALSE(run_soa<F>([](const auto& rr, const auto& q, std::size_t) { return intersect_plane_uv(rr, q, 2); }, lec, 0, r).hit);
+    EXPECT_FALSE(run_soa<F>([](const auto& rr, const auto& q, std::size_t) { return intersect_parallelogram(rr, q, 2); }, lec, 0, r).hit);
+    EXPECT_FALSE(run_soa<F>([](const auto& rr, const auto& q, std::size_t) { return intersect_triangle_cramer(rr, q); }, tri, 0, r).hit);
+    EXPECT_FALSE(run_soa<F>([](const auto& rr, const auto& q, std::size_t) { return intersect_triangle_woop(rr, q); }, tv, 0, r).hit);
+    EXPECT_FALSE(run_soa<F>([](const auto& rr, const auto& q, std::size_t) { return intersect_polygon(rr, q); }, poly, 0, r).hit);
+    EXPECT_FALSE(run_soa<F>([](const auto& rr, const auto& q, std::size_t) { return intersect_parallel_planes(rr, q); }, pp, 0, r).hit);
+    EXPECT_FALSE(run_soa<F>([](const auto& rr, const auto& q, std::size_t) { return intersect_polyhedron(rr, q); }, ph, 0, r).hit);
+    EXPECT_FALSE(run_soa<F>([](const auto& rr, const auto& q, std::size_t) { return intersect_slabs(rr, q); }, sl, 0, r).hit);
+  }
+}
+
+// ---- seeded random rays against double-precision references -----------------------------------
+
+using Rng = bench::Rng;
+float uf(Rng& g, float a, float b) { return bench::uni(g, a, b); }
+Vec3f rand3(Rng& g, float a, float b) { return {uf(g, a, b), uf(g, a, b), uf(g, a, b)}; }
+
+// Ray t and the 3x3 solve e + t d = a + beta (b - a) + gamma (c - a) in double on the float data.
+struct RefTri {
+  bool ok;
+  double t, beta, gamma;
+};
+RefTri ref_solve(const Ray<float>& r, Vec3d a, Vec3d e1, Vec3d e2) {
+  const Vec3d d = to_double(r.d), s = to_double(r.o) - a;
+  const Vec3d p = cross(d, e2);
+  const double det = dot(e1, p);
+  if (det == 0.0) return {false, 0, 0, 0};
+  const Vec3d q = cross(s, e1);
+  return {true, dot(e2, q) / det, dot(s, p) / det, dot(d, q) / det};
+}
+
+// Double crossing test with the distance of the point to the boundary (to skip near-edge cases).
+bool ref_inside(const std::vector<std::array<double, 2>>& v, double px, double py, double& dist) {
+  bool in = false;
+  dist = kInfD;
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const auto& p = v[i];
+    const auto& q = v[(i + 1) % v.size()];
+    if ((p[1] > py) != (q[1] > py) && px < (q[0] - p[0]) * (py - p[1]) / (q[1] - p[1]) + p[0]) in = !in;
+    const double ex = q[0] - p[0], ey = q[1] - p[1], l2 = ex * ex + ey * ey;
+    const double s = std::clamp(((px - p[0]) * ex + (py - p[1]) * ey) / l2, 0.0, 1.0);
+    dist = std::min(dist, std::hypot(px - p[0] - s * ex, py - p[1] - s * ey));
+  }
+  return in;
+}
+
+// A gear: 4 vertices per tooth (SPD `gears` uses 36 teeth: 144 vertices, concave).
+std::vector<Vec3f> gear(Vec3d c, Vec3d u, Vec3d v, int teeth, double r_in, double r_out) {
+  std::vector<Vec3f> out;
+  for (int i = 0; i < teeth; ++i) {
+    const double a = 2 * std::numbers::pi * i / teeth, da = 2 * std::numbers::pi / teeth;
+    for (auto [f, rr] : {std::pair{0.0, r_in}, std::pair{0.25, r_out}, std::pair{0.5, r_out}, std::pair{0.75, r_in}}) {
+      const double ang = a + f * da;
+      out.push_back(to_float(c + u * (rr * std::cos(ang)) + v * (rr * std::sin(ang))));
+    }
+  }
+  return out;
+}
+
+TEST(PlanarRandom, TrianglesAndParallelogramsAgainstDoubleReference) {
+  Rng g(12345);
+  std::size_t hits = 0, checked = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    const Vec3f a = rand3(g, -2, 2), b = rand3(g, -2, 2), c = rand3(g, -2, 2);
+    const auto cr = make_triangle(a, b, c);
+    const auto wv = make_tri_verts(a, b, c);
+    int ax = 0;
+    const auto pg = make_tri_lecture(a, b, c, ax);
+    const Vec3f o = rand3(g, -6, 6), target = rand3(g, -1.5f, 1.5f);
+    const Ray<float> r = make_ray(o, target - o);
+    const Vec3d A = to_double(a), E1 = to_double(b) - A, E2 = to_double(c) - A;
+    const RefTri ref = ref_solve(r, A, E1, E2);
+    if (!ref.ok) continue;
+    const double margin = 1e-4;
+    const Hit<float> hc = intersect_triangle_cramer(r, cr);
+    const Hit<float> hw = intersect_triangle_woop(r, wv);
+    const Hit<float> hp = intersect_parallelogram(r, pg, ax);
+    const bool in_range = ref.t >= 0;
+    const bool tri = in_range && ref.beta >= 0 && ref.gamma >= 0 && ref.beta + ref.gamma <= 1;
+    const bool par = in_range && ref.beta >= 0 && ref.gamma >= 0 && ref.beta <= 1 && ref.gamma <= 1;
+    const double dtri = std::min({std::abs(ref.beta), std::abs(ref.gamma), std::abs(1 - ref.beta - ref.gamma), std::abs(ref.t)});
+    const double dpar = std::min({std::abs(ref.beta), std::abs(ref.gamma), std::abs(1 - ref.beta), std::abs(1 - ref.gamma), std::abs(ref.t)});
+    const double scale = std::max(1.0, std::abs(ref.t));
+    if (dtri > margin) {
+      ++checked;
+      EXPECT_EQ(hc.mask, tri) << trial;
+      EXPECT_EQ(hw.mask, tri) << trial;
+      if (tri) {
+        ++hits;
+        EXPECT_NEAR(hc.t, ref.t, 1e-4 * scale);
+        EXPECT_NEAR(hw.t, ref.t, 1e-4 * scale);
+        EXPECT_NEAR(hc.u, ref.beta, 1e-3);
+        EXPECT_NEAR(hc.v, ref.gamma, 1e-3);
+        EXPECT_NEAR(hw.u, ref.beta, 1e-3);
+        EXPECT_NEAR(hw.v, ref.gamma, 1e-3);
+      } else {
+        EXPECT_EQ(hc.t, kInfF);
+        EXPECT_EQ(hw.t, kInfF);
+      }
+    }
+    if (dpar > margin && !(pg.n.x == 0.f && pg.n.y == 0.f && pg.n.z == 0.f)) {
+      EXPECT_EQ(hp.mask, par) << trial;
+      if (par) {
+        EXPECT_NEAR(hp.t, ref.t, 1e-4 * scale);
+        // The hit point lies on the plane of the parallelogram (double check).
+        const Vec3d P = to_double(r.o) + to_double(r.d) * double(hp.t);
+        const Vec3d n = cross(E1, E2);
+        EXPECT_NEAR(dot(n, P - A) / std::sqrt(dot(n, n)), 0.0, 1e-4 * scale);
+        EXPECT_NEAR(hp.u, ref.beta, 1e-3);
+        EXPECT_NEAR(hp.v, ref.gamma, 1e-3);
+      }
+    }
+  }
+  EXPECT_GT(checked, 2000u);
+  EXPECT_GT(hits, 300u);
+}
+
+TEST(PlanarRandom, PolygonsAgainstDoubleReference) {
+  Rng g(777);
+  // Concave gears (144 vertices), stars and random convex-ish polygons, in random planes.
+  std::vector<std::vector<Vec3f>> polys;
+  for (int i = 0; i < 24; ++i) {
+    const Vec3d c = to_double(rand3(g, -1, 1));
+    Vec3d u = to_double(rand3(g, -1, 1)), w = to_double(rand3(g, -1, 1));
+    u = u * (1.0 / std::sqrt(dot(u, u)));
+    Vec3d v = cross(w, u);
+    v = v * (1.0 / std::sqrt(dot(v, v)));
+    if (i % 3 == 0) polys.push_back(gear(c, u, v, 36, 1.0, 1.3));
+    else if (i % 3 == 1) polys.push_back(gear(c, u, v, 5 + i, 0.5, 1.5));  // deep teeth
+    else {
+      std::vector<Vec3f> p;
+      const int n = 3 + i % 9;
+      for (int k = 0; k < n; ++k) {
+        const double a = 2 * std::numbers::pi * k / n, rr = 0.5 + 0.8 * double(uf(g, 0, 1));
+        p.push_back(to_float(c + u * (rr * std::cos(a)) + v * (rr * std::sin(a))));
+      }
+      polys.push_back(p);
+    }
+  }
+  const auto s = PolygonSoA::build(polys);
+  EXPECT_EQ(s.degenerate, 0u);
+  std::size_t checked = 0, hits = 0;
+  for (std::size_t j = 0; j < s.size(); ++j) {
+    if (s.id[j] == UINT32_MAX) continue;
+    const auto& P = polys[s.id[j]];
+    const auto pr = s.broadcast<float>(j);
+    const int a = (s.axis_of(j) + 1) % 3, b = (s.axis_of(j) + 2) % 3;
+    const Vec3d n = to_double(pr.pl.n);
+    std::vector<std::array<double, 2>> v2;
+    for (const auto& p : P) v2.push_back({double(p[a]), double(p[b])});
+    for (int k = 0; k < 150; ++k) {
+      const Vec3f o = rand3(g, -5, 5), target = rand3(g, -1.6f, 1.6f);
+      const Ray<float> r = make_ray(o, target - o);
+      const Hit<float> h = intersect_polygon(r, pr);
+      // Reference: the plane of the float data in double (n, D as stored), the point in double.
+      const double den = dot(n, to_double(r.d));
+      if (std::abs(den) < 1e-3) continue;
+      const double t = -(dot(n, to_double(r.o)) + double(pr.pl.D)) / den;
+      const Vec3d X = to_double(r.o) + to_double(r.d) * t;
+      double dist = 0;
+      const bool in = t >= 0 && ref_inside(v2, X[a], X[b], dist);
+      if (dist < 1e-4 || std::abs(t) < 1e-4) continue;
+      ++checked;
+      EXPECT_EQ(h.mask, in) << "polygon " << s.id[j] << " ray " << k;
+      if (in) {
+        ++hits;
+        EXPECT_NEAR(h.t, t, 1e-4 * std::max(1.0, t));
+        // The hit point lies on the plane through the polygon's own vertex 0.
+        const Vec3d Xh = to_double(r.o) + to_double(r.d) * double(h.t);
+        EXPECT_NEAR(dot(n, Xh - to_double(P[0])), 0.0, 1e-4 * std::max(1.0, t));
+      }
+    }
+  }
+  EXPECT_GT(checked, 2500u);
+  EXPECT_GT(hits, 400u);
+}
+
+TEST(PlanarRandom, BoxAsHalfspacesAndSlabsAgreesWithBoxKernel) {
+  Rng g(4242);
+  std::size_t hits = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const Vec3f lo = rand3(g, -2, 0), hi = lo + rand3(g, 0.2f, 2);
+    const auto bx = make_box(lo, hi);
+    const auto hs = make_box_halfspaces(lo, hi);
+    const auto sl = make_box_slabs(lo, hi);
+    const Vec3f o = rand3(g, -6, 6);
+    // Aim at the box's interior (a hit unless behind/tmax) or well beside it.
+    Vec3f target = (lo + hi) * 0.5f + Vec3f{uf(g, -0.4f, 0.4f) * (hi.x - lo.x), uf(g, -0.4f, 0.4f) * (hi.y - lo.y),
+                                            uf(g, -0.4f, 0.4f) * (hi.z - lo.z)};
+    if (i % 2) target = target + Vec3f{uf(g, 3, 5), uf(g, -5, 5), uf(g, -5, 5)};
+    const Ray<float> r = make_ray(o, target - o, 0.f, i % 7 == 0 ? 1.f : kInfF);
+    const Hit<float> hb = intersect_box(r, bx), hh = intersect_polyhedron(r, hs), hl = intersect_slabs(r, sl);
+    const bool clear = std::abs(hb.t - r.tmax) > 1e-3f;  // skip the rare exit-at-tmax boundary
+    if (!clear) continue;
+    EXPECT_EQ(hh.mask, hb.mask) << i;
+    EXPECT_EQ(hl.mask, hb.mask) << i;
+    if (hb.mask) {
+      ++hits;
+      EXPECT_NEAR(hh.t, hb.t, 1e-5 * std::max(1.f, hb.t));
+      EXPECT_NEAR(hl.t, hb.t, 1e-5 * std::max(1.f, hb.t));
+      // Entry/exit roots agree with the box's entry when the origin is outside.
+      const auto rt = polyhedron_roots(r, hs);
+      const auto rs = slabs_roots(r, sl);
+      if (hb.t > 0) {
+        EXPECT_NEAR(rt.t[0], hb.t, 1e-5 * std::max(1.f, hb.t));
+        EXPECT_EQ(rt.t[0], rs.t[0]);
+        EXPECT_EQ(rt.t[1], rs.t[1]);
+      }
+    }
+  }
+  EXPECT_GT(hits, 1000u);
+}
+
+// ---- SIMD lanes equal scalar results, both mappings ------------------------------------------
+
+std::int64_t ulp_distance(float a, float b) {
+  if (a == b || (std::isnan(a) && std::isnan(b))) return 0;
+  if (std::isnan(a) || std::isnan(b) || std::isinf(a) || std::isinf(b)) return INT64_MAX;
+  std::int32_t ia, ib;
+  std::memcpy(&ia, &a, 4);
+  std::memcpy(&ib, &b, 4);
+  if (ia < 0) ia = INT32_MIN - ia;
+  if (ib < 0) ib = INT32_MIN - ib;
+  return std::abs(std::int64_t(ia) - std::int64_t(ib));
+}
+
+struct Tally {
+  std::size_t pairs = 0, hits = 0, mask_diff = 0, bad = 0;
+  void add(const Hit<float>& s, bool hv, float tv, float uv, float vv) {
+    ++pairs;
+    hits += s.mask;
+    if (s.mask != hv) { ++mask_diff; return; }
+    if (!s.mask) { bad += tv != kInfF; return; }
+    const std::int64_t d = std::max({ulp_distance(s.t, tv), ulp_distance(s.u, uv), ulp_distance(s.v, vv)});
+    if (kExact ? d != 0 : d > 64) ++bad;
+  }
+};
+
+template <class Spec>
+void check_lanes(const std::vector<typename Spec::Input>& in, const RaySoA& rays) {
+  const auto prims = Spec::build(in);
+  Tally rl, pl;
+  for (std::size_t i = 0; i < rays.size(); i += 8) {
+    for (std::size_t j = 0; j < prims.size(); ++j) {
+      const Hit<f8> h = Spec::run(rays.packet<f8>(i), prims.template broadcast<f8>(j), prims, j);
+      for (int k = 0; k < 8; ++k) {
+        const Hit<float> s = Spec::run(rays.packet<float>(i + std::size_t(k)), prims.template broadcast<float>(j), prims, j);
+        rl.add(s, lane_mask<f8>(h.mask, k), lane(h.t, k), lane(h.u, k), lane(h.v, k));
+      }
+    }
+  }
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    for (std::size_t j = 0; j < prims.size(); j += 8) {
+      const Hit<f8> h = Spec::run(rays.broadcast<f8>(i), prims.template load<f8>(j), prims, j);
+      for (int k = 0; k < 8; ++k) {
+        const std::size_t jk = j + std::size_t(k);
+        const Hit<float> s = Spec::run(rays.packet<float>(i), prims.template broadcast<float>(jk), prims, jk);
+        pl.add(s, lane_mask<f8>(h.mask, k), lane(h.t, k), lane(h.u, k), lane(h.v, k));
+      }
+    }
+  }
+  for (const Tally* t : {&rl, &pl}) {
+    EXPECT_GT(t->hits, t->pairs / 50) << Spec::kernel << "/" << Spec::method;
+    EXPECT_LT(t->hits, t->pairs) << Spec::kernel << "/" << Spec::method;
+    if (kExact) EXPECT_EQ(t->mask_diff, 0u) << Spec::kernel << "/" << Spec::method;
+    else EXPECT_LE(t->mask_diff, t->pairs / 1000) << Spec::kernel << "/" << Spec::method;
+    EXPECT_EQ(t->bad, 0u) << Spec::kernel << "/" << Spec::method;
+  }
+}
+
+TEST(PlanarSimd, EveryLaneEqualsScalar) {
+  bench::for_each_spec_planar([]<class Spec>() {
+    bench::Rng g(99);
+    std::vector<typename Spec::Input> in;
+    for (int k = 0; k < 24; ++k) in.push_back(Spec::make(k % 3 == 2 ? 1 : 0, k, g));
+    RaySoA rays;
+    for (int i = 0; i < 96; ++i) {
+      if (i % 3 == 0) {
+        rays.push(Spec::ray(i % 2, g));
+      } else {
+        // Directions of every octant and dominant axis (mixed Woop permutations in a packet).
+        const Vec3f o{bench::uni(g, -3, 13), bench::uni(g, -3, 3), bench::uni(g, -30, -10)};
+        const Vec3f to{bench::uni(g, -2, 12), bench::uni(g, -2, 2), bench::uni(g, -5, 40)};
+        const Vec3f d = i % 3 == 1 ? to - o : Vec3f{bench::uni(g, -1, 1), bench::uni(g, -1, 1), bench::uni(g, -1, 1)};
+        rays.push(o, d);
+      }
+    }
+    check_lanes<Spec>(in, rays);
+  });
+}
+
+// Polygons of very different vertex counts (3 .. 144) in one lane group, and every dropped axis.
+TEST(PlanarSimd, PolygonGroupsOfMixedVertexCounts) {
+  Rng g(31);
+  std::vector<std::vector<Vec3f>> polys;
+  const Vec3d axes[3][2] = {{{0, 1, 0}, {0, 0, 1}}, {{0, 0, 1}, {1, 0, 0}}, {{1, 0, 0}, {0, 1, 0}}};
+  for (int i = 0; i < 30; ++i) {
+    const Vec3d c{double(uf(g, -0.5f, 0.5f)), double(uf(g, -0.5f, 0.5f)), double(uf(g, -0.5f, 0.5f))};
+    const auto& uv = axes[i % 3];
+    polys.push_back(i % 4 == 0 ? gear(c, uv[0], uv[1], 36, 1.0, 1.4) : gear(c, uv[0], uv[1], 1 + i % 7, 0.4, 1.5));
+    if (i % 4 == 1) polys.back().resize(3);  // a triangle
+  }
+  RaySoA rays;
+  for (int i = 0; i < 64; ++i) rays.push(rand3(g, -4, 4), rand3(g, -1, 1) - rand3(g, -4, 4));
+  check_lanes<bench::PolygonSpec>(polys, rays);
+}
+
+// ---- Woop: watertight ------------------------------------------------------------------------
+
+// A fan of triangles around a centre vertex, in a tilted plane, with float vertices shared
+// exactly. Rays aimed at the centre vertex and at points of the shared edges must hit at least
+// one triangle: no leak.
+TEST(PlanarWoop, WatertightOnSharedEdgesAndVertices) {
+  Rng g(2013);
+  std::size_t leaks_f = 0, leaks_simd = 0, leaks_d = 0, leaks_mt = 0, rays_n = 0;
+  for (int fan = 0; fan < 12; ++fan) {
+    const Vec3f c = rand3(g, -1, 1);
+    const int n = 5 + fan % 6;
+    Vec3d u = to_double(rand3(g, -1, 1)), w = to_double(rand3(g, -1, 1));
+    u = u * (1.0 / std::sqrt(dot(u, u)));
+    Vec3d v = cross(w, u);
+    v = v * (1.0 / std::sqrt(dot(v, v)));
+    std::vector<Vec3f> rim;
+    for (int k = 0; k < n; ++k) {
+      const double a = 2 * std::numbers::pi * (k + 0.3 * double(uf(g, 0, 1))) / n;
+      rim.push_back(to_float(to_double(c) + u * std::cos(a) * 2.0 + v * std::sin(a) * 2.0));
+    }
+    PrimSoA<TriVerts> tv;
+    PrimSoA<Triangle> mt;
+    for (int k = 0; k < n; ++k) {
+      tv.push(make_tri_verts(c, rim[std::size_t(k)], rim[std::size_t((k + 1) % n)]));
+      mt.push(make_triangle(c, rim[std::size_t(k)], rim[std::size_t((k + 1) % n)]));
+    }
+    RaySoA rays;
+    for (int i = 0; i < 256; ++i) {
+      // Target: the centre vertex, or a point of a shared edge c -> rim[k] (the float nearest).
+      const int k = int(g() % unsigned(n));
+      const float s = i % 4 == 0 ? 0.f : uf(g, 0.f, 0.9f);  // not at the fan's outer rim
+      const Vec3f target = to_float(to_double(c) + (to_double(rim[std::size_t(k)]) - to_double(c)) * double(s));
+      // Origins on both sides and at grazing-ish angles; axis-aligned directions sometimes.
+      Vec3f o = rand3(g, -6, 6);
+      if (i % 16 == 1) o = target - Vec3f{0, 0, 3};
+      if (i % 16 == 2) o = target + Vec3f{4, 0, 0};
+      rays.push(make_ray(o, target - o));
+    }
+    // Scalar float and double, and 8-ray packets (mixed permutations).
+    for (std::size_t i = 0; i < rays.count; ++i) {
+      const Ray<float> r = rays.get(i);
+      bool hf = false, hd = false, hm = false;
+      const WoopRay<float> wf = make_woop_ray(r);
+      const Ray<double> rd = Ray<double>::broadcast(r);
+      const WoopRay<double> wd = make_woop_ray(rd);
+      for (std::size_t j = 0; j < std::size_t(n); ++j) {
+        hf = hf || intersect_triangle_woop(wf, r, tv.broadcast<float>(j)).mask;
+        hd = hd || intersect_triangle_woop(wd, rd, tv.broadcast<double>(j)).mask;
+        hm = hm || intersect_triangle_mt(r, mt.broadcast<float>(j)).mask;
+      }
+      ++rays_n;
+      leaks_f += !hf;
+      leaks_d += !hd;
+      leaks_mt += !hm;
+    }
+    for (std::size_t i = 0; i < rays.size(); i += 8) {
+      const Ray<f8> r = rays.packet<f8>(i);
+      const WoopRay<f8> w8 = make_woop_ray(r);
+      f8_mask any = mask_false<f8>();
+      for (std::size_t j = 0; j < std::size_t(n); ++j) any = any | intersect_triangle_woop(w8, r, tv.broadcast<f8>(j)).mask;
+      for (int k = 0; k < 8; ++k)
+        if (i + std::size_t(k) < rays.count) leaks_simd += !lane_mask<f8>(any, k);
+    }
+  }
+  EXPECT_EQ(leaks_f, 0u) << "of " << rays_n;
+  EXPECT_EQ(leaks_simd, 0u) << "of " << rays_n;
+  EXPECT_EQ(leaks_d, 0u) << "of " << rays_n;
+  RecordProperty("moller_trumbore_leaks", int(leaks_mt));
+  std::printf("watertight: %zu rays at shared edges/vertices: woop leaks float %zu, simd8 %zu, double %zu; moller-trumbore %zu\n",
+              rays_n, leaks_f, leaks_simd, leaks_d, leaks_mt);
+}
+
+// Rays exactly through an edge in float: U == 0 exactly, the double fallback runs; in a packet it
+// runs on those lanes only and every lane equals the scalar result.
+TEST(PlanarWoop, DoubleFallbackPerLane) {
+  const auto tv = one(make_tri_verts(Vec3f{0, 0, 5}, Vec3f{2, 0, 5}, Vec3f{0, 2, 5}));
+  RaySoA rays;
+  const float xs[8] = {1.f, 0.5f, 0.f, 0.25f, 1.5f, 0.3f, 1.f, 2.5f};
+  const float ys[8] = {0.f, 0.5f, 0.75f, 0.25f, 0.5f, 0.f, 1.f, 0.f};
+  for (int k = 0; k < 8; ++k) rays.push(zray(xs[k], ys[k]));
+  const Ray<f8> r8 = rays.packet<f8>(0);
+  const Hit<f8> h8 = intersect_triangle_woop(make_woop_ray(r8), r8, tv.broadcast<f8>(0));
+  for (int k = 0; k < 8; ++k) {
+    const Ray<float> r = rays.get(std::size_t(k));
+    const Hit<float> h = intersect_triangle_woop(r, tv.broadcast<float>(0));
+    EXPECT_EQ(h.mask, k != 7) << k;  // (2.5, 0) is outside, all others on an edge, a vertex or inside
+    EXPECT_EQ(lane_mask<f8>(h8.mask, k), h.mask);
+    EXPECT_TRUE(same_bits(lane(h8.t, k), h.t));
+    if (h.mask) EXPECT_TRUE(same_bits(lane(h8.u, k), h.u));  // a scalar miss exits early with u = 0
+  }
+}
+
+// ---- golden operation counts ------------------------------------------------------------------
+
+const std::vector<opstable::Row>& rows() {
+  static const auto r = opstable::build();
+  return r;
+}
+const opstable::Row& find(const std::string& k, const std::string& m, const std::string& c, const std::string& n = "float") {
+  for (const auto& r : rows())
+    if (r.kernel == k && r.method == m && r.kase == c && r.number == n) return r;
+  ADD_FAILURE() << "no row " << k << "/" << m << "/" << c << "/" << n;
+  static const opstable::Row none;
+  return none;
+}
+// add, mul, div, sqrt, cmp, minmax, select, fma
+using Golden = std::tuple<int, int, int, int, int, int, int, int>;
+Golden gold(const OpCounts& o) {
+  return {int(o.add), int(o.mul), int(o.div), int(o.sqrt), int(o.cmp), int(o.minmax), int(o.select), int(o.fma)};
+}
+
+TEST(PlanarOps, GoldenScalarCounts) {
+  EXPECT_EQ(gold(find("plane", "uv", "hit").measured), Golden(11, 12, 3, 0, 3, 0, 1, 0));
+  EXPECT_EQ(gold(find("plane", "uv", "miss").measured), Golden(2, 3, 0, 0, 1, 0, 0, 0));
+  EXPECT_EQ(gold(find("plane", "uv_solve", "hit").measured), Golden(4, 4, 2, 0, 0, 0, 0, 0));
+  EXPECT_EQ(gold(find("parallelogram", "lecture", "hit").measured), Golden(11, 12, 3, 0, 7, 0, 1, 0));
+  EXPECT_EQ(gold(find("parallelogram", "lecture", "miss").measured), Golden(11, 12, 3, 0, 7, 0, 1, 0));
+  EXPECT_EQ(gold(find("triangle", "cramer", "hit").measured), Golden(18, 24, 3, 0, 6, 0, 1, 0));
+  EXPECT_EQ(gold(find("triangle", "cramer", "miss").measured), Golden(18, 24, 3, 0, 6, 0, 1, 0));
+  EXPECT_EQ(gold(find("triangle", "woop", "hit").measured), Golden(22, 21, 1, 0, 12, 0, 1, 0));
+  EXPECT_EQ(gold(find("triangle", "woop", "miss").measured), Golden(20, 12, 0, 0, 10, 0, 0, 0));
+  EXPECT_EQ(gold(find("triangle", "woop_precompute", "hit").measured), Golden(0, 0, 3, 0, 4, 0, 6, 0));
+  EXPECT_EQ(gold(find("polygon", "plane", "hit").measured), Golden(7, 8, 1, 0, 3, 0, 0, 0));
+  EXPECT_EQ(gold(find("polygon", "crossing", "hit").measured), Golden(57, 32, 1, 0, 28, 0, 1, 0));
+  EXPECT_EQ(gold(find("polygon", "crossing", "miss").measured), Golden(57, 32, 1, 0, 28, 0, 1, 0));
+  EXPECT_EQ(gold(find("parallel_planes", "lecture", "hit").measured), Golden(8, 6, 4, 0, 9, 4, 5, 0));
+  EXPECT_EQ(gold(find("parallel_planes", "lecture", "miss").measured), Golden(2, 3, 0, 0, 1, 0, 0, 0));
+  EXPECT_EQ(gold(find("polyhedron", "halfspaces", "hit").measured), Golden(40, 48, 8, 0, 40, 16, 17, 0));
+  EXPECT_EQ(gold(find("polyhedron", "slabs", "hit").measured), Golden(18, 18, 6, 0, 3, 12, 1, 0));
+  EXPECT_EQ(gold(find("polyhedron", "halfspaces", "miss").measured), Golden(25, 30, 5, 0, 25, 10, 10, 0));
+  EXPECT_EQ(gold(find("polyhedron", "slabs", "miss").measured), Golden(6, 6, 2, 0, 1, 4, 0, 0));
+}
+
+TEST(PlanarOps, RowsMatchTheSlideWhereTheyShould) {
+  // The parallel-planes arithmetic is exactly the slide's: 5+-6*1/ + 3 x (1+-1/).
+  const auto d = opstable::diff(find("parallel_planes", "lecture", "hit"));
+  EXPECT_EQ(std::make_tuple(d.add, d.mul, d.div), std::make_tuple(0L, 0L, 0L));
+  for (const auto& r : rows())
+    if (r.lecture && !opstable::diff(r).zero()) EXPECT_FALSE(r.note.empty()) << r.kernel << "/" << r.method;
+  // A mixed packet pays the whole path; a uniform missing packet exits like the scalar code.
+  EXPECT_EQ(gold(find("plane", "uv", "miss", "simd8").measured), gold(find("plane", "uv", "hit").measured));
+  EXPECT_EQ(gold(*find("plane", "uv", "miss", "simd8").uniform), gold(find("plane", "uv", "miss").measured));
+}
+
+}  // namespace
+}  // namespace rb::test
