@@ -45,7 +45,9 @@ HitF run_soa(Fn fn, const Soa& soa, std::size_t j, const Ray<float>& r) {
     EXPECT_EQ(lane_hit(h, k).hit, h0.hit);
     EXPECT_EQ(lane_hit(h, k).t, h0.t);
   }
-  if (!h0.hit) EXPECT_EQ(h0.t, kInfD);
+  if (!h0.hit) {
+    EXPECT_EQ(h0.t, kInfD);
+  }
   return h0;
 }
 
@@ -229,7 +231,9 @@ TYPED_TEST(Planar, Polygon) {
                        Case{0.5f, 3.5f, false}, Case{2.5f, -0.5f, false}}) {
     const HitF h = run_soa<F>(k, s, j0, zray(c.x, c.y));
     EXPECT_EQ(h.hit, c.hit) << c.x << " " << c.y;
-    if (c.hit) EXPECT_NEAR(h.t, 5.0, kTol);
+    if (c.hit) {
+      EXPECT_NEAR(h.t, 5.0, kTol);
+    }
   }
   // From behind and obliquely: from (0.5, 0.5, 10) towards (2.5, 2.5, 5): t = |(2, 2, -5)|.
   HitF h = run_soa<F>(k, s, j0, make_ray(Vec3f{0.5f, 0.5f, 10}, Vec3f{2, 2, -5}));
@@ -547,13 +551,13 @@ TEST(PlanarRandom, BoxAsHalfspacesAndSlabsAgreesWithBoxKernel) {
     EXPECT_EQ(hl.mask, hb.mask) << i;
     if (hb.mask) {
       ++hits;
-      EXPECT_NEAR(hh.t, hb.t, 1e-5 * std::max(1.f, hb.t));
-      EXPECT_NEAR(hl.t, hb.t, 1e-5 * std::max(1.f, hb.t));
+      EXPECT_NEAR(hh.t, hb.t, 1e-5 * double(std::max(1.f, hb.t)));
+      EXPECT_NEAR(hl.t, hb.t, 1e-5 * double(std::max(1.f, hb.t)));
       // Entry/exit roots agree with the box's entry when the origin is outside.
       const auto rt = polyhedron_roots(r, hs);
       const auto rs = slabs_roots(r, sl);
       if (hb.t > 0) {
-        EXPECT_NEAR(rt.t[0], hb.t, 1e-5 * std::max(1.f, hb.t));
+        EXPECT_NEAR(rt.t[0], hb.t, 1e-5 * double(std::max(1.f, hb.t)));
         EXPECT_EQ(rt.t[0], rs.t[0]);
         EXPECT_EQ(rt.t[1], rs.t[1]);
       }
@@ -744,7 +748,9 @@ TEST(PlanarWoop, DoubleFallbackPerLane) {
     EXPECT_EQ(h.mask, k != 7) << k;  // (2.5, 0) is outside, all others on an edge, a vertex or inside
     EXPECT_EQ(lane_mask<f8>(h8.mask, k), h.mask);
     EXPECT_TRUE(same_bits(lane(h8.t, k), h.t));
-    if (h.mask) EXPECT_TRUE(same_bits(lane(h8.u, k), h.u));  // a scalar miss exits early with u = 0
+    if (h.mask) {
+      EXPECT_TRUE(same_bits(lane(h8.u, k), h.u));  // a scalar miss exits early with u = 0
+    }
   }
 }
 
@@ -794,7 +800,9 @@ TEST(PlanarOps, RowsMatchTheSlideWhereTheyShould) {
   const auto d = opstable::diff(find("parallel_planes", "lecture", "hit"));
   EXPECT_EQ(std::make_tuple(d.add, d.mul, d.div), std::make_tuple(0L, 0L, 0L));
   for (const auto& r : rows())
-    if (r.lecture && !opstable::diff(r).zero()) EXPECT_FALSE(r.note.empty()) << r.kernel << "/" << r.method;
+    if (r.lecture && !opstable::diff(r).zero()) {
+      EXPECT_FALSE(r.note.empty()) << r.kernel << "/" << r.method;
+    }
   // A mixed packet pays the whole path; a uniform missing packet exits like the scalar code.
   EXPECT_EQ(gold(find("plane", "uv", "miss", "simd8").measured), gold(find("plane", "uv", "hit").measured));
   EXPECT_EQ(gold(*find("plane", "uv", "miss", "simd8").uniform), gold(find("plane", "uv", "miss").measured));
