@@ -120,6 +120,7 @@ nlohmann::json to_json(const std::vector<Row>& rows) {
     j["measured"] = counts_json(r.measured);
     if (r.uniform) j["measured_uniform_packet"] = counts_json(*r.uniform);
     j["note"] = r.note;
+    if (r.iterations) j["iterations"] = {{"mean", r.iterations->first}, {"max", r.iterations->second}};
     a.push_back(j);
   }
   return a;
@@ -133,7 +134,10 @@ std::string to_markdown(const std::vector<Row>& rows) {
     const Row& f = rows[i];
     const Row& v = rows[i + 1];
     s += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", f.kernel, f.method, f.kase, lecture_str(f.lecture),
-                     f.measured.str(), diff_str(f), v.measured.str(), v.uniform ? v.uniform->str() : "", f.note);
+                     f.measured.str(), diff_str(f), v.measured.str(), v.uniform ? v.uniform->str() : "",
+                     f.iterations ? fmt::format("iterations per ray: mean {:.2f}, max {:.0f}. {}", f.iterations->first,
+                                                f.iterations->second, f.note)
+                                  : f.note);
   }
   return s;
 }
@@ -146,6 +150,7 @@ std::string to_text(const std::vector<Row>& rows) {
     const Row& v = rows[i + 1];
     s += fmt::format("{:<10} {:<16} {:<5} {:<22} {:<44} {:<18} {}\n", f.kernel, f.method, f.kase, lecture_str(f.lecture),
                      f.measured.str(), diff_str(f), v.measured.str());
+    if (f.iterations) s += fmt::format("{:>12}iterations per ray: mean {:.2f}, max {:.0f}\n", "- ", f.iterations->first, f.iterations->second);
     if (!f.note.empty()) s += fmt::format("{:>12}{}\n", "- ", f.note);
   }
   return s;

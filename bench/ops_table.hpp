@@ -9,6 +9,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace rb::opstable {
@@ -25,6 +26,8 @@ struct Row {
   OpCounts measured;                  // simd8: a packet whose other lanes take the other case
   std::optional<OpCounts> uniform;    // simd8: a packet whose lanes all take this case
   std::string note;                   // why measured differs from the lecture (or what it counts)
+  // Iterative solvers: loop trips per ray (mean, max) over the spec's rays, scalar float.
+  std::optional<std::pair<double, double>> iterations;
 };
 
 // Every row, measured now.
