@@ -1,5 +1,372 @@
+// `raybench query`: one-off intersection queries for debugging a case and for checking raybench
+// against other tools. JSON lines on stdin, one JSON line per query on stdout:
+//   in : {"primitive": {...}, "ray": {"origin": [x,y,z], "direction": [x,y,z], "tmin": 0, "tmax": 1e30},
+//         "method": "optional name"}
+//   out: {"line": N, "primitive": TYPE, "results": [{"method", "hit", "t", "point", "normal", "uv"}]}
+//        or {"line": N, "error": "what is wrong"} (the other lines still run)
+// t is in the units of the given direction (the engine works on the unit direction and divides
+// by |direction| on output), so a direction of length 2 halves t. A miss has "hit": false and
+// no t. Every method that applies to the primitive runs unless "method" names one.
 #include "apps/commands.hpp"
+#include "kernels/box.hpp"
+#include "kernels/cylinder_cone.hpp"
+#include "kernels/plane.hpp"
+#include "kernels/plane_uv.hpp"
+#include "kernels/polygon.hpp"
+#include "kernels/polyhedron.hpp"
+#include "kernels/quadric.hpp"
+#include "kernels/sphere.hpp"
+#include "kernels/torus.hpp"
+#include "kernels/transform.hpp"
+#include "kernels/triangle.hpp"
+#include "kernels/triangle_cramer.hpp"
+#include "kernels/triangle_woop.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <functional>
+#include <iostream>
+#include <numbers>
+#include <string>
 
 namespace rb::app {
-void add_query_command(CLI::App& app) { (void)app; }
+namespace {
+using nlohmann::json;
+
+struct QueryError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct Result {
+  bool hit = false;
+  double t = 0;  // along the unit direction
+  Vec3d p{}, n{};
+  double u = 0, v = 0;
+  bool has_uv = false;
+};
+using Method = std::function<Result(const Ray<float>&)>;
+struct Named {
+  std::string name;
+  Method run;
+};
+
+Vec3d vec(const json& j, const char* key) {
+  if (!j.contains(key)) throw QueryError(std::string("missing \"") + key + "\"");
+  const json& a = j[key];
+  if (!a.is_array() || a.size() != 3 || !a[0].is_number() || !a[1].is_number() || !a[2].is_number())
+    throw QueryError(std::string("\"") + key + "\" must be an array of three numbers");
+  return {a[0].get<double>(), a[1].get<double>(), a[2].get<double>()};
+}
+double num(const json& j, const char* key) {
+  if (!j.contains(key)) throw QueryError(std::string("missing \"") + key + "\"");
+  if (!j[key].is_number()) throw QueryError(std::string("\"") + key + "\" must be a number");
+  return j[key].get<double>();
+}
+double num_or(const json& j, const char* key, double def) { return j.contains(key) ? num(j, key) : def; }
+bool flag(const json& j, const char* key) {
+  if (!j.contains(key)) return false;
+  if (!j[key].is_boolean()) throw QueryError(std::string("\"") + key + "\" must be true or false");
+  return j[key].get<bool>();
+}
+Vec3f f3(const Vec3d& v) { return to_float(v); }
+
+// Runs kernel(ray, prim) in number type F on the float inputs; normal(prim, point) -> Vec3<F>.
+template <class F, class P, class K, class N>
+Result eval(const Ray<float>& r0, const P& prim, K kern, N normal, bool uv = false) {
+  const Ray<F> r = Ray<F>::broadcast(r0);
+  const auto p = prim_cast<F>(prim);
+  const Hit<F> h = kern(r, p);
+  Result o;
+  o.hit = lane_mask<F>(h.mask, 0);
+  if (!o.hit) return o;
+  o.t = double(lane(h.t, 0));
+  const Vec3<F> pt = r.at(h.t);
+  o.p = to_double(lane3(pt, 0));
+  Vec3d n = to_double(lane3(normal(p, pt), 0));
+  const double l = std::sqrt(dot(n, n));
+  o.n = l > 0 ? n * (1.0 / l) : n;
+  o.has_uv = uv;
+  o.u = double(lane(h.u, 0));
+  o.v = double(lane(h.v, 0));
+  return o;
+}
+
+// A frame taking +z to `axis` (unit), origin at `o`.
+Affine3d frame(const Vec3d& o, Vec3d axis) {
+  const double l = std::sqrt(dot(axis, axis));
+  if (!(l > 0) || !std::isfinite(l)) throw QueryError("\"axis\" must be a non-zero finite vector");
+  axis = axis * (1.0 / l);
+  const Vec3d z{0, 0, 1};
+  const Vec3d k = cross(z, axis);
+  const double s = std::sqrt(dot(k, k)), c = dot(z, axis);
+  Affine3d R = Affine3d::identity();
+  if (s > 1e-12) R = Affine3d::rotate(k, std::atan2(s, c));
+  else if (c < 0) R = Affine3d::rotate({1, 0, 0}, std::numbers::pi);
+  return Affine3d::translate(o) * R;
+}
+
+// The methods of one primitive, each in number type F.
+template <class F>
+std::vector<Named> methods(const json& pj, std::string& type) {
+  if (!pj.is_object()) throw QueryError("\"primitive\" must be an object");
+  if (!pj.contains("type") || !pj["type"].is_string()) throw QueryError("\"primitive\" needs a string \"type\"");
+  type = pj["type"].get<std::string>();
+  std::vector<Named> m;
+  auto add = [&](std::string name, Method fn) { m.push_back({std::move(name), std::move(fn)}); };
+  if (type == "sphere") {
+    const auto s = make_sphere(vec(pj, "center"), num(pj, "radius"));
+    auto nrm = [](const auto& p, const auto& x) { return sphere_normal(p, x); };
+    add("geometric", [=](const Ray<float>& r) { return eval<F>(r, s, [](auto& a, auto& b) { return intersect_sphere_geometric(a, b); }, nrm); });
+    add("algebraic", [=](const Ray<float>& r) { return eval<F>(r, s, [](auto& a, auto& b) { return intersect_sphere_algebraic(a, b); }, nrm); });
+    add("stable", [=](const Ray<float>& r) { return eval<F>(r, s, [](auto& a, auto& b) { return intersect_sphere_stable(a, b); }, nrm); });
+    add("hearn_baker", [=](const Ray<float>& r) { return eval<F>(r, s, [](auto& a, auto& b) { return intersect_sphere_hearn_baker(a, b); }, nrm); });
+    const Vec3d pole = pj.contains("pole") ? vec(pj, "pole") : Vec3d{0, 0, 1};
+    const Vec3d eq = pj.contains("equator") ? vec(pj, "equator") : Vec3d{1, 0, 0};
+    try {
+      const auto su = make_sphere_uv(vec(pj, "center"), num(pj, "radius"), pole, eq);
+      add("uv", [=](const Ray<float>& r) {
+        return eval<F>(r, su, [](auto& a, auto& b) { return intersect_sphere_uv(a, b); },
+                       [](const auto& p, const auto& x) { return sphere_normal(p.s, x); }, true);
+      });
+    } catch (const std::invalid_argument& e) {
+      throw QueryError(e.what());
+    }
+  } else if (type == "triangle") {
+    const Vec3d a = vec(pj, "v0"), b = vec(pj, "v1"), c = vec(pj, "v2");
+    int axis = 2;
+    const auto lec = make_tri_lecture(a, b, c, axis);
+    const auto mt = make_triangle(a, b, c);
+    const auto tv = make_tri_verts(a, b, c);
+    add("lecture", [=](const Ray<float>& r) {
+      return eval<F>(r, lec, [axis](auto& x, auto& y) { return intersect_triangle_lecture(x, y, axis); },
+                     [](const auto& p, const auto&) { return triangle_normal(p); }, true);
+    });
+    auto nrm = [](const auto& p, const auto&) { return triangle_normal(p); };
+    add("moller_trumbore", [=](const Ray<float>& r) { return eval<F>(r, mt, [](auto& x, auto& y) { return intersect_triangle_mt(x, y); }, nrm, true); });
+    add("cramer", [=](const Ray<float>& r) { return eval<F>(r, mt, [](auto& x, auto& y) { return intersect_triangle_cramer(x, y); }, nrm, true); });
+    add("woop", [=](const Ray<float>& r) { return eval<F>(r, tv, [](auto& x, auto& y) { return intersect_triangle_woop(x, y); }, nrm, true); });
+  } else if (type == "plane") {
+    const auto pl = make_plane(vec(pj, "point"), vec(pj, "normal"));
+    add("lecture", [=](const Ray<float>& r) {
+      return eval<F>(r, pl, [](auto& x, auto& y) { return intersect_plane(x, y); }, [](const auto& p, const auto&) { return plane_normal(p); });
+    });
+    if (pj.contains("u") && pj.contains("v")) {
+      int axis = 2;
+      const auto q = make_plane_uv(vec(pj, "point"), vec(pj, "u"), vec(pj, "v"), axis);
+      add("uv", [=](const Ray<float>& r) {
+        return eval<F>(r, q, [axis](auto& x, auto& y) { return intersect_plane_uv(x, y, axis); },
+                       [](const auto& p, const auto&) { return triangle_normal(p); }, true);
+      });
+    }
+  } else if (type == "parallelogram") {
+    int axis = 2;
+    const auto q = make_parallelogram(vec(pj, "origin"), vec(pj, "u"), vec(pj, "v"), axis);
+    add("lecture", [=](const Ray<float>& r) {
+      return eval<F>(r, q, [axis](auto& x, auto& y) { return intersect_parallelogram(x, y, axis); },
+                     [](const auto& p, const auto&) { return triangle_normal(p); }, true);
+    });
+  } else if (type == "polygon") {
+    if (!pj.contains("vertices") || !pj["vertices"].is_array()) throw QueryError("\"vertices\" must be an array of [x,y,z]");
+    if (pj["vertices"].size() > 100000) throw QueryError("\"vertices\": more than 100000 vertices");
+    std::vector<Vec3d> vs;
+    for (const auto& v : pj["vertices"]) {
+      json w = {{"v", v}};
+      vs.push_back(vec(w, "v"));
+    }
+    auto soa = std::make_shared<PolygonSoA>();
+    try {
+      *soa = PolygonSoA::build(std::vector<std::vector<Vec3d>>{vs}, true);
+    } catch (const std::invalid_argument& e) {
+      throw QueryError(e.what());
+    }
+    std::size_t slot = 0;
+    while (slot < soa->id.size() && soa->id[slot] != 0) ++slot;
+    add("crossing", [soa, slot](const Ray<float>& r0) {
+      const Ray<F> r = Ray<F>::broadcast(r0);
+      const auto p = soa->template broadcast<F>(slot);
+      const Hit<F> h = intersect_polygon(r, p);
+      Result o;
+      o.hit = lane_mask<F>(h.mask, 0);
+      if (!o.hit) return o;
+      o.t = double(lane(h.t, 0));
+      o.p = to_double(lane3(r.at(h.t), 0));
+      o.n = to_double(lane3(polygon_normal(p), 0));
+      return o;
+    });
+  } else if (type == "box") {
+    const Vec3d lo = vec(pj, "min"), hi = vec(pj, "max");
+    const auto b = make_box(lo, hi);
+    auto nrm = [](const auto& p, const auto& x) { return box_normal(p, x); };
+    add("slab", [=](const Ray<float>& r) { return eval<F>(r, b, [](auto& x, auto& y) { return intersect_box(x, y); }, nrm); });
+    const auto h = make_box_halfspaces(f3(lo), f3(hi));
+    add("halfspaces", [=](const Ray<float>& r) {
+      return eval<F>(r, h, [](auto& x, auto& y) { return intersect_polyhedron(x, y); },
+                     [](const auto& p, const auto& x) { return polyhedron_normal(p, x); });
+    });
+  } else if (type == "cylinder") {
+    const double rad = num(pj, "radius"), ht = num(pj, "height");
+    if (!(rad > 0) || !(ht > 0) || !std::isfinite(rad) || !std::isfinite(ht)) throw QueryError("cylinder: radius and height must be positive and finite");
+    const bool caps = flag(pj, "caps");
+    const auto c = make_transformed(frame(vec(pj, "base"), vec(pj, "axis")), make_cylinder(0.f, 0.f, float(rad), 0.f, float(ht)));
+    add(caps ? "capped" : "lecture", [=](const Ray<float>& r) {
+      return eval<F>(
+          r, c,
+          [caps](auto& x, auto& y) {
+            return intersect_transformed(x, y, [caps](const auto& lr, const auto& p) {
+              return caps ? intersect_cylinder_capped(lr, p) : intersect_cylinder(lr, p);
+            });
+          },
+          [caps](const auto& p, const auto& x) {
+            return transformed_normal(p, x, [caps](const auto& q, const auto& l) { return caps ? capped_cylinder_normal(q, l) : cylinder_normal(q, l); });
+          });
+    });
+  } else if (type == "cone") {
+    double ht, tan_a;
+    if (pj.contains("angle")) {
+      const double a = num(pj, "angle");
+      if (!(a > 0 && a < 90)) throw QueryError("cone: \"angle\" is the half-angle in degrees, in (0, 90)");
+      tan_a = std::tan(a * std::numbers::pi / 180.0);
+      ht = num_or(pj, "height", std::numeric_limits<double>::infinity());
+    } else {
+      const double rad = num(pj, "radius");
+      ht = num(pj, "height");
+      if (!(rad > 0) || !(ht > 0) || !std::isfinite(rad) || !std::isfinite(ht)) throw QueryError("cone: radius and height must be positive and finite");
+      tan_a = rad / ht;
+    }
+    if (!(ht > 0)) throw QueryError("cone: \"height\" must be positive");
+    const bool caps = flag(pj, "caps");
+    if (caps && !std::isfinite(ht)) throw QueryError("cone: caps need a finite height");
+    const Affine3d M = frame(vec(pj, "apex"), vec(pj, "axis")) * Affine3d::scale({tan_a, tan_a, 1});
+    const float h1 = std::isfinite(ht) ? float(ht) : std::numeric_limits<float>::infinity();
+    const auto c = make_transformed(M, caps ? make_capped_cone(Vec3f{0, 0, 0}, 0.f, h1) : make_cone(Vec3f{0, 0, 0}, 0.f, h1));
+    add(caps ? "capped" : "lecture", [=](const Ray<float>& r) {
+      return eval<F>(
+          r, c,
+          [caps](auto& x, auto& y) {
+            return intersect_transformed(x, y, [caps](const auto& lr, const auto& p) {
+              return caps ? intersect_cone_capped(lr, p) : intersect_cone(lr, p);
+            });
+          },
+          [caps](const auto& p, const auto& x) {
+            return transformed_normal(p, x, [caps](const auto& q, const auto& l) { return caps ? capped_cone_normal(q, l) : cone_normal(q, l); });
+          });
+    });
+  } else if (type == "torus") {
+    Torus<float> t;
+    try {
+      t = make_torus(vec(pj, "center"), vec(pj, "axis"), num(pj, "major"), num(pj, "minor"));
+    } catch (const std::invalid_argument& e) {
+      throw QueryError(e.what());
+    }
+    auto nrm = [](const auto& p, const auto& x) { return torus_normal(p, x); };
+    add("ferrari", [=](const Ray<float>& r) { return eval<F>(r, t, [](auto& x, auto& y) { return intersect_torus_ferrari(x, y); }, nrm, true); });
+    add("robust", [=](const Ray<float>& r) { return eval<F>(r, t, [](auto& x, auto& y) { return intersect_torus_robust(x, y); }, nrm, true); });
+  } else if (type == "quadric") {
+    if (!pj.contains("coefficients") || !pj["coefficients"].is_array() || pj["coefficients"].size() != 10)
+      throw QueryError("\"coefficients\" must be [a,b,c,d,e,f,g,h,j,k] (seed 004's order)");
+    double k[10];
+    for (int i = 0; i < 10; ++i) {
+      if (!pj["coefficients"][i].is_number()) throw QueryError("\"coefficients\" must all be numbers");
+      k[i] = pj["coefficients"][i].get<double>();
+    }
+    Quadric<float> q;
+    try {
+      q = make_quadric(QuadricCoeffs{k[0], k[1], k[2], k[3], k[4], k[5], k[6], k[7], k[8], k[9]});
+    } catch (const std::invalid_argument& e) {
+      throw QueryError(e.what());
+    }
+    auto nrm = [](const auto& p, const auto& x) { return quadric_normal(p, x); };
+    add("matrix", [=](const Ray<float>& r) { return eval<F>(r, q, [](auto& x, auto& y) { return intersect_quadric_matrix(x, y); }, nrm); });
+    add("coeffs10", [=](const Ray<float>& r) { return eval<F>(r, q, [](auto& x, auto& y) { return intersect_quadric_coeffs10(x, y); }, nrm); });
+  } else {
+    throw QueryError("unknown primitive type \"" + type +
+                     "\" (sphere, triangle, plane, parallelogram, polygon, box, cylinder, cone, torus, quadric)");
+  }
+  return m;
+}
+
+json answer(const json& q, bool dbl) {
+  if (!q.is_object()) throw QueryError("a query is a JSON object");
+  if (!q.contains("primitive")) throw QueryError("missing \"primitive\"");
+  if (!q.contains("ray") || !q["ray"].is_object()) throw QueryError("missing \"ray\" object");
+  const json& rj = q["ray"];
+  const Vec3d o = vec(rj, "origin"), d = vec(rj, "direction");
+  const double tmin = num_or(rj, "tmin", 0.0), tmax = num_or(rj, "tmax", std::numeric_limits<double>::infinity());
+  const double len = std::sqrt(dot(d, d));
+  std::string type;
+  auto ms = dbl ? methods<double>(q["primitive"], type) : methods<float>(q["primitive"], type);
+  std::string only;
+  if (q.contains("method")) {
+    if (!q["method"].is_string()) throw QueryError("\"method\" must be a string");
+    only = q["method"].get<std::string>();
+    bool found = false;
+    for (const auto& m : ms) found = found || m.name == only;
+    if (!found) {
+      std::string names;
+      for (const auto& m : ms) names += (names.empty() ? "" : ", ") + m.name;
+      throw QueryError("method \"" + only + "\" does not apply to a " + type + " (" + names + ")");
+    }
+  }
+  const Ray<float> ray = make_ray(o, d, tmin, tmax);
+  json res = json::array();
+  for (const auto& m : ms) {
+    if (!only.empty() && m.name != only) continue;
+    const Result r = m.run(ray);
+    json j = {{"method", m.name}, {"hit", r.hit}};
+    if (r.hit) {
+      j["t"] = r.t / len;
+      j["point"] = {r.p.x, r.p.y, r.p.z};
+      j["normal"] = {r.n.x, r.n.y, r.n.z};
+      if (r.has_uv) j["uv"] = {r.u, r.v};
+    }
+    res.push_back(j);
+  }
+  return {{"primitive", type}, {"valid_ray", ray.tmin <= ray.tmax}, {"results", res}};
+}
+
+}  // namespace
+
+int run_query(std::istream& in, std::ostream& out, bool dbl) {
+  std::string line;
+  long n = 0;
+  int errors = 0;
+  while (std::getline(in, line)) {
+    ++n;
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    json o;
+    try {
+      const json q = json::parse(line);
+      o = answer(q, dbl);
+      o["line"] = n;
+    } catch (const json::exception& e) {
+      o = {{"line", n}, {"error", std::string("malformed JSON: ") + e.what()}};
+      ++errors;
+    } catch (const std::exception& e) {
+      o = {{"line", n}, {"error", e.what()}};
+      ++errors;
+    }
+    out << o.dump() << "\n";
+  }
+  return errors ? 1 : 0;
+}
+
+void add_query_command(CLI::App& app) {
+  auto* q = app.add_subcommand(
+      "query",
+      "One-off intersection queries: JSON lines on stdin, e.g.\n"
+      "  {\"primitive\": {\"type\":\"sphere\",\"center\":[0,0,5],\"radius\":1}, \"ray\": {\"origin\":[0,0,0],\"direction\":[0,0,1]}}\n"
+      "One JSON line out per query with hit, t, point, normal, uv for every method that applies (or \"method\": NAME).\n"
+      "Types: sphere(center,radius[,pole,equator]) triangle(v0,v1,v2) plane(point,normal[,u,v]) parallelogram(origin,u,v)\n"
+      "polygon(vertices) box(min,max) cylinder(base,axis,radius,height[,caps]) cone(apex,axis,angle|radius+height[,caps])\n"
+      "torus(center,axis,major,minor) quadric(coefficients: a b c d e f g h j k of seed 004).\n"
+      "A malformed line gets {\"line\": N, \"error\": ...}; the exit status is 1 if any line failed.");
+  auto dbl = std::make_shared<bool>(false);
+  q->add_flag("--double", *dbl, "Run the kernels in double precision (on the same float-rounded primitive and ray)");
+  q->final_callback([dbl] {
+    const int rc = run_query(std::cin, std::cout, *dbl);
+    if (rc) throw CLI::RuntimeError(rc);
+  });
+}
+
 }  // namespace rb::app

@@ -74,7 +74,7 @@ struct Acc {
 template <class F>
 RB_INLINE void accumulate(Acc& a, const Hit<F>& h, F& tsum, std::uint64_t& hits) {
   tsum = tsum + vselect(h.mask, h.t, F(0));
-  for (int k = 0; k < lanes_v<F>; ++k) hits += lane_mask<F>(h.mask, k) ? 1u : 0u;
+  hits += std::uint64_t(count_true<F>(h.mask));
   (void)a;
 }
 

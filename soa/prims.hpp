@@ -82,4 +82,16 @@ RB_INLINE P<F> prim_cast(P<float> p) {
   return q;
 }
 
+// The same for kinds with a compile-time size (ParallelPlanesK<F, K>, HalfspacesK<F, K>, ...).
+template <class F, template <class, int> class P, int K>
+RB_INLINE P<F, K> prim_cast(P<float, K> p) {
+  P<F, K> q;
+  auto src = p.fields();
+  auto dst = q.fields();
+  [&]<std::size_t... I>(std::index_sequence<I...>) {
+    ((std::get<I>(dst) = F(std::get<I>(src))), ...);
+  }(std::make_index_sequence<std::tuple_size_v<decltype(src)>>{});
+  return q;
+}
+
 }  // namespace rb

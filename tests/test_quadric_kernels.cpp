@@ -771,7 +771,7 @@ TEST(QuadricKernelsScalar, SimdLanesEqualScalar) {
     const Vec3f c{u(g), u(g), 2.f * u(g)};
     sph.push_back(make_sphere(c, 1.f + 0.5f * u(g)));
     suv.push_back(make_sphere_uv(c, 1.f + 0.5f * u(g), Vec3f{u(g), u(g), 1.f}, Vec3f{1.f, u(g), 0.f}));
-    const auto& nc = named_cases()[std::size_t(j) % named_cases().size()];
+    const NamedCase nc = named_cases()[std::size_t(j) % named_cases().size()];
     qs.push_back(make_quadric(nc.q.placed(Affine3d::translate(to_double(c)) * Affine3d::rotate({u(g), u(g), 1.0}, double(u(g))))));
     qr.push_back(make_quadric_rev(c, u(g), u(g), -1.f));
     cy.push_back(make_cylinder(c.x, c.y, 1.f + 0.5f * u(g), -1.f + u(g), 2.f));
