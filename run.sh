@@ -55,7 +55,7 @@ case "${1:-}" in
     setup
     build exact
     ctest --preset exact
-    build debug
+    build debug --target rb_tests
     ctest --preset debug
     ;;
   *)
