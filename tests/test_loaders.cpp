@@ -59,13 +59,6 @@ void expect_equal(const Scene& a, const Scene& b) {
   for (std::size_t i = 0; i < a.vert_normals.size(); ++i) EXPECT_TRUE(eq(a.vert_normals[i], b.vert_normals[i]));
 }
 
-// Same triangles by position (meshes may index differently).
-void expect_same_mesh(const Scene& a, const Scene& b) {
-  ASSERT_EQ(a.triangles.size(), b.triangles.size());
-  for (std::size_t i = 0; i < a.triangles.size(); ++i)
-    for (int k = 0; k < 3; ++k) EXPECT_TRUE(eq(a.verts[a.triangles[i].v[k]], b.verts[b.triangles[i].v[k]])) << i;
-}
-
 // Expects parse to throw a SceneError whose message matches `pattern` (a regex).
 template <class F>
 void expect_error(F&& parse, const std::string& pattern) {

@@ -245,7 +245,7 @@ TEST(SolverAccuracy, TorusFerrariVsRobust) {
     const int n = 300;
     for (int i = 0; i < n; ++i) {
       const Ray<float> r = aimed_ray(g, T.c, dist, 1.3f);
-      const double ref = first_root_ref([&](long double t) { return torus_ld(r, T, t); }, dist - 2.0, dist + 2.0, 4000);
+      const double ref = first_root_ref([&](long double t) { return torus_ld(r, T, t); }, double(dist) - 2.0, double(dist) + 2.0, 4000);
       const Hit<float> hf = intersect_torus_ferrari(r, T), hr = intersect_torus_robust(r, T);
       auto acc = [&](ErrStats& s, const Hit<float>& h) {
         if (h.mask && std::isfinite(ref)) s.e.push_back(std::fabs(double(h.t) - ref) / 0.3);
@@ -256,9 +256,9 @@ TEST(SolverAccuracy, TorusFerrariVsRobust) {
       acc(rob, hr);
     }
     std::printf("  distance %6.0f: ferrari median %.2e max %.2e (false hit %d, false miss %d) | robust median %.2e max %.2e (%d, %d)\n",
-                dist, fer.med(), fer.mx(), fer.false_hit, fer.false_miss, rob.med(), rob.mx(), rob.false_hit, rob.false_miss);
+                double(dist), fer.med(), fer.mx(), fer.false_hit, fer.false_miss, rob.med(), rob.mx(), rob.false_hit, rob.false_miss);
     // The robust solver stays within float resolution of the distance (a few ulps of t).
-    EXPECT_LT(rob.med(), 8 * 6e-8 * dist / 0.3 + 1e-5) << dist;
+    EXPECT_LT(rob.med(), 8 * 6e-8 * double(dist) / 0.3 + 1e-5) << dist;
     EXPECT_LE(rob.false_hit + rob.false_miss, 3) << dist;  // grazing rays within float resolution
     EXPECT_LE(rob.med(), fer.med() + 1e-7) << dist;
   }
@@ -282,17 +282,17 @@ TEST(SolverAccuracy, RandomRaysResidualAndMisses) {
     const Ray<float> r = aimed_ray(g, Vec3f{0, 0, 0}, 6.f, 1.2f);
     // Sampled interval for misses: the part of the ray in the ball |p| <= rb about the origin.
     auto ball = [&](double rb, double& lo, double& hi) {
-      const double b = double(r.o.x) * r.d.x + double(r.o.y) * r.d.y + double(r.o.z) * r.d.z;
-      const double c = double(r.o.x) * r.o.x + double(r.o.y) * r.o.y + double(r.o.z) * r.o.z - rb * rb;
+      const double b = double(r.o.x) * double(r.d.x) + double(r.o.y) * double(r.d.y) + double(r.o.z) * double(r.d.z);
+      const double c = double(r.o.x) * double(r.o.x) + double(r.o.y) * double(r.o.y) + double(r.o.z) * double(r.o.z) - rb * rb;
       const double disc = b * b - c;
       lo = disc < 0 ? 0 : -b - std::sqrt(disc);
       hi = disc < 0 ? 0 : -b + std::sqrt(disc);
     };
     int skipped = 0;  // illinois misses with a sign change in the ball (roots closer than its step)
     auto check = [&](bool hit, double t, auto fn, double tol, double rb, bool strict = true) {
-      auto at = [&](double tt) { return fn(r.o.x + tt * r.d.x, r.o.y + tt * r.d.y, r.o.z + tt * r.d.z); };
+      auto at = [&](double tt) { return fn(double(r.o.x) + tt * double(r.d.x), double(r.o.y) + tt * double(r.d.y), double(r.o.z) + tt * double(r.d.z)); };
       if (hit) {
-        const double px = r.o.x + t * r.d.x, py = r.o.y + t * r.d.y, pz = r.o.z + t * r.d.z, h = 1e-5;
+        const double px = double(r.o.x) + t * double(r.d.x), py = double(r.o.y) + t * double(r.d.y), pz = double(r.o.z) + t * double(r.d.z), h = 1e-5;
         const double gx = (fn(px + h, py, pz) - fn(px - h, py, pz)) / (2 * h);
         const double gy = (fn(px, py + h, pz) - fn(px, py - h, pz)) / (2 * h);
         const double gz = (fn(px, py, pz + h) - fn(px, py, pz - h)) / (2 * h);
@@ -326,7 +326,7 @@ TEST(SolverAccuracy, RandomRaysResidualAndMisses) {
     check(hi.mask, hi.t, Wd, 5e-3, 1.7, false);
     total_skipped += skipped;
     hits[0] += ha.mask; hits[1] += hs.mask; hits[2] += hi.mask;
-    if (hs.mask && hi.mask && std::fabs(hs.t - hi.t) > 1e-2) ++disagree;
+    if (hs.mask && hi.mask && std::fabs(hs.t - hi.t) > 1e-2f) ++disagree;
   }
   std::printf("random rays: hits algebraic d6 %d, sphere tracing %d, illinois %d of 300; iterations per ray: "
               "sphere tracing mean %.1f max %d, illinois mean %.1f max %d\n",
@@ -371,7 +371,7 @@ TEST(SolverAccuracy, RevolutionVsAnalytic) {
       const double zc = oz + tc * dz;
       if (std::fabs(std::fabs(zc) - 1) > 1e-3) {
         EXPECT_EQ(bool(hc.mask), std::isfinite(tc)) << i;
-        if (hc.mask && std::isfinite(tc)) EXPECT_NEAR(hc.t, tc, ztol) << i;
+        if (hc.mask && std::isfinite(tc)) { EXPECT_NEAR(double(hc.t), tc, ztol) << i; }
         n_cyl += hc.mask;
       }
     }
@@ -379,7 +379,7 @@ TEST(SolverAccuracy, RevolutionVsAnalytic) {
       const double zk = oz + tk * dz;
       if (zk > 1e-3 && zk < 1 - 1e-3) {
         EXPECT_EQ(bool(hk.mask), std::isfinite(tk)) << i;
-        if (hk.mask && std::isfinite(tk)) EXPECT_NEAR(hk.t, tk, ztol) << i;
+        if (hk.mask && std::isfinite(tk)) { EXPECT_NEAR(double(hk.t), tk, ztol) << i; }
         n_cone += hk.mask;
       }
     }
