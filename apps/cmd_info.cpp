@@ -1,6 +1,8 @@
 // `raybench info SCENE`: what a scene holds and what it costs in memory.
 #include "apps/commands.hpp"
 #include "apps/scene_info.hpp"
+#include "kernels/cylinder_cone.hpp"
+#include "kernels/polygon.hpp"
 #include "kernels/sphere.hpp"
 #include "kernels/triangle.hpp"
 #include "scene/sources.hpp"
@@ -58,13 +60,32 @@ json scene_info(const rb::scene::Scene& s) {
     kinds.push_back({{"kind", "sphere"}, {"count", s.spheres.size()}, {"input_bytes", s.spheres.size() * sizeof(rb::scene::SphereIn)},
                      {"batches", json::array({{{"batch", "PrimSoA<Sphere>"}, {"bytes", soa.bytes()}}})}});
   }
-  if (!s.cones.empty())
+  // NFF cones and cylinders (open shells between two circles): placed instances of the unit
+  // cylinder or unit cone, PrimSoA<Transformed<Cylinder|Cone>::T> (12 inverse-matrix floats each).
+  if (!s.cones.empty()) {
+    PrimSoA<Transformed<Cylinder>::T> cyl;
+    PrimSoA<Transformed<Cone>::T> cone;
+    for (const auto& cn : s.cones) {
+      if (cn.base_r == cn.apex_r) cyl.push(place_cylinder(to_double(cn.base), to_double(cn.apex), double(cn.base_r)));
+      else cone.push(place_cone(to_double(cn.base), double(cn.base_r), to_double(cn.apex), double(cn.apex_r)));
+    }
+    json batches = json::array();
+    if (cyl.size()) batches.push_back({{"batch", fmt::format("PrimSoA<Transformed<Cylinder>> ({} equal radii)", cyl.count)}, {"bytes", cyl.bytes()}});
+    if (cone.size()) batches.push_back({{"batch", fmt::format("PrimSoA<Transformed<Cone>> ({} frusta)", cone.count)}, {"bytes", cone.bytes()}});
     kinds.push_back({{"kind", "cone"}, {"count", s.cones.size()}, {"input_bytes", s.cones.size() * sizeof(rb::scene::ConeIn)},
-                     {"batches", json::array()}, {"note", "kernel batch: see issue 3"}});
-  if (!s.polygons.empty())
+                     {"batches", batches}});
+  }
+  // Polygons: PolygonSoA (plane per polygon and projected vertices interleaved per group of 8).
+  if (!s.polygons.empty()) {
+    std::vector<std::vector<Vec3f>> polys(s.polygons.size());
+    for (std::size_t i = 0; i < s.polygons.size(); ++i)
+      polys[i].assign(s.poly_verts.begin() + s.polygons[i].first, s.poly_verts.begin() + s.polygons[i].first + s.polygons[i].count);
+    const PolygonSoA soa = PolygonSoA::build(polys);
     kinds.push_back({{"kind", "polygon"}, {"count", s.polygons.size()}, {"vertices", s.poly_verts.size()},
                      {"input_bytes", s.polygons.size() * sizeof(rb::scene::PolygonIn) + (s.poly_verts.size() + s.poly_normals.size()) * sizeof(Vec3f)},
-                     {"batches", json::array()}, {"note", "kernel batch: see issue 3"}});
+                     {"batches", json::array({{{"batch", fmt::format("PolygonSoA ({} degenerate kept as never-hit slots)", soa.degenerate)},
+                                               {"bytes", soa.bytes()}}})}});
+  }
   if (!s.triangles.empty()) {
     PrimSoA<Triangle> mt;
     mt.reserve(s.triangles.size());

@@ -92,18 +92,13 @@ Result eval(const Ray<float>& r0, const P& prim, K kern, N normal, bool uv = fal
   return o;
 }
 
-// A frame taking +z to `axis` (unit), origin at `o`.
-Affine3d frame(const Vec3d& o, Vec3d axis) {
-  const double l = std::sqrt(dot(axis, axis));
-  if (!(l > 0) || !std::isfinite(l)) throw QueryError("\"axis\" must be a non-zero finite vector");
-  axis = axis * (1.0 / l);
-  const Vec3d z{0, 0, 1};
-  const Vec3d k = cross(z, axis);
-  const double s = std::sqrt(dot(k, k)), c = dot(z, axis);
-  Affine3d R = Affine3d::identity();
-  if (s > 1e-12) R = Affine3d::rotate(k, std::atan2(s, c));
-  else if (c < 0) R = Affine3d::rotate({1, 0, 0}, std::numbers::pi);
-  return Affine3d::translate(o) * R;
+// A frame taking +z to `axis`, origin at `o`, with the query's error message.
+Affine3d frame(const Vec3d& o, const Vec3d& axis) {
+  try {
+    return Affine3d::frame(o, axis);
+  } catch (const std::invalid_argument&) {
+    throw QueryError("\"axis\" must be a non-zero finite vector");
+  }
 }
 
 // The methods of one primitive, each in number type F.

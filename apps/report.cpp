@@ -14,6 +14,8 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <regex>
+#include <sstream>
 
 #ifndef RB_SOURCE_DIR
 #define RB_SOURCE_DIR "."
@@ -33,6 +35,20 @@ void write_file(const fs::path& p, const std::string& s) {
   std::ofstream f(p);
   f << s;
   if (!f) throw std::runtime_error("cannot write " + p.string());
+}
+
+// Google Benchmark writes NaN and Infinity as bare tokens (e.g. the coefficient of variation of a
+// counter that is 0 in every repetition), which is not JSON. They become null, and the file is
+// rewritten so that bench.json in the report is valid JSON for any reader.
+json load_benchmark_json(const fs::path& p) {
+  std::ifstream f(p);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  if (!f && !f.eof()) throw std::runtime_error("cannot read " + p.string());
+  const std::string text = std::regex_replace(ss.str(), std::regex(R"(:\s*-?(NaN|nan|Infinity|inf)\b)"), ": null");
+  json j = json::parse(text);
+  write_file(p, j.dump(2));
+  return j;
 }
 
 // Medians of a Google Benchmark JSON run: name -> counters.
@@ -69,8 +85,13 @@ std::string speed_section(const json& bench, json& summary) {
   for (const auto& [k, _] : rows) keys.push_back(k);
   for (const auto& k : keys) {
     auto& v = rows[k];
-    auto rate = [&](const char* var) { return v.count(var) ? v[var].value("tests_per_s", 0.0) : 0.0; };
-    auto opt = [&](const char* var) { return v.count(var) ? v[var].value("ops_per_test", 0.0) : 0.0; };
+    auto field = [&](const char* var, const char* key) {
+      if (!v.count(var)) return 0.0;
+      const auto it = v[var].find(key);
+      return it != v[var].end() && it->is_number() ? it->template get<double>() : 0.0;
+    };
+    auto rate = [&](const char* var) { return field(var, "tests_per_s"); };
+    auto opt = [&](const char* var) { return field(var, "ops_per_test"); };
     const double sc = rate("scalar"), rl = rate("rays_in_lanes"), pl = rate("prims_in_lanes");
     const auto p1 = k.find('/'), p2 = k.rfind('/');
     const std::string kernel = k.substr(0, p1), method = k.substr(p1 + 1, p2 - p1 - 1), kase = k.substr(p2 + 1);
@@ -104,9 +125,26 @@ std::string targets_section(const json& summary) {
       }
     return std::make_pair(w, where);
   };
+  // Per kernel: its best method (the highest worst-case speedup), and every method.
+  auto best_method = [&](const std::string& kernel) {
+    std::map<std::string, double> lowest;  // method -> lowest over cases of the better mapping
+    for (const auto& r : summary["simd_vs_scalar"])
+      if (r["kernel"] == kernel) {
+        const double s = std::max(r["speedup_rays_in_lanes"].get<double>(), r["speedup_prims_in_lanes"].get<double>());
+        const std::string m = r["method"].get<std::string>();
+        lowest[m] = lowest.count(m) ? std::min(lowest[m], s) : s;
+      }
+    std::pair<double, std::string> b{0, ""};
+    for (const auto& [m, v] : lowest)
+      if (v > b.first) b = {v, m};
+    return b;
+  };
   for (const char* k : {"triangle", "sphere", "box"}) {
+    const auto [bw, bm] = best_method(k);
+    md += fmt::format("| {} SIMD >= 6x scalar: best method, in every case (hit, miss, half) | {} lowest {:.2f}x | {} |\n", k, bm, bw,
+                      bw >= 6 ? "yes" : "**no**");
     const auto [w, where] = worst_speedup(k);
-    md += fmt::format("| {} SIMD >= 6x scalar (every method and case, better mapping) | lowest {:.2f}x ({}) | {} |\n", k, w, where,
+    md += fmt::format("| {} SIMD >= 6x scalar: every method, every case | lowest {:.2f}x ({}) | {} |\n", k, w, where,
                       w >= 6 ? "yes" : "**no**");
   }
   const double box = std::max(best("box", "slab", "rays_in_lanes_tests_per_s"), best("box", "slab", "prims_in_lanes_tests_per_s"));
@@ -114,6 +152,54 @@ std::string targets_section(const json& summary) {
   const double mt = std::max(best("triangle", "moller_trumbore", "rays_in_lanes_tests_per_s"),
                              best("triangle", "moller_trumbore", "prims_in_lanes_tests_per_s"));
   md += fmt::format("| Moller-Trumbore >= 0.75 G tests/s, one core | {:.2f} G/s | {} |\n", mt / 1e9, mt >= 0.75e9 ? "yes" : "**no**");
+  return md;
+}
+// Target of issue 3: every kernel's SIMD form >= 4x its true-scalar form on 8 lanes, or the reason
+// it cannot be. Per method: the better of the two mappings, in its worst case (hit, miss, half).
+// The reasons are the structural ones of each method; a method below target without one is
+// flagged as unexplained.
+std::string simd_target_section(json& summary) {
+  // Structural reasons, true of the method whatever the measurement (checked in the ops table).
+  static const std::map<std::string, std::string> why = {
+      {"torus/robust", "iterative: derivative isolation and safeguarded Newton run until the packet's slowest lane converges"},
+      {"algebraic/isolation_d4", "iterative root isolation: the packet runs to the lane with the most roots and steps"},
+      {"algebraic/isolation_d6", "iterative root isolation: the packet runs to the lane with the most roots and steps"},
+      {"implicit/sphere_tracing", "data-dependent step count: the packet marches until its slowest lane stops"},
+      {"implicit/illinois", "fixed-step sign search then Illinois steps: the packet runs its longest lane's search"},
+      {"revolution/polynomial", "iterative roots of K*(s): the packet runs to its slowest lane"},
+      {"revolution/bezier", "iterative roots of K*(s): the packet runs to its slowest lane"},
+  };
+  // kernel/method -> case -> better-mapping speedup
+  std::map<std::string, std::map<std::string, double>> sp;
+  for (const auto& r : summary["simd_vs_scalar"])
+    sp[r["kernel"].get<std::string>() + "/" + r["method"].get<std::string>()][r["case"].get<std::string>()] =
+        std::max(r["speedup_rays_in_lanes"].get<double>(), r["speedup_prims_in_lanes"].get<double>());
+  std::map<std::string, std::pair<double, std::string>> worst;  // kernel/method -> (speedup, case)
+  for (const auto& [km, cases] : sp)
+    for (const auto& [c, x] : cases)
+      if (!worst.count(km) || x < worst[km].first) worst[km] = {x, c};
+  std::string md = "| kernel/method | lowest SIMD speedup (better mapping, worst case) | >= 4x | why not |\n|---|---:|---|---|\n";
+  json out = json::array();
+  int met = 0, explained = 0, unexplained = 0;
+  for (const auto& [km, w] : worst) {
+    const bool ok = w.first >= 4;
+    const auto it = why.find(km);
+    const auto& cs = sp[km];
+    const double hit = cs.count("hit") ? cs.at("hit") : 0, miss = cs.count("miss") ? cs.at("miss") : 0;
+    std::string reason;
+    if (!ok && it != why.end()) reason = it->second;
+    else if (!ok && w.second == "half" && hit >= 4 && miss >= 4)
+      // Measured, not assumed: only the divergent packet falls short.
+      reason = fmt::format("only when lanes diverge (hit {:.2f}x, miss {:.2f}x): the scalar form stops early on the missing half, "
+                           "a packet with any hitting lane runs the whole test on all lanes", hit, miss);
+    else if (!ok) reason = "**unexplained**";
+    (ok ? met : (reason != "**unexplained**" ? explained : unexplained))++;
+    md += fmt::format("| {} | {:.2f}x ({}) | {} | {} |\n", km, w.first, w.second, ok ? "yes" : "no", reason);
+    out.push_back({{"kernel_method", km}, {"lowest_speedup", w.first}, {"case", w.second}, {"met", ok}, {"reason", reason}});
+  }
+  summary["simd_target_4x"] = out;
+  md += fmt::format("\n{} of {} methods reach 4x in every case; {} fall short for the structural reason given; {} unexplained.\n",
+                    met, worst.size(), explained, unexplained);
   return md;
 }
 }  // namespace
@@ -172,11 +258,7 @@ int run_report(const ReportOptions& o) {
     std::cerr << "raybench report: no benchmark matched filter '" << o.filter << "'\n";
     return 1;
   }
-  json bench;
-  {
-    std::ifstream f(bj);
-    f >> bench;
-  }
+  const json bench = load_benchmark_json(bj);
   md += "## 2. Scalar against SIMD, L1-resident\n\n"
         "256 rays x 64 primitives per iteration, every pair tested (~16k tests, all data in L1). `scalar` is compiled with "
         "`-fno-tree-vectorize -fno-tree-slp-vectorize` in its own translation unit; the SIMD mappings run the same kernel text "
@@ -185,6 +267,7 @@ int run_report(const ReportOptions& o) {
   md += speed_section(bench, summary) + "\n";
   md += "![SIMD speedup over scalar](simd_speedup.png)\n\n";
   md += "### Targets (issue 2)\n\n" + targets_section(summary) + "\n";
+  md += "### Target (issue 3): every kernel's SIMD form at least 4x its true-scalar form\n\n" + simd_target_section(summary) + "\n";
 
   std::cerr << "[report 3/3] scenes\n";
   md += report_section_scenes(o, out, summary);

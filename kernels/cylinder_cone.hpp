@@ -33,6 +33,7 @@
 
 #include "core/roots.hpp"
 #include "kernels/quadratic.hpp"
+#include "kernels/transform.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -290,6 +291,46 @@ RB_INLINE Vec3<F> capped_cone_normal(const Cone<F>& c, const Vec3<F>& p) {
   const Vec3<F> n = normalize(Vec3<F>{l.x, l.y, -l.z});
   const F zero = F(0), one = F(1);
   return {vselect(cap, zero, n.x), vselect(cap, zero, n.y), vselect(cap0, -one, vselect(cap1, one, n.z))};
+}
+
+// ---- placed shells: NFF's `c` entity ------------------------------------------------------------
+// A shell between two circles, base centre b with radius rb and top centre a with radius ra (open,
+// no caps, as NFF's cone/cylinder): a cylinder in basic position when the radii are equal, else
+// the unit cone x^2 + y^2 = z^2 cut to the frustum, each placed by an affine map (seed 000's
+// transformed instances). Degenerate input (non-finite, zero length, negative or both-zero radii)
+// gives never().
+inline Transformed<Cylinder>::T<float> place_cylinder(Vec3d b, Vec3d a, double r) {
+  const Vec3d w = a - b;
+  const double len = std::sqrt(dot(w, w));
+  if (!(len > 0) || !std::isfinite(len) || !(r > 0) || !std::isfinite(r) || !finite3(b))
+    return Transformed<Cylinder>::T<float>::never();
+  try {
+    return make_transformed(Affine3d::frame(b, w), make_cylinder(0.0, 0.0, r, 0.0, len));
+  } catch (const std::invalid_argument&) {
+    return Transformed<Cylinder>::T<float>::never();
+  }
+}
+
+// rb != ra. The unit cone's apex is the shell's virtual apex; local z runs along the axis away
+// from it, scaled by the slope k = |rb - ra| / length so that the local radius equals the world
+// radius: world = frame(apex, axis) scale(1, 1, 1/k) local, z in [min(ra, rb), max(ra, rb)].
+inline Transformed<Cone>::T<float> place_cone(Vec3d b, double rb, Vec3d a, double ra) {
+  if (ra > rb) {
+    std::swap(a, b);
+    std::swap(ra, rb);
+  }
+  const Vec3d w = a - b;  // from the wide end towards the narrow end and the virtual apex
+  const double len = std::sqrt(dot(w, w));
+  if (!(len > 0) || !std::isfinite(len) || !(ra >= 0) || !(rb > ra) || !std::isfinite(rb) || !finite3(b))
+    return Transformed<Cone>::T<float>::never();
+  const double k = (rb - ra) / len;
+  const Vec3d u = w * (1.0 / len);
+  const Vec3d apex = b + u * (rb / k);
+  try {
+    return make_transformed(Affine3d::frame(apex, u * -1.0) * Affine3d::scale({1, 1, 1 / k}), make_cone(Vec3d{0, 0, 0}, ra, rb));
+  } catch (const std::invalid_argument&) {
+    return Transformed<Cone>::T<float>::never();
+  }
 }
 
 }  // namespace rb

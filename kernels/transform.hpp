@@ -56,6 +56,20 @@ struct Affine3d {
     a.m[2][0] = k.z * k.x * C - k.y * s; a.m[2][1] = k.z * k.y * C + k.x * s; a.m[2][2] = c + k.z * k.z * C;
     return a;
   }
+  // A rigid frame taking +z to `axis` and the origin to `o`: world = frame(o, axis) local.
+  // Throws std::invalid_argument for a zero or non-finite axis.
+  static Affine3d frame(Vec3d o, Vec3d axis) {
+    const double l = std::sqrt(dot(axis, axis));
+    if (!(l > 0) || !std::isfinite(l)) throw std::invalid_argument("axis must be a non-zero finite vector");
+    axis = axis * (1.0 / l);
+    const Vec3d z{0, 0, 1};
+    const Vec3d k = cross(z, axis);
+    const double s = std::sqrt(dot(k, k)), c = dot(z, axis);
+    Affine3d R;
+    if (s > 1e-12) R = rotate(k, std::atan2(s, c));
+    else if (c < 0) R = rotate({1, 0, 0}, 3.14159265358979323846);
+    return translate(o) * R;
+  }
   // this * o (apply o first).
   Affine3d operator*(const Affine3d& o) const {
     Affine3d r;

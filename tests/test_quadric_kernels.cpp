@@ -470,6 +470,24 @@ TYPED_TEST(QuadricKernels, Transformed) {
   };
   // Local z in [1, 2] -> world y in [2, 4]; radius at local z = 1.5 is 1.5: a ray along x at y = 3.
   EXPECT_NEAR((run_one<F>(conek, ray({-5, 3, 0}, {1, 0, 0}), cone).t), 3.5, 1e-4);
+  // NFF-style shells between two circles (place_cylinder / place_cone), open.
+  const auto pcyl = place_cylinder({1, 1, 1}, {1, 1, 3}, 0.5);
+  auto pcylk = [](const auto& r, const auto& xx) {
+    return intersect_transformed(r, xx, [](const auto& lr, const auto& p) { return intersect_cylinder(lr, p); });
+  };
+  EXPECT_NEAR((run_one<F>(pcylk, ray({1, -5, 2}, {0, 1, 0}), pcyl).t), 5.5, 1e-4);
+  EXPECT_FALSE((run_one<F>(pcylk, ray({1, -5, 3.5f}, {0, 1, 0}), pcyl).hit));  // beyond the top circle
+  // Radius 1 at z = 0 down to 0.5 at z = 2: 0.75 at z = 1, either end order.
+  auto pconek = [](const auto& r, const auto& xx) {
+    return intersect_transformed(r, xx, [](const auto& lr, const auto& p) { return intersect_cone(lr, p); });
+  };
+  for (const auto& pc : {place_cone({0, 0, 0}, 1.0, {0, 0, 2}, 0.5), place_cone({0, 0, 2}, 0.5, {0, 0, 0}, 1.0)}) {
+    EXPECT_NEAR((run_one<F>(pconek, ray({5, 0, 1}, {-1, 0, 0}), pc).t), 4.25, 1e-4);
+    EXPECT_NEAR((run_one<F>(pconek, ray({0, 5, 0.5f}, {0, -1, 0}), pc).t), 4.125, 1e-4);
+    EXPECT_FALSE((run_one<F>(pconek, ray({5, 0, 2.5f}, {-1, 0, 0}), pc).hit));  // above the narrow end
+    EXPECT_FALSE((run_one<F>(pconek, ray({0.2f, 0, 5}, {0, 0, -1}), pc).hit));  // down the open axis
+  }
+  EXPECT_FALSE((run_one<F>(pconek, ray({5, 0, 1}, {-1, 0, 0}), place_cone({0, 0, 0}, 1.0, {0, 0, 0}, 0.5)).hit));
   // Quadric instance: a placed hyperboloid equals the coefficient placement.
   {
     const Affine3d M = Affine3d::translate({1, -2, 3}) * Affine3d::rotate({0, 0, 1}, 0.3);
