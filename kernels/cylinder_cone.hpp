@@ -212,10 +212,12 @@ inline Cone<float> make_capped_cone(Vec3<T> apex, T z0, T z1) {
 
 namespace detail {
 // The cone's quadratic: 3+- then A 2+- 3*, B 2+- 3*, C 2+- 3*, disc 1+- 2*.
+// Only oz (the origin's height above the apex) is kept of P0 - apex: returning the whole vector in
+// the struct made GCC 12 copy it through 16-byte halves that a 32-byte load then read back, a
+// store-forwarding stall that halved the 8-lane speed of the capped cone (perf annotate).
 template <class F>
 struct ConeQuad {
-  Vec3<F> o;
-  F A, B, C, disc;
+  F oz, A, B, C, disc;
 };
 template <class F>
 RB_INLINE ConeQuad<F> cone_quad(const Ray<F>& r, const Cone<F>& c) {
@@ -224,7 +226,7 @@ RB_INLINE ConeQuad<F> cone_quad(const Ray<F>& r, const Cone<F>& c) {
   const F A = p.x * p.x + p.y * p.y - p.z * p.z;
   const F B = o.x * p.x + o.y * p.y - o.z * p.z;
   const F C = o.x * o.x + o.y * o.y - o.z * o.z;
-  return {o, A, B, C, B * B - A * C};
+  return {o.z, A, B, C, B * B - A * C};
 }
 
 template <class F>
@@ -233,7 +235,7 @@ RB_INLINE Interval<F> capped_cone_interval(const Ray<F>& r, const Cone<F>& c, co
   // A < 0: inside on (-inf, lo] and [hi, +inf), one per nappe; keep the part that reaches the
   // slab: (-inf, lo] when the slab starts before lo.
   const F idz = F(1) / r.d.z;
-  const F ta = (c.z0 - k.o.z) * idz, tb = (c.z1 - k.o.z) * idz;
+  const F ta = (c.z0 - k.oz) * idz, tb = (c.z1 - k.oz) * idz;
   const mask_t<F> up = idz >= F(0);
   const F slo = vselect(up, ta, tb), shi = vselect(up, tb, ta);
   const mask_t<F> neg = k.A < F(0), low = slo <= q.lo;             // 2 cmp
@@ -251,7 +253,7 @@ RB_INLINE Hit<F> intersect_cone(const Ray<F>& r, const Cone<F>& c) {
   const detail::ConeQuad<F> k = detail::cone_quad(r, c);
   const mask_t<F> m = k.disc >= F(0);                   // 1 cmp (negative case ends here)
   if (none_of<F>(m)) return miss_hit<F>();
-  return detail::open_surface_hit(r, m, stable_roots(k.A, k.B, k.C, k.disc), k.o.z, c.z0, c.z1);
+  return detail::open_surface_hit(r, m, stable_roots(k.A, k.B, k.C, k.disc), k.oz, c.z0, c.z1);
 }
 
 // capped: the closed single-nappe frustum (make_capped_cone).
