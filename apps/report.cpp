@@ -96,7 +96,7 @@ std::string speed_section(const json& bench, json& summary) {
     const auto p1 = k.find('/'), p2 = k.rfind('/');
     const std::string kernel = k.substr(0, p1), method = k.substr(p1 + 1, p2 - p1 - 1), kase = k.substr(p2 + 1);
     const double s1 = sc > 0 ? rl / sc : 0, s2 = sc > 0 ? pl / sc : 0;
-    md += fmt::format("| {} | {} | {} | {:.0f} | {:.0f} | {:.0f} | {:.2f}x | {:.2f}x | {:.1f} | {:.1f} |\n", kernel, method, kase,
+    md += fmt::format("| {} | {} | {} | {:.4g} | {:.4g} | {:.4g} | {:.2f}x | {:.2f}x | {:.1f} | {:.1f} |\n", kernel, method, kase,
                       sc / 1e6, rl / 1e6, pl / 1e6, s1, s2, opt("scalar"), opt("rays_in_lanes"));
     out.push_back({{"kernel", kernel}, {"method", method}, {"case", kase}, {"scalar_tests_per_s", sc},
                    {"rays_in_lanes_tests_per_s", rl}, {"prims_in_lanes_tests_per_s", pl}, {"speedup_rays_in_lanes", s1},
