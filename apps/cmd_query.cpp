@@ -109,6 +109,14 @@ std::vector<Named> methods(const json& pj, std::string& type) {
   type = pj["type"].get<std::string>();
   std::vector<Named> m;
   auto add = [&](std::string name, Method fn) { m.push_back({std::move(name), std::move(fn)}); };
+  // A placed instance x: `kernel` and `normal` run in its own frame (kernels/transform.hpp).
+  auto add_placed = [&](std::string name, const auto& x, auto kernel, auto normal) {
+    add(std::move(name), [=](const Ray<float>& r) {
+      return eval<F>(
+          r, x, [kernel](auto& ray, auto& prim) { return intersect_transformed(ray, prim, kernel); },
+          [normal](const auto& prim, const auto& p) { return transformed_normal(prim, p, normal); });
+    });
+  };
   if (type == "sphere") {
     const auto s = make_sphere(vec(pj, "center"), num(pj, "radius"));
     auto nrm = [](const auto& p, const auto& x) { return sphere_normal(p, x); };
@@ -204,18 +212,9 @@ std::vector<Named> methods(const json& pj, std::string& type) {
     if (!(rad > 0) || !(ht > 0) || !std::isfinite(rad) || !std::isfinite(ht)) throw QueryError("cylinder: radius and height must be positive and finite");
     const bool caps = flag(pj, "caps");
     const auto c = make_transformed(frame(vec(pj, "base"), vec(pj, "axis")), make_cylinder(0.f, 0.f, float(rad), 0.f, float(ht)));
-    add(caps ? "capped" : "lecture", [=](const Ray<float>& r) {
-      return eval<F>(
-          r, c,
-          [caps](auto& x, auto& y) {
-            return intersect_transformed(x, y, [caps](const auto& lr, const auto& p) {
-              return caps ? intersect_cylinder_capped(lr, p) : intersect_cylinder(lr, p);
-            });
-          },
-          [caps](const auto& p, const auto& x) {
-            return transformed_normal(p, x, [caps](const auto& q, const auto& l) { return caps ? capped_cylinder_normal(q, l) : cylinder_normal(q, l); });
-          });
-    });
+    add_placed(caps ? "capped" : "lecture", c,
+               [caps](const auto& lr, const auto& p) { return caps ? intersect_cylinder_capped(lr, p) : intersect_cylinder(lr, p); },
+               [caps](const auto& q, const auto& l) { return caps ? capped_cylinder_normal(q, l) : cylinder_normal(q, l); });
   } else if (type == "cone") {
     double ht, tan_a;
     if (pj.contains("angle")) {
@@ -235,18 +234,9 @@ std::vector<Named> methods(const json& pj, std::string& type) {
     const Affine3d M = frame(vec(pj, "apex"), vec(pj, "axis")) * Affine3d::scale({tan_a, tan_a, 1});
     const float h1 = std::isfinite(ht) ? float(ht) : std::numeric_limits<float>::infinity();
     const auto c = make_transformed(M, caps ? make_capped_cone(Vec3f{0, 0, 0}, 0.f, h1) : make_cone(Vec3f{0, 0, 0}, 0.f, h1));
-    add(caps ? "capped" : "lecture", [=](const Ray<float>& r) {
-      return eval<F>(
-          r, c,
-          [caps](auto& x, auto& y) {
-            return intersect_transformed(x, y, [caps](const auto& lr, const auto& p) {
-              return caps ? intersect_cone_capped(lr, p) : intersect_cone(lr, p);
-            });
-          },
-          [caps](const auto& p, const auto& x) {
-            return transformed_normal(p, x, [caps](const auto& q, const auto& l) { return caps ? capped_cone_normal(q, l) : cone_normal(q, l); });
-          });
-    });
+    add_placed(caps ? "capped" : "lecture", c,
+               [caps](const auto& lr, const auto& p) { return caps ? intersect_cone_capped(lr, p) : intersect_cone(lr, p); },
+               [caps](const auto& q, const auto& l) { return caps ? capped_cone_normal(q, l) : cone_normal(q, l); });
   } else if (type == "torus") {
     Torus<float> t;
     try {

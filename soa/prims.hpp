@@ -70,15 +70,23 @@ struct PrimSoA {
   }
 };
 
-// One primitive in every lane of another number type (broadcast of each field).
-template <class F, template <class> class P>
-RB_INLINE P<F> prim_cast(P<float> p) {
-  P<F> q;
+namespace detail {
+// Field-by-field conversion between two instantiations of one primitive kind.
+template <class F, class Src, class Dst>
+RB_INLINE void cast_fields(Src& p, Dst& q) {
   auto src = p.fields();
   auto dst = q.fields();
   [&]<std::size_t... I>(std::index_sequence<I...>) {
     ((std::get<I>(dst) = F(std::get<I>(src))), ...);
   }(std::make_index_sequence<std::tuple_size_v<decltype(src)>>{});
+}
+}  // namespace detail
+
+// One primitive in every lane of another number type (broadcast of each field).
+template <class F, template <class> class P>
+RB_INLINE P<F> prim_cast(P<float> p) {
+  P<F> q;
+  detail::cast_fields<F>(p, q);
   return q;
 }
 
@@ -86,11 +94,7 @@ RB_INLINE P<F> prim_cast(P<float> p) {
 template <class F, template <class, int> class P, int K>
 RB_INLINE P<F, K> prim_cast(P<float, K> p) {
   P<F, K> q;
-  auto src = p.fields();
-  auto dst = q.fields();
-  [&]<std::size_t... I>(std::index_sequence<I...>) {
-    ((std::get<I>(dst) = F(std::get<I>(src))), ...);
-  }(std::make_index_sequence<std::tuple_size_v<decltype(src)>>{});
+  detail::cast_fields<F>(p, q);
   return q;
 }
 
