@@ -14,29 +14,36 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 
 def simd_speedup(out, summary):
+    """One panel per case (hit, miss, half): a horizontal bar pair per kernel/method."""
     rows = summary.get("simd_vs_scalar", [])
     if not rows:
         return
-    labels, rays, prims = [], [], []
-    for r in rows:
-        labels.append(f"{r['kernel']}/{r['method']}\n{r['case']}")
-        rays.append(r["speedup_rays_in_lanes"])
-        prims.append(r["speedup_prims_in_lanes"])
-    fig, ax = plt.subplots(figsize=(max(8, 0.55 * len(labels)), 5))
-    x = range(len(labels))
-    w = 0.4
-    ax.bar([i - w / 2 for i in x], rays, w, label="8 rays x 1 primitive")
-    ax.bar([i + w / 2 for i in x], prims, w, label="1 ray x 8 primitives")
-    ax.axhline(8, color="grey", lw=0.8, ls=":", label="8 lanes")
-    ax.axhline(6, color="red", lw=0.8, ls="--", label="target 6x")
-    ax.set_xticks(list(x))
-    ax.set_xticklabels(labels, rotation=60, ha="right", fontsize=7)
-    ax.set_ylabel("speedup over true scalar (median tests/s ratio)")
+    cases = [c for c in ("hit", "miss", "half") if any(r["case"] == c for r in rows)]
+    methods = sorted({f"{r['kernel']}/{r['method']}" for r in rows}, reverse=True)
+    by = {(f"{r['kernel']}/{r['method']}", r["case"]): r for r in rows}
+    fig, axes = plt.subplots(1, len(cases), figsize=(5.2 * len(cases), 1.2 + 0.24 * len(methods)), sharey=True, squeeze=False)
+    h = 0.4
+    for ax, case in zip(axes[0], cases):
+        y = range(len(methods))
+        rays = [by[(m, case)]["speedup_rays_in_lanes"] if (m, case) in by else 0 for m in methods]
+        prims = [by[(m, case)]["speedup_prims_in_lanes"] if (m, case) in by else 0 for m in methods]
+        ax.barh([i + h / 2 for i in y], rays, h, label="8 rays x 1 primitive")
+        ax.barh([i - h / 2 for i in y], prims, h, label="1 ray x 8 primitives")
+        ax.axvline(8, color="grey", lw=0.8, ls=":", label="8 lanes")
+        ax.axvline(6, color="red", lw=0.8, ls="--", label="6x (issue 2)")
+        ax.axvline(4, color="orange", lw=0.8, ls="--", label="4x (issue 3)")
+        ax.set_yticks(list(y))
+        ax.set_yticklabels(methods, fontsize=8)
+        ax.set_ylim(-0.6, len(methods) - 0.4)
+        ax.set_title(f"case: {case}", fontsize=10)
+        ax.set_xlabel("speedup over true scalar (ratio of medians)")
+        ax.grid(axis="x", lw=0.3)
+    handles, labels = axes[0][0].get_legend_handles_labels()
+    fig.legend(handles, labels, fontsize=8, loc="lower center", ncol=len(labels))
     m = summary["machine"]
-    ax.set_title(f"SIMD speedup, L1-resident, one thread\n{m['cpu']}, -ffp-contract={m['fp_contract']}, git {m['git']}", fontsize=9)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(os.path.join(out, "simd_speedup.png"), dpi=110)
+    fig.suptitle(f"SIMD speedup, L1-resident, one thread: {m['cpu']}, -ffp-contract={m['fp_contract']}, git {m['git']}", fontsize=10)
+    fig.tight_layout(rect=(0, 0.03, 1, 1))
+    fig.savefig(os.path.join(out, "simd_speedup.png"), dpi=100)
     plt.close(fig)
 
 
