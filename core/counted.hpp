@@ -15,7 +15,8 @@
 //                               vfma                    -> fma (reports also show it as 1 mul + 1 add)
 //                               vsin vcos vacos vatan2 vcbrt -> a separate per-thread tally,
 //                                 ops::trans_current() (OpCounts keeps its eight kinds)
-// What is free, by convention:  unary minus and vabs, vcopysign (sign-bit operations), mask
+// What is free, by convention:  unary minus and vabs, vcopysign (sign-bit operations), vrounded
+//                               (a compiler barrier, no instruction), mask
 //                               logic (& | ~), loads, stores, broadcasts of constants, conversion,
 //                               any_of/all_of/none_of (movemask and a branch).
 //
@@ -139,6 +140,7 @@ struct num<Counted<T>> {
   static RB_INLINE type abs(const type& a) { return type(base::abs(a.v)); }
   static RB_INLINE type fma(const type& a, const type& b, const type& c) { ops::local().bump(ops::kFma); return type(base::fma(a.v, b.v, c.v)); }
   static RB_INLINE type copysign(const type& a, const type& b) { return type(base::copysign(a.v, b.v)); }
+  static RB_INLINE type rounded(const type& a) { return type(base::rounded(a.v)); }
   static RB_INLINE type sin(const type& a) { ++ops::trans_local(); return type(base::sin(a.v)); }
   static RB_INLINE type cos(const type& a) { ++ops::trans_local(); return type(base::cos(a.v)); }
   static RB_INLINE type acos(const type& a) { ++ops::trans_local(); return type(base::acos(a.v)); }

@@ -58,6 +58,12 @@ struct scalar_num {
   static RB_INLINE T abs(T a) { return std::fabs(a); }
   static RB_INLINE T fma(T a, T b, T c) { return std::fma(a, b, c); }
   static RB_INLINE T copysign(T a, T b) { return std::copysign(a, b); }
+  // The value itself, through an empty asm that claims to modify it in its register: the compiler
+  // can no longer fuse the operation that produced it into a following add (FMA contraction).
+  static RB_INLINE T rounded(T a) {
+    asm("" : "+x"(a));
+    return a;
+  }
   // Transcendentals (implicit surfaces, closed-form cubic/quartic roots, [u,v] angles).
   static RB_INLINE T sin(T a) { return std::sin(a); }
   static RB_INLINE T cos(T a) { return std::cos(a); }
@@ -93,6 +99,11 @@ struct batch_num {
   static RB_INLINE type abs(const type& a) { return xsimd::abs(a); }
   static RB_INLINE type fma(const type& a, const type& b, const type& c) { return xsimd::fma(a, b, c); }
   static RB_INLINE type copysign(const type& a, const type& b) { return xsimd::copysign(a, b); }
+  static RB_INLINE type rounded(const type& a) {
+    typename type::register_type v = a;
+    asm("" : "+x"(v));
+    return type(v);
+  }
   static RB_INLINE type sin(const type& a) { return xsimd::sin(a); }
   static RB_INLINE type cos(const type& a) { return xsimd::cos(a); }
   static RB_INLINE type acos(const type& a) { return xsimd::acos(a); }
@@ -154,6 +165,11 @@ template <class F> RB_INLINE F vsqrt(const F& a) { return num<F>::sqrt(a); }
 template <class F> RB_INLINE F vabs(const F& a) { return num<F>::abs(a); }
 template <class F> RB_INLINE F vfma(const F& a, const F& b, const F& c) { return num<F>::fma(a, b, c); }
 template <class F> RB_INLINE F vcopysign(const F& a, const F& b) { return num<F>::copysign(a, b); }
+// a, as a separately rounded value: under -ffp-contract=fast, vrounded(a * b) - vrounded(c * d)
+// rounds both products and then the difference (no FMA), so swapping the operand pairs negates
+// the result exactly. Free (no instruction; not counted). For exact sign tests that must agree
+// between two evaluations (shared triangle edges).
+template <class F> RB_INLINE F vrounded(const F& a) { return num<F>::rounded(a); }
 // Transcendentals: xsimd's vectorised sin/cos/acos/atan2/cbrt are not bit-identical to libm, so
 // a SIMD lane may differ from the scalar result by a few ulps wherever these are used.
 template <class F> RB_INLINE F vsin(const F& a) { return num<F>::sin(a); }

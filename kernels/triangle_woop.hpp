@@ -9,6 +9,12 @@
 //   (zero allowed on either side: two-sided); det = U + V + W != 0; t = (U Az + V Bz + W Cz)/det
 //   with Az = Sz A[kz]. A shared edge is evaluated with the same operations on the same floats by
 //   both of its triangles (reversed, the value is exactly negated), so no ray passes between them.
+//   That needs both products of each edge function rounded separately: with -ffp-contract=fast
+//   the compiler would form fma(Cx, By, -(Cy Bx)), which is not the negation of the reversed
+//   edge's fma(By, Cx, -(Bx Cy)) (one product exact, the other rounded), and rays exactly through
+//   shared edges passed between both faces. vrounded (core/num.hpp) forces the separate rounding
+//   without an instruction; it holds in every build (the double fallback's products of floats
+//   are exact in double, contracted or not).
 //   When an edge function is exactly 0.0 in float, U, V, W are recomputed in double from the
 //   float sheared coordinates (a product of two floats is exact in double, so the sign is right).
 //
@@ -133,9 +139,11 @@ RB_INLINE Hit<F> intersect_triangle_woop(const WoopRay<F>& w, const Ray<F>& r, c
   const F Ax = A.x - w.Sx * A.z, Ay = A.y - w.Sy * A.z;  // 2+- 2*
   const F Bx = B.x - w.Sx * B.z, By = B.y - w.Sy * B.z;  // 2+- 2*
   const F Cx = C.x - w.Sx * C.z, Cy = C.y - w.Sy * C.z;  // 2+- 2*
-  F U = Cx * By - Cy * Bx;                               // 1+- 2*
-  F V = Ax * Cy - Ay * Cx;                               // 1+- 2*
-  F W = Bx * Ay - By * Ax;                               // 1+- 2*
+  // Each product rounded on its own (vrounded): a contracted fma(Cx, By, -Cy Bx) is not the exact
+  // negation of the other face's fma(By, Cx, -Bx Cy), and rays through the shared edge leaked.
+  F U = vrounded(Cx * By) - vrounded(Cy * Bx);           // 1+- 2*
+  F V = vrounded(Ax * Cy) - vrounded(Ay * Cx);           // 1+- 2*
+  F W = vrounded(Bx * Ay) - vrounded(By * Ax);           // 1+- 2*
   const mask_t<F> zero = (U == F(0)) | (V == F(0)) | (W == F(0));  // 3 cmp
   if (any_of<F>(zero)) detail::woop_double_fallback<F>(zero, Ax, Ay, Bx, By, Cx, Cy, U, V, W);
   const F z = F(0);
