@@ -54,13 +54,15 @@ const Entry kEntries[] = {
      "miss = ray parallel to the planes: n . p1 (2+- 3*) and the parallel test, then exit (the slide gives no negative case)"},
     {"polyhedron", "halfspaces", "hit", std::nullopt,
      "octahedron (8 halfspaces), the slide's t_in/t_out algorithm: per plane n.p1 2+-3*, n.P0 + D 3+-3*, 1/, "
-     "enter/leave 2 cmp 2 select 2 min/max, parallel-outside 2 cmp, t_in <= t_out 1 cmp (early exit check)"},
+     "enter/leave 2 cmp 2 select 2 min/max, parallel-outside 2 cmp, t_in <= t_out 1 cmp (early exit check); t_in and t_out "
+     "start from the whole line, then the first crossing in [tmin, tmax] (t_out from inside, as every closed primitive): "
+     "3 cmp 1 select + make_hit"},
     {"polyhedron", "halfspaces", "miss", std::nullopt,
      "miss = ray beside the octahedron (x + 10): early exit (t_in > t_out) after 5 of the 8 planes"},
     {"polyhedron", "slabs", "hit", std::nullopt,
      "oriented box as 3 slabs (parallel plane pairs): per slab the parallel-planes cost 5+-6*1/ + 1+-1/, 4 min/max, 1 cmp "
      "early exit; an axis-aligned box this way costs 12+- 12* 6/ more than box/slab (6+- 6*: 1/d stored per ray, "
-     "the 0/1 normals implicit)"},
+     "the 0/1 normals implicit); the first crossing in [tmin, tmax] as the halfspaces: 3 cmp 1 select + make_hit"},
     {"polyhedron", "slabs", "miss", std::nullopt,
      "miss = ray beside the box (x + 10): early exit after the first slab empties [t_in, t_out]"},
 };

@@ -52,11 +52,13 @@ const Entry kEntries[] = {
     {"cylinder", "normal", "hit", std::nullopt, "lateral (x - cx, y - cy, 0) / rho: 3+- 4* 1 sqrt 1/"},
     {"cone", "lecture", "miss", std::nullopt,
      "seed 000's substituted quadratic (half B) with the apex at (cx, cy, cz): 3+- for the apex offset (0 in basic "
-     "position); A, B, C 6+- 9*, disc 1+- 2*, 1 cmp"},
+     "position); A, B, C 6+- 9*, disc 1+- 2*, 1 cmp; A < 0 1 cmp and disc clamped to 0 there 1 min/max (a ray steeper than "
+     "the cone always meets it: a negative disc is rounding near the apex, which made rays through the apex miss)"},
     {"cone", "lecture", "hit", std::nullopt, "+ stable roots, z range and [tmin, tmax] of both roots as the open cylinder"},
     {"cone", "capped", "miss", std::nullopt, "the same negative case as the open cone"},
     {"cone", "capped", "hit", std::nullopt,
-     "+ stable roots; slab 1/ 2+- 2* 1 cmp 2 select; A < 0 (two nappes) picks the half-line that meets the slab: 2 cmp 4 select; "
+     "+ stable roots; slab 1/ 2+- 2* 1 cmp 2 select; A < 0 (two nappes) picks the half-line in the solid's nappe by the signs "
+     "of dz and z1 (not by comparing roots and slab, which failed through the apex): 1 cmp 4 select; "
      "entry/exit 2 min/max 1 cmp; root choice 3 cmp 2 select"},
     // Transformation (seed 000 "Implementation": 1 transformation 15+, 18*).
     {"transform", "ray", "hit", Lecture{15, 18, 0, 0, 0},

@@ -27,15 +27,19 @@ const Entry kEntries[] = {
     {"triangle", "moller_trumbore", "miss", std::nullopt, "miss by u > 1: exits after the u test"},
     {"triangle", "normal_mt", "hit", std::nullopt, "e1 x e2 (the lecture form stores n = U x V: 0 ops)"},
     {"sphere", "geometric", "miss", Lecture{9, 6, 0, 1, 0},
-     "+1*: the slide's own formulas need 7* (v.p1 3*, v.v 3*, t0^2 1*); the slide's 6* is one short"},
+     "+1*: the slide's own formulas need 7* (v.p1 3*, v.v 3*, t0^2 1*); the slide's 6* is one short; "
+     "+2+- +4* +1/: a = p1.p1 (2+- 3*), 1/a and t0/a (1/ 1*) where the slide assumes |p1| = 1: a float-rounded unit "
+     "direction is 1 +- 1e-7 long, and t0^2 then misclassified half the rays at distance/R = 1e4, even in double"},
     {"sphere", "geometric", "hit", Lecture{11, 6, 0, 1, 1},
-     "+1* as in the miss case; +3 cmp: choosing the root >= tmin and t within [tmin, tmax]; +2 select (root choice, t = +inf on misses)"},
+     "+2+- +5* +1/: as in the miss case, and tD = sqrt(tD^2 / a) (1*); +3 cmp: choosing the root >= tmin and t within "
+     "[tmin, tmax]; +2 select (root choice, t = +inf on misses)"},
     {"sphere", "algebraic", "miss", std::nullopt, "seed 002's quadratic: A = d.d, B = 2 d.(e-c), C, disc = B^2 - 4AC"},
     {"sphere", "algebraic", "hit", std::nullopt, "both roots (-B -+ sqrt(disc)) / 2A, nearer one >= tmin"},
     {"sphere", "normal", "hit", std::nullopt, "(P - C) / R with 1/R stored per sphere"},
     {"box", "slab", "hit", std::nullopt,
-     "branch-free slabs with 1/d precomputed per ray (the slide divides per axis and exits early per axis)"},
-    {"box", "slab", "miss", std::nullopt, "no early exit: the same 12 min/max and 1 cmp as a hit"},
+     "branch-free slabs with 1/d precomputed per ray (the slide divides per axis and exits early per axis); entry and exit "
+     "10 min/max; the first surface crossing in [tmin, tmax] (the exit from inside, as the sphere): 4 cmp 1 select + make_hit"},
+    {"box", "slab", "miss", std::nullopt, "no early exit: the same 10 min/max, 4 cmp and 2 select as a hit"},
 };
 
 }  // namespace

@@ -6,9 +6,13 @@
 // return the other value (minps semantics): t stays finite or +inf, never NaN; such a ray
 // lies in the box's face plane, a boundary case that may report a miss.
 //   t_lo = (lo - P0) * rd, t_hi = (hi - P0) * rd        6+- 6*
-//   t_near = max(min per axis, tmin), t_far = min(max per axis, tmax)   12 min/max
-//   hit: t_near <= t_far                                1 cmp
-// Returns t_near: the entry distance, or tmin when the origin is inside.
+//   t_near = max of the per-axis mins, t_far = min of the per-axis maxes   10 min/max
+//   t = t_near if t_near >= tmin, else t_far            1 cmp 1 select
+//   hit: t_near <= t_far and tmin <= t <= tmax          3 cmp
+// Returns the first surface crossing in [tmin, tmax], as every closed primitive does: the entry,
+// or the exit when the origin is inside (the sphere's far root). intersect_box_overlap keeps the
+// cheaper clamped form (t = max(t_near, tmin), so tmin when the origin is inside), which is what
+// a traversal wants: the distance at which the segment enters the box.
 #pragma once
 
 #include "core/ray.hpp"
@@ -32,6 +36,21 @@ inline Box<float> make_box(Vec3<T> lo, Vec3<T> hi) {
 
 template <class F>
 RB_INLINE Hit<F> intersect_box(const Ray<F>& r, const Box<F>& b) {
+  const F x0 = (b.lo.x - r.o.x) * r.rd.x, x1 = (b.hi.x - r.o.x) * r.rd.x;   // 2+- 2*
+  const F y0 = (b.lo.y - r.o.y) * r.rd.y, y1 = (b.hi.y - r.o.y) * r.rd.y;   // 2+- 2*
+  const F z0 = (b.lo.z - r.o.z) * r.rd.z, z1 = (b.hi.z - r.o.z) * r.rd.z;   // 2+- 2*
+  // A NaN axis (origin on both planes of a flat box, ray in them) makes tn or tf NaN: a miss.
+  const F tn = vmax(vmin(z0, z1), vmax(vmin(x0, x1), vmin(y0, y1)));      // 5 min/max
+  const F tf = vmin(vmax(z0, z1), vmin(vmax(x0, x1), vmax(y0, y1)));      // 5 min/max
+  const F t = vselect(tn >= r.tmin, tn, tf);                                // 1 cmp 1 select
+  const mask_t<F> m = (tn <= tf) & (t >= r.tmin) & (t <= r.tmax);           // 3 cmp
+  return make_hit<F>(m, t);                                                 // 1 select
+}
+
+// The overlap form for traversal: hit when the box meets [tmin, tmax]; t = the clamped entry
+// max(t_near, tmin) (tmin when the origin is inside). 6+- 6* 12 min/max 1 cmp 1 select.
+template <class F>
+RB_INLINE Hit<F> intersect_box_overlap(const Ray<F>& r, const Box<F>& b) {
   const F x0 = (b.lo.x - r.o.x) * r.rd.x, x1 = (b.hi.x - r.o.x) * r.rd.x;   // 2+- 2*
   const F y0 = (b.lo.y - r.o.y) * r.rd.y, y1 = (b.hi.y - r.o.y) * r.rd.y;   // 2+- 2*
   const F z0 = (b.lo.z - r.o.z) * r.rd.z, z1 = (b.hi.z - r.o.z) * r.rd.z;   // 2+- 2*

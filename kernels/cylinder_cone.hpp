@@ -23,7 +23,9 @@
 //       nowhere (explicit selects: the quadratic degenerates to the constant C).
 //     Cone: must be a single nappe (0 <= z0 or z1 <= 0: make_capped_cone), which is convex.
 //       A > 0: inside between the roots; A < 0 (a ray steeper than the cone): inside before lo
-//       (one nappe) and after hi (the other): the part that meets the slab is taken; A == 0
+//       (one nappe) and after hi (the other): the part in the solid's nappe is taken (by the
+//       signs of dz and z1; such a line always meets the cone: a negative disc is rounding near
+//       the apex and is clamped to the double root); A == 0
 //       (parallel to a generator): t0 = q / A = +-inf makes [lo, hi] the correct half-line.
 //   A ray lying in a cap plane and parallel to it makes a slab bound 0 * inf = NaN; the bound
 //   is placed first in vmax/vmin so it is dropped: such a boundary ray counts as inside the slab.
@@ -215,9 +217,15 @@ namespace detail {
 // Only oz (the origin's height above the apex) is kept of P0 - apex: returning the whole vector in
 // the struct made GCC 12 copy it through 16-byte halves that a 32-byte load then read back, a
 // store-forwarding stall that halved the 8-lane speed of the capped cone (perf annotate).
+// A < 0 (a ray steeper than the cone): the line runs from inside one nappe to inside the other,
+// which meet only at the apex, so it always meets the double cone (the true disc >= 0); a negative
+// disc there is rounding of B^2 - A C for a line through or near the apex (a double root), which
+// made rays through the apex miss. Such lanes are kept (m) and disc is clamped to 0 (the double
+// root): 1 cmp 1 min/max. `m` is the lanes with real roots.
 template <class F>
 struct ConeQuad {
   F oz, A, B, C, disc;
+  mask_t<F> m, steep;  // real roots; A < 0
 };
 template <class F>
 RB_INLINE ConeQuad<F> cone_quad(const Ray<F>& r, const Cone<F>& c) {
@@ -226,19 +234,27 @@ RB_INLINE ConeQuad<F> cone_quad(const Ray<F>& r, const Cone<F>& c) {
   const F A = p.x * p.x + p.y * p.y - p.z * p.z;
   const F B = o.x * p.x + o.y * p.y - o.z * p.z;
   const F C = o.x * o.x + o.y * o.y - o.z * o.z;
-  return {o.z, A, B, C, B * B - A * C};
+  const F disc = B * B - A * C;
+  const mask_t<F> steep = A < F(0);
+  const mask_t<F> m = (disc >= F(0)) | steep;
+  return {o.z, A, B, C, vmax(disc, F(0)), m, steep};
 }
 
 template <class F>
 RB_INLINE Interval<F> capped_cone_interval(const Ray<F>& r, const Cone<F>& c, const ConeQuad<F>& k, const mask_t<F>& m) {
   const QuadRoots<F> q = stable_roots(k.A, k.B, k.C, k.disc);
-  // A < 0: inside on (-inf, lo] and [hi, +inf), one per nappe; keep the part that reaches the
-  // slab: (-inf, lo] when the slab starts before lo.
+  // A < 0: inside on (-inf, lo] and [hi, +inf), one per nappe; keep the half-line in the solid's
+  // nappe: going up (dz > 0) the upper nappe's (z > 0) part comes last, [hi, +inf), going down it
+  // comes first, (-inf, lo]; the lower nappe the other way round. Decided by signs, not by
+  // comparing the slab with the roots: for a ray through the apex both roots and the slab's start
+  // coincide up to rounding, and that comparison picked the wrong nappe (a miss).
   const F idz = F(1) / r.d.z;
   const F ta = (c.z0 - k.oz) * idz, tb = (c.z1 - k.oz) * idz;
   const mask_t<F> up = idz >= F(0);
   const F slo = vselect(up, ta, tb), shi = vselect(up, tb, ta);
-  const mask_t<F> neg = k.A < F(0), low = slo <= q.lo;             // 2 cmp
+  const mask_t<F> upper = c.z1 > F(0);                               // 1 cmp
+  const mask_t<F> low = (up & mask_not<F>(upper)) | (mask_not<F>(up) & upper);  // up != upper
+  const mask_t<F> neg = k.steep;
   const F lo = vselect(neg, vselect(low, F(-kInf<F>), q.hi), q.lo);  // 2 select
   const F hi = vselect(neg, vselect(low, q.lo, F(kInf<F>)), q.hi);   // 2 select
   const F enter = vmax(slo, lo), exit = vmin(shi, hi);
@@ -251,7 +267,7 @@ RB_INLINE Interval<F> capped_cone_interval(const Ray<F>& r, const Cone<F>& c, co
 template <class F>
 RB_INLINE Hit<F> intersect_cone(const Ray<F>& r, const Cone<F>& c) {
   const detail::ConeQuad<F> k = detail::cone_quad(r, c);
-  const mask_t<F> m = k.disc >= F(0);                   // 1 cmp (negative case ends here)
+  const mask_t<F> m = k.m;                              // (negative case ends here)
   if (none_of<F>(m)) return miss_hit<F>();
   return detail::open_surface_hit(r, m, stable_roots(k.A, k.B, k.C, k.disc), k.oz, c.z0, c.z1);
 }
@@ -260,7 +276,7 @@ RB_INLINE Hit<F> intersect_cone(const Ray<F>& r, const Cone<F>& c) {
 template <class F>
 RB_INLINE Hit<F> intersect_cone_capped(const Ray<F>& r, const Cone<F>& c) {
   const detail::ConeQuad<F> k = detail::cone_quad(r, c);
-  const mask_t<F> m = k.disc >= F(0);
+  const mask_t<F> m = k.m;
   if (none_of<F>(m)) return miss_hit<F>();
   return detail::interval_first_hit(r, detail::capped_cone_interval(r, c, k, m));
 }
@@ -268,16 +284,29 @@ RB_INLINE Hit<F> intersect_cone_capped(const Ray<F>& r, const Cone<F>& c) {
 template <class F>
 RB_INLINE Roots<F, 2> cone_roots(const Ray<F>& r, const Cone<F>& c) {
   const detail::ConeQuad<F> k = detail::cone_quad(r, c);
-  const mask_t<F> m = k.disc >= F(0);
+  const mask_t<F> m = k.m;
   if (none_of<F>(m)) return Roots<F, 2>::none();
   return detail::interval_roots(detail::capped_cone_interval(r, c, k, m));
 }
 
-// Lateral unit normal: the gradient (x, y, -z) about the apex, normalised.
+namespace detail {
+// (x, y, -z) about the apex, normalised; at the apex itself (where the gradient is 0 and the
+// normalisation was 0/0 = NaN) the axis pointing out of the tip: -z for the upper nappe
+// (z1 > 0), +z for the lower.
+template <class F>
+RB_INLINE Vec3<F> cone_lateral_normal(const Cone<F>& c, const Vec3<F>& l) {
+  const F n2 = l.x * l.x + l.y * l.y + l.z * l.z;
+  const F zero = F(0), one = F(1);
+  const mask_t<F> tip = n2 == zero;                     // the apex (or an underflowed offset)
+  const F s = one / vsqrt(vselect(tip, one, n2));
+  return {vselect(tip, zero, l.x * s), vselect(tip, zero, l.y * s), vselect(tip, vselect(c.z1 > zero, -one, one), -l.z * s)};
+}
+}  // namespace detail
+
+// Lateral unit normal: the gradient (x, y, -z) about the apex, normalised (the tip's axis at the apex).
 template <class F>
 RB_INLINE Vec3<F> cone_normal(const Cone<F>& c, const Vec3<F>& p) {
-  const Vec3<F> l = p - c.apex;
-  return normalize(Vec3<F>{l.x, l.y, -l.z});
+  return detail::cone_lateral_normal(c, p - c.apex);
 }
 
 // Normal of the capped frustum: a cap when its plane is nearer than the lateral surface
@@ -290,7 +319,7 @@ RB_INLINE Vec3<F> capped_cone_normal(const Cone<F>& c, const Vec3<F>& p) {
   const F d0 = vabs(l.z - c.z0), d1 = vabs(l.z - c.z1);
   const mask_t<F> cap0 = (d0 < dl) & (d0 <= d1), cap1 = (d1 < dl) & mask_not<F>(cap0);
   const mask_t<F> cap = cap0 | cap1;
-  const Vec3<F> n = normalize(Vec3<F>{l.x, l.y, -l.z});
+  const Vec3<F> n = detail::cone_lateral_normal(c, l);
   const F zero = F(0), one = F(1);
   return {vselect(cap, zero, n.x), vselect(cap, zero, n.y), vselect(cap0, -one, vselect(cap1, one, n.z))};
 }

@@ -6,7 +6,9 @@
 //   den > 0 (leaving):   t_out = min(t_out, -s / den)
 //   den == 0 (parallel): the ray is outside for good when s > 0
 // and the early exit when t_in > t_out (per plane, when every lane is out: the slide's early exit).
-// Per plane: 5+- 6* 1/, 5 cmp, 2 select, 2 min/max. Returns t_in (tmin when the origin is inside).
+// Per plane: 5+- 6* 1/, 5 cmp, 2 select, 2 min/max. Returns the first surface crossing in
+// [tmin, tmax], as every closed primitive does: t_in, or t_out when the origin is inside (t_in and
+// t_out start from the whole line, -inf and +inf, and the choice costs 3 cmp 1 select).
 //
 // Special cases using parallelism (the slide's "e.g. cuboid"): SlabsK, K pairs of parallel planes
 // sharing one normal (n, D_lo, D_hi): per pair the parallel-planes cost (kernels/parallel_planes.hpp)
@@ -110,12 +112,23 @@ RB_INLINE bool halfspace_clip(const Ray<F>& r, const HalfspacesK<F, K>& h, F& t_
 }
 }  // namespace detail
 
+namespace detail {
+// The first crossing of [t_in, t_out] (the line's interval in the solid) within [tmin, tmax]:
+// t_in, or t_out when t_in is before tmin (origin inside).  3 cmp 1 select (+ make_hit)
+template <class F>
+RB_INLINE Hit<F> first_crossing(const Ray<F>& r, const mask_t<F>& alive, const F& t_in, const F& t_out) {
+  const F t = vselect(t_in >= r.tmin, t_in, t_out);
+  const mask_t<F> m = alive & (t >= r.tmin) & (t <= r.tmax);
+  return make_hit<F>(m, t);
+}
+}  // namespace detail
+
 template <class F, int K>
 RB_INLINE Hit<F> intersect_polyhedron(const Ray<F>& r, const HalfspacesK<F, K>& h) {
-  F t_in = r.tmin, t_out = r.tmax;
+  F t_in = F(-kInf<F>), t_out = F(kInf<F>);
   mask_t<F> alive = mask_true<F>();
   if (!detail::halfspace_clip<true>(r, h, t_in, t_out, alive)) return miss_hit<F>();
-  return make_hit<F>(alive, t_in);                          // 1 select
+  return detail::first_crossing(r, alive, t_in, t_out);     // 3 cmp 2 select
 }
 
 // Entry and exit along the whole line (t_in from -inf, t_out from +inf), valid where the line
@@ -218,12 +231,14 @@ RB_INLINE bool slab_clip(const Ray<F>& r, const SlabsK<F, K>& s, F& t_in, F& t_o
 }
 }  // namespace detail
 
+// The first surface crossing in [tmin, tmax] (the exit when the origin is inside), as
+// intersect_polyhedron.
 template <class F, int K>
 RB_INLINE Hit<F> intersect_slabs(const Ray<F>& r, const SlabsK<F, K>& s) {
-  F t_in = r.tmin, t_out = r.tmax;
+  F t_in = F(-kInf<F>), t_out = F(kInf<F>);
   mask_t<F> alive = mask_true<F>();
   if (!detail::slab_clip<true>(r, s, t_in, t_out, alive)) return miss_hit<F>();
-  return make_hit<F>(alive, t_in);                          // 1 select
+  return detail::first_crossing(r, alive, t_in, t_out);     // 3 cmp 2 select
 }
 
 template <class F, int K>

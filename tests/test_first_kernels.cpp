@@ -133,10 +133,17 @@ TYPED_TEST(FirstKernels, Box) {
   h = run_one<F>(k, make_ray(Vec3f{-3, -3, -3}, Vec3f{1, 1, 1}), bx);
   EXPECT_TRUE(h.hit);
   EXPECT_NEAR(h.t, 2.0 * std::sqrt(3.0), 1e-5);
-  // Inside: t = tmin.
+  // Inside: the exit surface (the first crossing in [tmin, tmax], as the sphere's far root); the
+  // overlap form keeps the clamped entry tmin.
   h = run_one<F>(k, make_ray(Vec3f{0, 0, 0}, Vec3f{0, 1, 0}), bx);
   EXPECT_TRUE(h.hit);
+  EXPECT_EQ(h.t, 1.0);
+  h = run_one<F>(RB_KERNEL(intersect_box_overlap), make_ray(Vec3f{0, 0, 0}, Vec3f{0, 1, 0}), bx);
+  EXPECT_TRUE(h.hit);
   EXPECT_EQ(h.t, 0.0);
+  // Inside with the exit beyond tmax: no crossing in [tmin, tmax]; the overlap form still overlaps.
+  EXPECT_FALSE(run_one<F>(k, make_ray(Vec3f{0, 0, 0}, Vec3f{0, 1, 0}, 0.f, 0.5f), bx).hit);
+  EXPECT_TRUE(run_one<F>(RB_KERNEL(intersect_box_overlap), make_ray(Vec3f{0, 0, 0}, Vec3f{0, 1, 0}, 0.f, 0.5f), bx).hit);
   // Axis-parallel ray outside the x slab; behind; beyond tmax.
   EXPECT_FALSE(run_one<F>(k, make_ray(Vec3f{2, 0, -5}, Vec3f{0, 0, 1}), bx).hit);
   EXPECT_FALSE(run_one<F>(k, make_ray(Vec3f{0, 0, -5}, Vec3f{0, 0, -1}), bx).hit);
@@ -148,6 +155,9 @@ TYPED_TEST(FirstKernels, Box) {
   const Vec3<F> n = box_normal(prim_cast<F>(bx), Vec3<F>{F(0.2f), F(0.1f), F(-1)});
   EXPECT_EQ(double(lane(n.z, 0)), -1.0);
   EXPECT_EQ(double(lane(n.x, 0)), 0.0);
+  // Normal of the exit face seen from inside: outward, as the sphere's.
+  const Vec3<F> ne = box_normal(prim_cast<F>(bx), Vec3<F>{F(0.f), F(1.f), F(0.f)});
+  EXPECT_EQ(double(lane(ne.y, 0)), 1.0);
 }
 
 // NaN, inf and zero-direction rays, and NaN / reversed intervals: a miss with t = +inf in every kernel.

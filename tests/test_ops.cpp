@@ -34,16 +34,18 @@ TEST(OpsTable, GoldenScalarCounts) {
   EXPECT_EQ(g(find("plane", "lecture", "miss", "float").measured), Golden(2, 3, 0, 0, 1, 0, 0, 0));
   EXPECT_EQ(g(find("plane", "lecture", "hit", "float").measured), Golden(5, 6, 1, 0, 3, 0, 1, 0));
   EXPECT_EQ(g(find("plane", "point", "hit", "float").measured), Golden(3, 3, 0, 0, 0, 0, 0, 0));
-  // Sphere, geometric: negative 9+- 7* 1 cmp; positive additionally 2+- 1 sqrt.
-  EXPECT_EQ(g(find("sphere", "geometric", "miss", "float").measured), Golden(9, 7, 0, 0, 1, 0, 0, 0));
-  EXPECT_EQ(g(find("sphere", "geometric", "hit", "float").measured), Golden(11, 7, 0, 1, 4, 0, 2, 0));
+  // Sphere, geometric: negative 11+- 11* 1/ 1 cmp (the lecture's 9+- 7* with a = p1.p1, 1/a and
+  // t0/a, since a float unit direction is not of length 1); positive additionally 2+- 1* 1 sqrt.
+  EXPECT_EQ(g(find("sphere", "geometric", "miss", "float").measured), Golden(11, 11, 1, 0, 1, 0, 0, 0));
+  EXPECT_EQ(g(find("sphere", "geometric", "hit", "float").measured), Golden(13, 12, 1, 1, 4, 0, 2, 0));
   EXPECT_EQ(g(find("sphere", "algebraic", "miss", "float").measured), Golden(11, 13, 0, 0, 1, 0, 0, 0));
   EXPECT_EQ(g(find("sphere", "algebraic", "hit", "float").measured), Golden(13, 14, 2, 1, 4, 0, 2, 0));
   EXPECT_EQ(g(find("triangle", "lecture", "hit", "float").measured), Golden(12, 12, 3, 0, 6, 0, 1, 0));
   EXPECT_EQ(g(find("triangle", "moller_trumbore", "hit", "float").measured), Golden(18, 27, 1, 0, 7, 0, 1, 0));
   EXPECT_EQ(g(find("triangle", "moller_trumbore", "miss", "float").measured), Golden(10, 13, 1, 0, 3, 0, 0, 0));
-  EXPECT_EQ(g(find("box", "slab", "hit", "float").measured), Golden(6, 6, 0, 0, 1, 12, 1, 0));
-  EXPECT_EQ(g(find("box", "slab", "miss", "float").measured), Golden(6, 6, 0, 0, 1, 12, 1, 0));
+  // Box: entry and exit 10 min/max, then the first crossing in [tmin, tmax] (exit from inside).
+  EXPECT_EQ(g(find("box", "slab", "hit", "float").measured), Golden(6, 6, 0, 0, 4, 10, 2, 0));
+  EXPECT_EQ(g(find("box", "slab", "miss", "float").measured), Golden(6, 6, 0, 0, 4, 10, 2, 0));
 }
 
 TEST(OpsTable, SimdRunsTheWholeKernelWhenLanesDisagree) {

@@ -301,9 +301,10 @@ TYPED_TEST(Planar, Polyhedron) {
   EXPECT_NEAR(h.t, 4.0, kTol);
   h = run_soa<F>(k, s, 0, zray(0.5f, 0, -5));
   EXPECT_NEAR(h.t, 4.5, kTol);
-  h = run_soa<F>(k, s, 0, make_ray(Vec3f{0.1f, 0.2f, 0}, Vec3f{0, 1, 0}));  // inside: tmin
+  h = run_soa<F>(k, s, 0, make_ray(Vec3f{0.1f, 0.2f, 0}, Vec3f{0, 1, 0}));  // inside: the exit face
   EXPECT_TRUE(h.hit);
-  EXPECT_EQ(h.t, 0.0);
+  EXPECT_NEAR(h.t, 0.7, kTol);
+  EXPECT_FALSE(run_soa<F>(k, s, 0, make_ray(Vec3f{0.1f, 0.2f, 0}, Vec3f{0, 1, 0}, 0.f, 0.5f)).hit);  // exit beyond tmax
   EXPECT_FALSE(run_soa<F>(k, s, 0, zray(2, 0, -5)).hit);
   EXPECT_FALSE(run_soa<F>(k, s, 0, zray(0.6f, 0.6f, -5)).hit);
   EXPECT_FALSE(run_soa<F>(k, s, 0, zray(0, 0, -5, -1)).hit);
@@ -553,11 +554,12 @@ TEST(PlanarRandom, BoxAsHalfspacesAndSlabsAgreesWithBoxKernel) {
       ++hits;
       EXPECT_NEAR(hh.t, hb.t, 1e-5 * double(std::max(1.f, hb.t)));
       EXPECT_NEAR(hl.t, hb.t, 1e-5 * double(std::max(1.f, hb.t)));
-      // Entry/exit roots agree with the box's entry when the origin is outside.
+      // Entry/exit roots agree with the box's first crossing: the entry, or the exit from inside.
       const auto rt = polyhedron_roots(r, hs);
       const auto rs = slabs_roots(r, sl);
-      if (hb.t > 0) {
-        EXPECT_NEAR(rt.t[0], hb.t, 1e-5 * double(std::max(1.f, hb.t)));
+      // (with the exit when the origin is inside: the first crossing)
+      EXPECT_NEAR(rt.t[0] >= 0.f ? rt.t[0] : rt.t[1], hb.t, 1e-5 * double(std::max(1.f, hb.t)));
+      if (rt.t[0] >= 0.f) {
         EXPECT_EQ(rt.t[0], rs.t[0]);
         EXPECT_EQ(rt.t[1], rs.t[1]);
       }
