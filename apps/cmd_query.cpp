@@ -124,6 +124,7 @@ std::vector<Named> methods(const json& pj, std::string& type) {
     add("algebraic", [=](const Ray<float>& r) { return eval<F>(r, s, [](auto& a, auto& b) { return intersect_sphere_algebraic(a, b); }, nrm); });
     add("stable", [=](const Ray<float>& r) { return eval<F>(r, s, [](auto& a, auto& b) { return intersect_sphere_stable(a, b); }, nrm); });
     add("hearn_baker", [=](const Ray<float>& r) { return eval<F>(r, s, [](auto& a, auto& b) { return intersect_sphere_hearn_baker(a, b); }, nrm); });
+    add("compensated", [=](const Ray<float>& r) { return eval<F>(r, s, [](auto& a, auto& b) { return intersect_sphere_compensated(a, b); }, nrm); });
     const Vec3d pole = pj.contains("pole") ? vec(pj, "pole") : Vec3d{0, 0, 1};
     const Vec3d eq = pj.contains("equator") ? vec(pj, "equator") : Vec3d{1, 0, 0};
     try {
