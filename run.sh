@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # raybench's two commands (see README.md):
 #   ./run.sh report   install what is missing, build the release preset, run `raybench report`
-#   ./run.sh test     install what is missing, build the `exact` and `debug` (ASan+UBSan) presets,
-#                     run the whole test suite in both
+#   ./run.sh test     install what is missing, build the test executables (target rb_tests) of the
+#                     `exact` and `debug` (ASan+UBSan) presets, run the whole test suite in both
 # Other targets: ./run.sh setup (packages only), ./run.sh build PRESET.
 set -euo pipefail
 cd "$(dirname "$0")"
@@ -53,7 +53,7 @@ case "${1:-}" in
     ;;
   test)
     setup
-    build exact
+    build exact --target rb_tests
     ctest --preset exact
     build debug --target rb_tests
     ctest --preset debug

@@ -78,8 +78,10 @@ RB_INLINE void accumulate(Acc& a, const Hit<F>& h, F& tsum, std::uint64_t& hits)
   (void)a;
 }
 
+// The timed loops. `Kernel::run` is the spec's kernel (the default) or, in rb_ops, its Counted
+// copy compiled once per spec and number type (bench/ops_detail.hpp).
 // Rays in lanes: every primitive broadcast against packets of K rays.
-template <class Spec, class F>
+template <class Spec, class F, class Kernel = Spec>
 RB_INLINE Acc run_rays_in_lanes(const BenchData<Spec>& d) {
   F tsum = F(0);
   std::uint64_t hits = 0;
@@ -88,7 +90,7 @@ RB_INLINE Acc run_rays_in_lanes(const BenchData<Spec>& d) {
   for (std::size_t j = 0; j < np; ++j) {
     const auto p = d.prims.template broadcast<F>(j);
     for (std::size_t i = 0; i < nr; i += lanes_v<F>) {
-      const Hit<F> h = Spec::run(d.rays.template packet<F>(i), p, d.prims, j);
+      const Hit<F> h = Kernel::run(d.rays.template packet<F>(i), p, d.prims, j);
       accumulate(a, h, tsum, hits);
     }
   }
@@ -98,7 +100,7 @@ RB_INLINE Acc run_rays_in_lanes(const BenchData<Spec>& d) {
 }
 
 // Primitives in lanes: every ray broadcast against groups of M primitives.
-template <class Spec, class F>
+template <class Spec, class F, class Kernel = Spec>
 RB_INLINE Acc run_prims_in_lanes(const BenchData<Spec>& d) {
   F tsum = F(0);
   std::uint64_t hits = 0;
@@ -107,7 +109,7 @@ RB_INLINE Acc run_prims_in_lanes(const BenchData<Spec>& d) {
   for (std::size_t i = 0; i < nr; ++i) {
     const Ray<F> r = d.rays.template broadcast<F>(i);
     for (std::size_t j = 0; j < np; j += lanes_v<F>) {
-      const Hit<F> h = Spec::run(r, d.prims.template load<F>(j), d.prims, j);
+      const Hit<F> h = Kernel::run(r, d.prims.template load<F>(j), d.prims, j);
       accumulate(a, h, tsum, hits);
     }
   }
@@ -116,18 +118,10 @@ RB_INLINE Acc run_prims_in_lanes(const BenchData<Spec>& d) {
   return a;
 }
 
-// Operations per test (per lane, so masked-off SIMD lanes count as work done) measured by
-// running the variant once with Counted numbers.
-template <class Spec>
-double ops_per_test(const BenchData<Spec>& d, Variant v) {
-  const ops::Scope s;
-  if (v == Variant::scalar) (void)run_rays_in_lanes<Spec, cfloat>(d);
-  else if (v == Variant::rays_in_lanes) (void)run_rays_in_lanes<Spec, cf8>(d);
-  else (void)run_prims_in_lanes<Spec, cf8>(d);
-  const double lanes = v == Variant::scalar ? 1.0 : 8.0;
-  // tests counted over the padded arrays, as the timed loops run them
-  const double tests = double(d.rays.size()) * double(d.prims.size());
-  return double(s.elapsed().flops() + s.elapsed().cmp + s.elapsed().minmax + s.elapsed().select) * lanes / tests;
-}
+// Operations per test of a benchmark (per lane, so masked-off SIMD lanes count as work done):
+// the variant's loop run once with Counted numbers on the benchmark's own data. Measured by
+// rb_ops (bench/ops_per_test.cpp), the one place where Counted copies of the kernels are
+// compiled; the benchmark translation units only look the figure up. NaN for an unknown spec.
+double ops_per_test(const char* kernel, const char* method, Case c, Variant v);
 
 }  // namespace rb::bench

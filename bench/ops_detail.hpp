@@ -8,6 +8,7 @@
 #include "bench/ops_table.hpp"
 
 #include <array>
+#include <memory>
 #include <optional>
 #include <span>
 
@@ -16,13 +17,63 @@ namespace rb::opstable {
 using bench::Rng;
 
 // What each (kernel, method, case) row says. `lecture` empty: the slides give no count.
+// `sums`: the counts written in the note (3+-, 9*, 1/, 1 sqrt, 1 cmp, 2 min/max, 1 select) are the
+// parts of the whole float row and add up to it (tests/test_ops.cpp checks the sum).
 struct Entry {
   const char* kernel;
   const char* method;
   const char* kase;
   std::optional<Lecture> lecture;
   const char* note;
+  bool sums = false;
 };
+inline constexpr bool kNoteSums = true;
+
+// A bench spec's kernel at a Counted number type. Not inlined: the ops rows, the transcendental
+// tally and the benchmarks' ops-per-test all call this one copy per (spec, number type) instead of
+// each expanding the whole kernel again.
+template <class Spec, class F, class P>
+[[gnu::noinline]] Hit<F> counted_run(const Ray<F>& r, const P& p, const typename Spec::Soa& s, std::size_t j) {
+  return Spec::run(r, p, s, j);
+}
+template <class Spec>
+struct CountedKernel {
+  template <class F, class P>
+  static Hit<F> run(const Ray<F>& r, const P& p, const typename Spec::Soa& s, std::size_t j) {
+    return counted_run<Spec>(r, p, s, j);
+  }
+};
+
+// Operations per test of one benchmark (bench::ops_per_test): its loop, its data, Counted numbers.
+template <class Spec>
+double counted_ops_per_test(bench::Case c, bench::Variant v) {
+  using bench::Variant;
+  const auto d = std::make_unique<bench::BenchData<Spec>>(bench::make_bench_data<Spec>(c));
+  const ops::Scope s;
+  if (v == Variant::scalar) (void)bench::run_rays_in_lanes<Spec, cfloat, CountedKernel<Spec>>(*d);
+  else if (v == Variant::rays_in_lanes) (void)bench::run_rays_in_lanes<Spec, cf8, CountedKernel<Spec>>(*d);
+  else (void)bench::run_prims_in_lanes<Spec, cf8, CountedKernel<Spec>>(*d);
+  const double lanes = v == Variant::scalar ? 1.0 : 8.0;
+  // tests counted over the padded arrays, as the timed loops run them
+  const double tests = double(d->rays.size()) * double(d->prims.size());
+  const OpCounts e = s.elapsed();
+  return double(e.flops() + e.cmp + e.minmax + e.select) * lanes / tests;
+}
+
+// (kernel, method) -> its ops-per-test function; each family adds its bench specs.
+struct OpsPerTest {
+  const char* kernel;
+  const char* method;
+  double (*fn)(bench::Case, bench::Variant);
+};
+template <class Spec>
+OpsPerTest ops_per_test_entry() {
+  return {Spec::kernel, Spec::method, &counted_ops_per_test<Spec>};
+}
+void add_basic_ops_per_test(std::vector<OpsPerTest>& t);    // ops_table.cpp
+void add_planar_ops_per_test(std::vector<OpsPerTest>& t);   // ops_planar.cpp
+void add_quadric_ops_per_test(std::vector<OpsPerTest>& t);  // ops_quadric.cpp
+void add_solver_ops_per_test(std::vector<OpsPerTest>& t);   // ops_solver.cpp
 
 inline const Entry* find_entry(std::span<const Entry> entries, const std::string& k, const std::string& m, const std::string& c) {
   for (const auto& e : entries)
@@ -62,6 +113,7 @@ inline void add_rows(std::span<const Entry> entries, std::vector<Row>& rows, con
   r.kernel = kernel; r.method = method; r.kase = kase;
   r.lecture = e ? e->lecture : std::nullopt;
   r.note = e ? e->note : "";
+  r.note_sums = e && e->sums;
   r.number = "float";
   r.measured = c[0];
   rows.push_back(r);
@@ -85,7 +137,7 @@ void add_spec_rows(std::span<const Entry> entries, std::vector<Row>& rows) {
   const auto soa = Spec::build({Spec::make(0, 0, g)});
   const Ray<float> hit = Spec::ray(0, g), miss = ops_miss_ray<Spec>(g);
   const auto prim = soa.template broadcast<float>(0);
-  auto fn = [&soa](const auto& r, const auto& p) { (void)Spec::run(r, p, soa, 0); };
+  auto fn = [&soa](const auto& r, const auto& p) { (void)counted_run<Spec>(r, p, soa, 0); };
   for (const char* kase : {"hit", "miss"}) {
     if (!find_entry(entries, Spec::kernel, Spec::method, kase)) continue;
     const bool h = kase[0] == 'h';

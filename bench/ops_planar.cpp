@@ -153,4 +153,8 @@ void add_planar_rows(std::vector<Row>& rows) {
                           [](const auto&, const auto& r, const auto& p, const auto&) { (void)intersect_slabs(r, p); });
 }
 
+void add_planar_ops_per_test(std::vector<OpsPerTest>& t) {
+  bench::for_each_spec_planar([&]<class Spec>() { t.push_back(ops_per_test_entry<Spec>()); });
+}
+
 }  // namespace rb::opstable

@@ -64,6 +64,10 @@ void add_basic_rows(std::vector<Row>& rows) {
   });
 }
 
+void add_basic_ops_per_test(std::vector<OpsPerTest>& t) {
+  bench::for_each_spec([&]<class Spec>() { t.push_back(ops_per_test_entry<Spec>()); });
+}
+
 std::vector<Row> build() {
   std::vector<Row> rows;
   add_basic_rows(rows);

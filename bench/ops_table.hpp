@@ -26,6 +26,7 @@ struct Row {
   OpCounts measured;                  // simd8: a packet whose other lanes take the other case
   std::optional<OpCounts> uniform;    // simd8: a packet whose lanes all take this case
   std::string note;                   // why measured differs from the lecture (or what it counts)
+  bool note_sums = false;             // the counts in the note add up to the float row
   // Iterative solvers: loop trips per ray (mean, max) over the spec's rays, scalar float.
   std::optional<std::pair<double, double>> iterations;
 };

@@ -9,16 +9,24 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace rb::bench {
+
+// The names of every registered benchmark, in registration order (the progress bar's total).
+inline std::vector<std::string>& registered_names() {
+  static std::vector<std::string> names;
+  return names;
+}
 
 template <class Spec, Variant V>
 void register_one() {
   for (Case c : {Case::hit, Case::miss, Case::half}) {
     const std::string name = std::string(Spec::kernel) + "/" + Spec::method + "/" + variant_name(V) + "/" + case_name(c);
+    registered_names().push_back(name);
     benchmark::RegisterBenchmark(name.c_str(), [c](benchmark::State& st) {
       const auto d = std::make_unique<BenchData<Spec>>(make_bench_data<Spec>(c));  // set-up, not timed
-      const double opt = ops_per_test(*d, V);
+      const double opt = ops_per_test(Spec::kernel, Spec::method, c, V);
       Acc a;
       for (auto _ : st) {
         if constexpr (V == Variant::scalar) a = run_rays_in_lanes<Spec, float>(*d);

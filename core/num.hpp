@@ -19,14 +19,17 @@
 #include <limits>
 #include <type_traits>
 
-// Kernels and the number layer are forced inline in optimised builds so that a kernel becomes one
-// straight-line body inside the benchmark loop. The sanitizer build (RB_SANITIZE) leaves the
-// decision to the compiler: forcing whole solver kernels inline under ASan instrumentation makes
-// single translation units take tens of minutes to compile, and it changes no result.
-#if defined(RB_SANITIZE)
-#define RB_INLINE inline
-#else
+// Inlining policy. Forced inlining pays only in the timed benchmark loops, where a kernel must become
+// one straight-line body inside the loop: the benchmark translation units define RB_FORCE_INLINE
+// (bench/CMakeLists.txt) and there RB_INLINE forces every kernel and number-layer function inline.
+// Everywhere else (the ops table's Counted copies, the tests, `raybench query`, the sanitizer build)
+// the compiler decides: forcing whole solver kernels and their root isolation inline there only
+// multiplied compile time (a test file under ASan took over 16 minutes) and changes no result the
+// tests check.
+#if defined(RB_FORCE_INLINE) && !defined(RB_SANITIZE)
 #define RB_INLINE inline __attribute__((always_inline))
+#else
+#define RB_INLINE inline
 #endif
 
 namespace rb {
