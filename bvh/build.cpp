@@ -85,6 +85,12 @@ struct Builder {
         });
   }
 
+  // SAH counts primitives in blocks of the leaf's lane group: a leaf of up to `leaf_block`
+  // primitives is one kernel call.
+  float blocks(std::size_t n) const {
+    const std::size_t b = std::size_t(std::max(1, opt.leaf_block));
+    return float((n + b - 1) / b);
+  }
   int bin_of(std::uint32_t p, int axis, float clo, float scale, int nb) const {
     const int b = int((cen[3 * std::size_t(p) + std::size_t(axis)] - clo) * scale);
     return std::clamp(b, 0, nb - 1);
@@ -148,7 +154,7 @@ struct Builder {
         for (int i = nb - 1; i > 0; --i) {
           acc.grow(bins.b[k][i].box);
           cnt += bins.b[k][i].n;
-          right_cost[i] = acc.area() * float(cnt);
+          right_cost[i] = acc.area() * blocks(cnt);
         }
         acc = Box{};
         cnt = 0;
@@ -156,12 +162,12 @@ struct Builder {
           acc.grow(bins.b[k][i].box);
           cnt += bins.b[k][i].n;
           if (cnt == 0 || cnt == n) continue;
-          const float c = opt.traversal_cost + opt.intersection_cost * inv_area * (acc.area() * float(cnt) + right_cost[i + 1]);
+          const float c = opt.traversal_cost + opt.intersection_cost * inv_area * (acc.area() * blocks(cnt) + right_cost[i + 1]);
           if (c < best_cost) { best_cost = c; best_axis = k; best_bin = i; }
         }
       }
     }
-    const float leaf_cost = opt.intersection_cost * float(n);
+    const float leaf_cost = opt.intersection_cost * blocks(n);
     if (n <= max_leaf && !mixed && (best_axis < 0 || leaf_cost <= best_cost)) { make_leaf(node, begin, end); return; }
 
     if (best_axis >= 0 && !(n <= max_leaf && mixed)) {
@@ -266,7 +272,7 @@ void tree_stats(Bvh2& b, const BuildOptions& opt) {
       ++s.leaves;
       if (n.count >= s.leaf_hist.size()) s.leaf_hist.resize(n.count + 1u, 0);
       ++s.leaf_hist[n.count];
-      s.sah_cost += rel * double(opt.intersection_cost) * n.count;
+      s.sah_cost += rel * double(opt.intersection_cost) * double((n.count + std::max(1, opt.leaf_block) - 1) / std::max(1, opt.leaf_block));
     } else {
       s.sah_cost += rel * double(opt.traversal_cost);
       st.push_back({n.first, d + 1});

@@ -44,7 +44,10 @@ static_assert(sizeof(WNode) == 224);
 struct BuildOptions {
   int max_leaf = 8;        // primitives per leaf (one 8-lane group)
   int bins = 32;           // SAH bins per axis
+  // SAH: cost of a node visit and of one leaf kernel call over a block of `leaf_block` primitives
+  // (primitives in lanes: a leaf of 1..8 costs one call).
   float traversal_cost = 1.0f, intersection_cost = 1.0f;
+  int leaf_block = 8;
   int max_depth = 48;      // below this depth SAH may split unevenly; deeper nodes split at the median
   bool parallel = true;    // TBB tasks for subtrees, parallel binning at large nodes
   // Refuse (std::length_error, before allocating) a build whose estimated peak memory,

@@ -2,6 +2,7 @@
 // and robust slab tests. Each combination is one instantiation of the templates below, chosen
 // once per range of rays, so the hot loops carry no run-time switches but the leaf's kind.
 #include "bvh/accel.hpp"
+#include "bvh/slab.hpp"
 
 #include <immintrin.h>
 
@@ -17,16 +18,8 @@ namespace {
 
 constexpr float kInfF = std::numeric_limits<float>::infinity();
 constexpr int kStack = 1024;
-// Ize 2013: the far distance scaled by 1 + 2 gamma(3), gamma(n) = n eps / (1 - n eps), eps = 2^-24.
-constexpr float kEps = 0x1p-24f;
-constexpr float kGamma3 = 3 * kEps / (1 - 3 * kEps);
-constexpr float kRobustScale = 1 + 2 * kGamma3;
-// A zero direction component would make 1/d infinite and o * (1/d) NaN at o = 0; like Embree,
-// components smaller than this are replaced by it (with their sign) for the slab test only.
-constexpr float kMinDir = 1e-18f;
 
-inline float safe_rcp(float d) { return 1.0f / (std::fabs(d) < kMinDir ? std::copysign(kMinDir, d) : d); }
-inline f8 safe_rcp(const f8& d) {
+inline f8 safe_rcp8(const f8& d) {
   const f8 m = xsimd::select(xsimd::abs(d) < f8(kMinDir), xsimd::copysign(f8(kMinDir), d), d);
   return f8(1.0f) / m;
 }
@@ -130,12 +123,7 @@ template <bool Robust, bool Any, bool Count>
 HitRec trace1_wide(const Accel& a, const Ray<float>& r, TraceCounters& c) {
   HitRec h{r.tmax, kNoPrim};
   if (!(r.tmin <= r.tmax) || a.wide.nodes.empty()) return {kInfF, kNoPrim};
-  const Vec3f rd{safe_rcp(r.d.x), safe_rcp(r.d.y), safe_rcp(r.d.z)};
-  const f8 rdx(rd.x), rdy(rd.y), rdz(rd.z);
-  const f8 ox(r.o.x), oy(r.o.y), oz(r.o.z);
-  const f8 orx(r.o.x * rd.x), ory(r.o.y * rd.y), orz(r.o.z * rd.z);
-  const int nx = rd.x < 0, ny = rd.y < 0, nz = rd.z < 0;
-  const f8 tmin(r.tmin);
+  const SlabRay sr = SlabRay::make(r);
   Ray<f8> rb = Ray<f8>::broadcast(r);
   const WoopRay<f8> w = make_woop_ray(rb);
   Entry stack[kStack];
@@ -148,27 +136,8 @@ HitRec trace1_wide(const Accel& a, const Ray<float>& r, TraceCounters& c) {
         ++c.nodes;
         for (int k = 0; k < 8; ++k) c.boxes += n.child[k] != kEmpty;
       }
-      f8 tnx, tny, tnz, tfx, tfy, tfz;
-      if constexpr (!Robust) {
-        tnx = xsimd::fms(f8::load_aligned(n.b[0 + nx]), rdx, orx);
-        tfx = xsimd::fms(f8::load_aligned(n.b[1 - nx]), rdx, orx);
-        tny = xsimd::fms(f8::load_aligned(n.b[2 + ny]), rdy, ory);
-        tfy = xsimd::fms(f8::load_aligned(n.b[3 - ny]), rdy, ory);
-        tnz = xsimd::fms(f8::load_aligned(n.b[4 + nz]), rdz, orz);
-        tfz = xsimd::fms(f8::load_aligned(n.b[5 - nz]), rdz, orz);
-      } else {
-        tnx = (f8::load_aligned(n.b[0 + nx]) - ox) * rdx;
-        tfx = (f8::load_aligned(n.b[1 - nx]) - ox) * rdx;
-        tny = (f8::load_aligned(n.b[2 + ny]) - oy) * rdy;
-        tfy = (f8::load_aligned(n.b[3 - ny]) - oy) * rdy;
-        tnz = (f8::load_aligned(n.b[4 + nz]) - oz) * rdz;
-        tfz = (f8::load_aligned(n.b[5 - nz]) - oz) * rdz;
-      }
-      const f8 tn = xsimd::max(xsimd::max(tnx, tny), xsimd::max(tnz, tmin));
-      f8 tf = xsimd::min(xsimd::min(tfx, tfy), tfz);
-      if constexpr (Robust) tf = tf * f8(kRobustScale);
-      tf = xsimd::min(tf, f8(h.t));
-      unsigned bits = movemask(tn <= tf);
+      f8 tn;
+      unsigned bits = slab8<Robust>(n, sr, h.t, tn);
       if (bits == 0) goto pop;
       if ((bits & (bits - 1)) == 0) {
         ref = n.child[__builtin_ctz(bits)];
@@ -331,9 +300,9 @@ void trace_packet(const Accel& a, const RaySoA& rays, std::size_t i, HitRec* out
   for (int k = 0; k < H; ++k) {
     p.r[k] = rays.packet<f8>(i + 8 * std::size_t(k));
     p.w[k] = make_woop_ray(p.r[k]);
-    p.rdx[k] = safe_rcp(p.r[k].d.x);
-    p.rdy[k] = safe_rcp(p.r[k].d.y);
-    p.rdz[k] = safe_rcp(p.r[k].d.z);
+    p.rdx[k] = safe_rcp8(p.r[k].d.x);
+    p.rdy[k] = safe_rcp8(p.r[k].d.y);
+    p.rdz[k] = safe_rcp8(p.r[k].d.z);
     p.orx[k] = p.r[k].o.x * p.rdx[k];
     p.ory[k] = p.r[k].o.y * p.rdy[k];
     p.orz[k] = p.r[k].o.z * p.rdz[k];
