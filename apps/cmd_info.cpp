@@ -1,10 +1,7 @@
 // `raybench info SCENE`: what a scene holds and what it costs in memory.
 #include "apps/commands.hpp"
 #include "apps/scene_info.hpp"
-#include "kernels/cylinder_cone.hpp"
-#include "kernels/polygon.hpp"
-#include "kernels/sphere.hpp"
-#include "kernels/triangle.hpp"
+#include "scene/batches.hpp"
 #include "scene/sources.hpp"
 
 #include <fmt/format.h>
@@ -52,55 +49,42 @@ json scene_info(const rb::scene::Scene& s) {
   j["materials"] = s.materials.size();
   j["primitives"] = s.primitive_count();
   json kinds = json::array();
+  // Every batch comes from scene/batches.hpp, the builder the BVH uses too.
   // Spheres: PrimSoA<Sphere> (c, r^2, 1/r).
   if (!s.spheres.empty()) {
-    PrimSoA<Sphere> soa;
-    soa.reserve(s.spheres.size());
-    for (const auto& sp : s.spheres) soa.push(make_sphere(sp.c, sp.r));
+    const auto soa = rb::scene::sphere_batch(s);
     kinds.push_back({{"kind", "sphere"}, {"count", s.spheres.size()}, {"input_bytes", s.spheres.size() * sizeof(rb::scene::SphereIn)},
-                     {"batches", json::array({{{"batch", "PrimSoA<Sphere>"}, {"bytes", soa.bytes()}}})}});
+                     {"batches", json::array({{{"batch", "PrimSoA<Sphere>"}, {"bytes", soa.prims.bytes()}}})}});
   }
   // NFF cones and cylinders (open shells between two circles): placed instances of the unit
   // cylinder or unit cone, PrimSoA<Transformed<Cylinder|Cone>::T> (12 inverse-matrix floats each).
   if (!s.cones.empty()) {
-    PrimSoA<Transformed<Cylinder>::T> cyl;
-    PrimSoA<Transformed<Cone>::T> cone;
-    for (const auto& cn : s.cones) {
-      if (cn.base_r == cn.apex_r) cyl.push(place_cylinder(to_double(cn.base), to_double(cn.apex), double(cn.base_r)));
-      else cone.push(place_cone(to_double(cn.base), double(cn.base_r), to_double(cn.apex), double(cn.apex_r)));
-    }
+    const auto cyl = rb::scene::cylinder_batch(s);
+    const auto cone = rb::scene::cone_batch(s);
     json batches = json::array();
-    if (cyl.size()) batches.push_back({{"batch", fmt::format("PrimSoA<Transformed<Cylinder>> ({} equal radii)", cyl.count)}, {"bytes", cyl.bytes()}});
-    if (cone.size()) batches.push_back({{"batch", fmt::format("PrimSoA<Transformed<Cone>> ({} frusta)", cone.count)}, {"bytes", cone.bytes()}});
+    if (cyl.prims.size()) batches.push_back({{"batch", fmt::format("PrimSoA<Transformed<Cylinder>> ({} equal radii)", cyl.prims.count)}, {"bytes", cyl.prims.bytes()}});
+    if (cone.prims.size()) batches.push_back({{"batch", fmt::format("PrimSoA<Transformed<Cone>> ({} frusta)", cone.prims.count)}, {"bytes", cone.prims.bytes()}});
     kinds.push_back({{"kind", "cone"}, {"count", s.cones.size()}, {"input_bytes", s.cones.size() * sizeof(rb::scene::ConeIn)},
                      {"batches", batches}});
   }
   // Polygons: PolygonSoA (plane per polygon and projected vertices interleaved per group of 8).
   if (!s.polygons.empty()) {
-    std::vector<std::vector<Vec3f>> polys(s.polygons.size());
-    for (std::size_t i = 0; i < s.polygons.size(); ++i)
-      polys[i].assign(s.poly_verts.begin() + s.polygons[i].first, s.poly_verts.begin() + s.polygons[i].first + s.polygons[i].count);
-    const PolygonSoA soa = PolygonSoA::build(polys);
+    const PolygonSoA soa = rb::scene::polygon_batch(s);
     kinds.push_back({{"kind", "polygon"}, {"count", s.polygons.size()}, {"vertices", s.poly_verts.size()},
                      {"input_bytes", s.polygons.size() * sizeof(rb::scene::PolygonIn) + (s.poly_verts.size() + s.poly_normals.size()) * sizeof(Vec3f)},
                      {"batches", json::array({{{"batch", fmt::format("PolygonSoA ({} degenerate kept as never-hit slots)", soa.degenerate)},
                                                {"bytes", soa.bytes()}}})}});
   }
   if (!s.triangles.empty()) {
-    PrimSoA<Triangle> mt;
-    mt.reserve(s.triangles.size());
-    std::vector<std::array<Vec3f, 3>> tris(s.triangles.size());
-    for (std::size_t i = 0; i < s.triangles.size(); ++i) {
-      const auto& t = s.triangles[i];
-      tris[i] = {s.verts[t.v[0]], s.verts[t.v[1]], s.verts[t.v[2]]};
-      mt.push(make_triangle(tris[i][0], tris[i][1], tris[i][2]));
-    }
-    const TriLectureSoA lec = TriLectureSoA::build(tris);
+    const auto mt = rb::scene::triangle_mt_batch(s);
+    const auto woop = rb::scene::triangle_verts_batch(s);
+    const TriLectureSoA lec = rb::scene::triangle_lecture_batch(s);
     const std::size_t lec_bytes = lec.prims.bytes() + lec.axis.size() * sizeof(std::int8_t) + lec.id.size() * sizeof(std::uint32_t);
     kinds.push_back({{"kind", "triangle"}, {"count", s.triangles.size()}, {"vertices", s.verts.size()},
                      {"vertex_normals", !s.vert_normals.empty()},
                      {"input_bytes", s.triangles.size() * sizeof(rb::scene::TriangleIn) + (s.verts.size() + s.vert_normals.size()) * sizeof(Vec3f)},
-                     {"batches", json::array({{{"batch", "PrimSoA<Triangle> (Moller-Trumbore)"}, {"bytes", mt.bytes()}},
+                     {"batches", json::array({{{"batch", "PrimSoA<Triangle> (Moller-Trumbore)"}, {"bytes", mt.prims.bytes()}},
+                                              {{"batch", "PrimSoA<TriVerts> (Woop, watertight)"}, {"bytes", woop.prims.bytes()}},
                                               {{"batch", "TriLectureSoA (lecture, by dropped axis)"}, {"bytes", lec_bytes}}})}});
   }
   j["kinds"] = kinds;

@@ -7,6 +7,7 @@
 namespace rb::app {
 void add_info_command(CLI::App& app);   // cmd_info.cpp  (issue 4: raybench info SCENE)
 void add_query_command(CLI::App& app);  // cmd_query.cpp (issue 3: raybench query)
+void add_trace_command(CLI::App& app);  // cmd_trace.cpp (raybench trace SCENE)
 // The query loop itself (tests call it): one JSON line out per line in; 1 if any line failed.
 int run_query(std::istream& in, std::ostream& out, bool dbl);
 }  // namespace rb::app

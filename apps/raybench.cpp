@@ -43,6 +43,7 @@ int main(int argc, char** argv) {
 
   rb::app::add_info_command(app);
   rb::app::add_query_command(app);
+  rb::app::add_trace_command(app);
 
   auto* mach = app.add_subcommand("machine", "Print the machine and build description recorded with every result (JSON)");
 

@@ -236,9 +236,20 @@ std::string simd_target_section(json& summary) {
 }
 }  // namespace
 
+}  // namespace rb::app
+
+namespace rb::bench {
+void register_wide_node();
+}
+
+namespace rb::app {
 int run_benchmarks(const std::string& json_out, int repetitions, double min_time, const std::string& filter) {
   static bool registered = false;
-  if (!registered) { rb::bench::register_all_benchmarks(); registered = true; }
+  if (!registered) {
+    rb::bench::register_all_benchmarks();
+    rb::bench::register_wide_node();  // bench/bench_wide_node.cpp: the 8-wide BVH node's slab test
+    registered = true;
+  }
   const Machine m = machine();
   benchmark::AddCustomContext("raybench_cpu", m.cpu);
   benchmark::AddCustomContext("raybench_build_flags", m.build_flags);
@@ -303,6 +314,9 @@ int run_report(const ReportOptions& o) {
 
   std::cerr << "[report 3/3] scenes\n";
   md += report_section_scenes(o, out, summary);
+
+  std::cerr << "[report] tracing whole scenes (raybench BVH beside Embree)\n";
+  md += report_section_tracing(o, out, summary);
 
   std::cerr << "[report] charts\n";
   write_file(out / "summary.json", summary.dump(2));

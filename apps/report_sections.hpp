@@ -10,5 +10,6 @@
 
 namespace rb::app {
 struct ReportOptions;
+std::string report_section_tracing(const ReportOptions& o, const std::filesystem::path& out, nlohmann::json& summary);  // report_trace.cpp
 std::string report_section_scenes(const ReportOptions& o, const std::filesystem::path& out, nlohmann::json& summary);  // report_scenes.cpp
 }  // namespace rb::app

@@ -47,11 +47,35 @@ def simd_speedup(out, summary):
     plt.close(fig)
 
 
+def trace_scaling(out, summary):
+    """Log-log: time per ray against primitive count, raybench and Embree (primary rays, 1 thread)."""
+    rows = summary.get("tracing", {}).get("by_size", [])
+    if not rows:
+        return
+    rows = sorted(rows, key=lambda r: r["primitives"])
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    x = [r["primitives"] for r in rows]
+    ax.loglog(x, [r["ns_per_ray"] for r in rows], "o-", label="raybench (8-wide BVH, single rays)")
+    e = [(r["primitives"], r["embree_ns_per_ray"]) for r in rows if r.get("embree_ns_per_ray") is not None]
+    if e:
+        ax.loglog([p[0] for p in e], [p[1] for p in e], "s--", label="Embree 3 (rtcIntersect1)")
+    for r in rows:
+        ax.annotate(r["scene"], (r["primitives"], r["ns_per_ray"]), fontsize=6, xytext=(3, 3), textcoords="offset points")
+    ax.set_xlabel("primitives")
+    ax.set_ylabel("ns per primary ray (one thread)")
+    ax.grid(True, which="both", lw=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "trace_scaling.png"), dpi=100)
+    plt.close(fig)
+
+
 def main():
     out = sys.argv[1] if len(sys.argv) > 1 else "report"
     with open(os.path.join(out, "summary.json")) as f:
         summary = json.load(f)
     simd_speedup(out, summary)
+    trace_scaling(out, summary)
 
 
 if __name__ == "__main__":

@@ -1,0 +1,221 @@
+#include "apps/trace_run.hpp"
+
+#include "scene/sources.hpp"
+
+#include <fmt/format.h>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+#include <stdexcept>
+
+namespace rb::app {
+
+using nlohmann::json;
+
+TraceSession::TraceSession(rb::scene::Scene s, std::string source, int build_threads, bool embree)
+    : scene_(std::move(s)), source_(std::move(source)) {
+  trace::ThreadScope ts(build_threads);
+  ts.run([&] { accel_ = bvh::Accel::build(scene_); });
+  if (embree) embree_ = trace::embree_build(scene_, build_threads);
+  else embree_.why = "skipped (--no-embree)";
+}
+
+const RaySoA& TraceSession::rays(trace::RaySet set, std::size_t count, std::uint64_t seed, trace::RaySetInfo& info) {
+  const std::string key = fmt::format("{}/{}/{}", int(set), count, seed);
+  auto it = rays_.find(key);
+  if (it == rays_.end()) {
+    trace::RaySetInfo inf;
+    RaySoA r = trace::make_rays(scene_, accel_, set, count, seed, &inf);
+    it = rays_.emplace(key, std::make_pair(std::move(r), inf)).first;
+  }
+  info = it->second.second;
+  return it->second.first;
+}
+
+json TraceSession::build_json() const {
+  const auto& st = accel_.bin.stats;
+  json hist = json::array();
+  for (std::size_t n = 1; n < st.leaf_hist.size(); ++n) hist.push_back(st.leaf_hist[n]);
+  const double prims = double(std::max<std::size_t>(1, accel_.scene_prims));
+  json j{{"build_ms", accel_.build_ms},
+         {"sah_build_ms", st.build_ms},
+         {"reorder_ms", accel_.reorder_ms},
+         {"collapse_ms", accel_.wide.collapse_ms},
+         {"nodes_binary", accel_.bin.nodes.size()},
+         {"nodes_wide", accel_.wide.nodes.size()},
+         {"leaves", st.leaves},
+         {"depth", st.depth},
+         {"sah_cost", st.sah_cost},
+         {"leaf_size_histogram", hist},
+         {"bytes_wide", accel_.bytes(bvh::Layout::wide)},
+         {"bytes_binary", accel_.bytes(bvh::Layout::binary)},
+         {"bytes_per_prim_wide", double(accel_.bytes(bvh::Layout::wide)) / prims},
+         {"bytes_per_prim_binary", double(accel_.bytes(bvh::Layout::binary)) / prims},
+         {"embree", embree_.ok},
+         {"embree_why", embree_.why},
+         {"embree_build_ms", embree_.ok ? json(embree_.build_ms) : json(nullptr)},
+         {"embree_bvh_bytes", embree_.ok ? json(embree_.bvh_bytes) : json(nullptr)},
+         {"embree_bytes_per_prim", embree_.ok ? json(double(embree_.bvh_bytes) / prims) : json(nullptr)}};
+  return j;
+}
+
+json TraceSession::run(const TraceRunOptions& o, bool progress) {
+  const trace::RaySet set = trace::parse_ray_set(o.ray_set);
+  if (o.packet != 1 && o.layout != "wide") throw std::invalid_argument("packets traverse the wide layout; use --packet 1 with --layout binary");
+  trace::RaySetInfo info;
+  const RaySoA& rays = this->rays(set, o.count, o.seed, info);
+  const std::size_t n = rays.count;
+  const bool any = set == trace::RaySet::shadow;
+  bvh::TraceOptions to;
+  to.layout = o.layout == "wide" ? bvh::Layout::wide : bvh::Layout::binary;
+  to.packet = o.packet;
+  to.robust = o.robust;
+  to.any = any;
+
+  trace::ThreadScope ts(o.threads);
+  const int steps = o.repetitions * (embree_.ok ? 2 : 1) + 2;
+  int step = 0;
+  trace::Progress bar(fmt::format("trace {} {}", source_, o.ray_set));
+  auto tick = [&](int, int) { if (progress) bar.update(double(++step) / steps); };
+
+  std::vector<bvh::HitRec> ours, theirs;
+  const std::size_t tile = 256;
+  trace::Tracer mine = [&](std::size_t b, std::size_t e, bvh::HitRec* out) { accel_.trace(rays, b, e, out, to); };
+  std::vector<double> secs = trace::time_runs(ts, mine, n, ours, o.repetitions, tile, tick);
+  const double mrays = double(n) / trace::median(secs) / 1e6;
+
+  // Traversal cost per ray (one extra single-threaded counted pass, not timed).
+  bvh::TraceCounters cnt;
+  {
+    std::vector<bvh::HitRec> tmp(rays.size());
+    ts.run([&] { accel_.trace_counted(rays, 0, rays.size(), tmp.data(), to, cnt); });
+    tick(0, 0);
+  }
+
+  json j;
+  j["scene"] = source_;
+  j["primitives"] = accel_.scene_prims;
+  j["rays"] = n;
+  j["ray_set"] = o.ray_set;
+  j["camera"] = info.camera;
+  j["light"] = info.light;
+  j["seed"] = o.seed;
+  j["threads"] = o.threads;
+  j["packet"] = o.packet;
+  j["layout"] = o.layout;
+  j["robust"] = o.robust;
+  j["repetitions"] = o.repetitions;
+  j["mrays_per_s"] = mrays;
+  j["seconds"] = secs;
+  j["nodes_per_ray"] = double(cnt.nodes) / double(std::max<std::size_t>(1, n));
+  j["box_tests_per_ray"] = double(cnt.boxes) / double(std::max<std::size_t>(1, n));
+  j["prim_tests_per_ray"] = double(cnt.prims) / double(std::max<std::size_t>(1, n));
+  std::size_t hits = 0;
+  for (std::size_t i = 0; i < n; ++i) hits += ours[i].prim != bvh::kNoPrim;
+  j["hit_fraction"] = double(hits) / double(std::max<std::size_t>(1, n));
+  const json b = build_json();
+  for (auto it = b.begin(); it != b.end(); ++it) j[it.key()] = it.value();
+
+  if (embree_.ok) {
+    const bool coherent = o.packet > 1 && (set == trace::RaySet::primary || set == trace::RaySet::shadow);
+    trace::Tracer theirs_t = [&](std::size_t b0, std::size_t e0, bvh::HitRec* out) {
+      trace::embree_trace(*embree_.scene, rays, b0, e0, out, any, o.packet, coherent);
+    };
+    std::vector<double> es = trace::time_runs(ts, theirs_t, n, theirs, o.repetitions, tile, tick);
+    j["embree_mrays_per_s"] = double(n) / trace::median(es) / 1e6;
+    j["embree_seconds"] = es;
+    j["embree_call"] = std::string(any ? (o.packet == 1 ? "rtcOccluded1" : "rtcOccluded8") : (o.packet == 1 ? "rtcIntersect1" : "rtcIntersect8")) +
+                       (o.packet == 16 ? " x2" : "") + (coherent ? " coherent" : "");
+    const trace::Compare c = trace::compare(ours, theirs, n, any);
+    j["mismatch_rate"] = c.rate();
+    j["mismatches"] = c.mismatches;
+    j["other_prim_same_t"] = c.other_prim;
+    j["mismatch_tolerance"] = "hit vs miss, or |t1 - t2| > 1e-4 max(1, |t|)";
+  } else {
+    j["embree_mrays_per_s"] = nullptr;
+    j["mismatch_rate"] = nullptr;
+  }
+
+  // The brute-force loop over all objects on a prefix of the rays: the oracle and the baseline.
+  std::size_t nb = 0;
+  if (o.brute_rays < 0) nb = std::min<std::size_t>(n, std::max<std::size_t>(64, std::size_t(4e8 / double(std::max<std::size_t>(1, accel_.scene_prims)))));
+  else nb = std::min<std::size_t>(n, std::size_t(o.brute_rays));
+  nb = nb / 16 * 16;
+  if (nb > 0) {
+    bvh::BruteForce bf(scene_);
+    std::vector<bvh::HitRec> brute(nb);
+    const auto t0 = std::chrono::steady_clock::now();
+    ts.run([&] {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nb / 16), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin() * 16; i < r.end() * 16; ++i) brute[i] = bf.trace(rays.get(i), any);
+      });
+    });
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const trace::Compare c = trace::compare(ours, brute, nb, any);
+    j["brute_rays"] = nb;
+    j["brute_mrays_per_s"] = double(nb) / s / 1e6;
+    j["brute_mismatch_rate"] = c.rate();
+    j["brute_mismatches"] = c.mismatches;
+  } else {
+    j["brute_rays"] = 0;
+    j["brute_mrays_per_s"] = nullptr;
+    j["brute_mismatch_rate"] = nullptr;
+  }
+  tick(0, 0);
+  if (progress) bar.done();
+  return j;
+}
+
+json run_trace(const TraceRunOptions& o, bool progress) {
+  const auto t0 = std::chrono::steady_clock::now();
+  rb::scene::Scene s = rb::scene::load_scene(o.scene);
+  const double load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  TraceSession session(std::move(s), o.scene, o.threads, o.embree);
+  json j = session.run(o, progress);
+  j["load_ms"] = load_ms;
+  return j;
+}
+
+namespace {
+std::string num_or_dash(const json& v, const char* f) { return v.is_null() ? "-" : fmt::format(fmt::runtime(f), v.get<double>()); }
+}  // namespace
+
+std::string trace_text(const json& j) {
+  std::string o;
+  o += fmt::format("scene      {} ({} primitives)\n", j["scene"].get<std::string>(), j["primitives"].get<std::size_t>());
+  o += fmt::format("rays       {} {} (seed {}, camera {}, light {}), {:.1f}% hit\n", j["rays"].get<std::size_t>(), j["ray_set"].get<std::string>(),
+                   j["seed"].get<std::uint64_t>(), j["camera"].get<std::string>(), j["light"].get<std::string>(),
+                   100 * j["hit_fraction"].get<double>());
+  std::string hist;
+  for (const auto& h : j["leaf_size_histogram"]) hist += fmt::format("{}{}", hist.empty() ? "" : " ", h.get<std::size_t>());
+  o += fmt::format("build      raybench {:.1f} ms (SAH {:.1f}, reorder {:.1f}, collapse {:.1f}); Embree {} ms\n", j["build_ms"].get<double>(),
+                   j["sah_build_ms"].get<double>(), j["reorder_ms"].get<double>(), j["collapse_ms"].get<double>(),
+                   num_or_dash(j["embree_build_ms"], "{:.1f}"));
+  o += fmt::format("bvh        {} binary nodes, {} wide nodes, {} leaves (sizes 1..8: {}), depth {}, SAH cost {:.2f}\n",
+                   j["nodes_binary"].get<std::size_t>(), j["nodes_wide"].get<std::size_t>(), j["leaves"].get<std::size_t>(), hist,
+                   j["depth"].get<int>(), j["sah_cost"].get<double>());
+  o += fmt::format("memory     raybench {:.1f} B/prim ({} layout: nodes + leaf-ordered batches); Embree {} B/prim (BVH)\n",
+                   j[j["layout"] == "wide" ? "bytes_per_prim_wide" : "bytes_per_prim_binary"].get<double>(), j["layout"].get<std::string>(),
+                   num_or_dash(j["embree_bytes_per_prim"], "{:.1f}"));
+  o += fmt::format("trace      raybench {} layout, packet {}, {} thread(s){}: {:.2f} Mrays/s (median of {})\n", j["layout"].get<std::string>(),
+                   j["packet"].get<int>(), j["threads"].get<int>(), j["robust"].get<bool>() ? ", robust slabs" : "",
+                   j["mrays_per_s"].get<double>(), j["repetitions"].get<int>());
+  o += fmt::format("           {:.2f} nodes, {:.2f} box tests, {:.2f} primitive tests per ray\n", j["nodes_per_ray"].get<double>(),
+                   j["box_tests_per_ray"].get<double>(), j["prim_tests_per_ray"].get<double>());
+  if (!j["embree_mrays_per_s"].is_null()) {
+    o += fmt::format("           Embree {}: {:.2f} Mrays/s; raybench / Embree = {:.2f}\n", j["embree_call"].get<std::string>(),
+                     j["embree_mrays_per_s"].get<double>(), j["mrays_per_s"].get<double>() / j["embree_mrays_per_s"].get<double>());
+    o += fmt::format("mismatch   {:.4f}% ({} of {} rays; {} hits at the same t on another primitive)\n", 100 * j["mismatch_rate"].get<double>(),
+                     j["mismatches"].get<std::size_t>(), j["rays"].get<std::size_t>(), j["other_prim_same_t"].get<std::size_t>());
+  } else {
+    o += fmt::format("           Embree: {}\n", j["embree_why"].get<std::string>());
+  }
+  if (!j["brute_mrays_per_s"].is_null())
+    o += fmt::format("brute      loop over all objects on {} rays: {:.4f} Mrays/s, {} mismatches against the BVH\n",
+                     j["brute_rays"].get<std::size_t>(), j["brute_mrays_per_s"].get<double>(), j["brute_mismatches"].get<std::size_t>());
+  return o;
+}
+
+}  // namespace rb::app

@@ -1,0 +1,51 @@
+// One `raybench trace` run (also used by the report's Tracing section): load, build both BVHs,
+// make the ray set, time both engines, compare them ray by ray and against brute force.
+#pragma once
+
+#include "bench/embree_trace.hpp"
+#include "bench/trace.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <map>
+#include <string>
+
+namespace rb::app {
+
+struct TraceRunOptions {
+  std::string scene;
+  std::string ray_set = "primary";
+  int threads = 1;
+  int packet = 1;
+  std::string layout = "wide";
+  std::size_t count = std::size_t(1) << 20;
+  std::uint64_t seed = 1;
+  bool robust = false;
+  int repetitions = 5;
+  long long brute_rays = -1;  // -1: a budget by scene size; 0: none
+  bool embree = true;
+};
+
+// A scene with both engines built once (with `build_threads`), then any number of runs.
+class TraceSession {
+ public:
+  TraceSession(rb::scene::Scene s, std::string source, int build_threads, bool embree);
+  nlohmann::json run(const TraceRunOptions& o, bool progress);
+  nlohmann::json build_json() const;
+  const bvh::Accel& accel() const { return accel_; }
+  const rb::scene::Scene& scene() const { return scene_; }
+
+ private:
+  rb::scene::Scene scene_;
+  std::string source_;
+  bvh::Accel accel_;
+  trace::EmbreeBuild embree_;
+  std::map<std::string, std::pair<RaySoA, trace::RaySetInfo>> rays_;
+  const RaySoA& rays(trace::RaySet set, std::size_t count, std::uint64_t seed, trace::RaySetInfo& info);
+};
+
+nlohmann::json run_trace(const TraceRunOptions& o, bool progress);
+std::string trace_text(const nlohmann::json& j);
+
+}  // namespace rb::app

@@ -1,0 +1,87 @@
+// Whole-scene tracing runs: reproducible ray sets, the timed multi-threaded trace, and the
+// ray-by-ray comparison of two engines' answers.
+//
+// Ray sets (all from one seed, rays stored so that 8 and 16 consecutive rays form a packet):
+//   primary  camera rays through jittered pixel centres, in 4x4 pixel tiles (a 16-ray packet is
+//            a tile, an 8-ray packet half a tile); the scene's camera (NFF `v`), or for files
+//            without one a stated camera: looking at the bounds' centre from the direction
+//            (0.3, 0.4, -1), 45 degrees, far enough that the bounding sphere fills the view
+//   shadow   from each primary hit point to the scene's first light (or, for scenes without
+//            lights, a stated light at centre + 2 R (0.5, 1, -0.7)/|...|, R the bounds' radius),
+//            segment [1e-4 R, 0.9999 |L - P|]: any-hit queries
+//   diffuse  from each primary hit point, cosine-weighted about the geometric normal facing the
+//            incoming ray (triangles, spheres; other kinds: about the reversed incoming ray),
+//            tmin 1e-4 R
+//   random   origin uniform in the bounds, direction uniform on the sphere
+#pragma once
+
+#include "bvh/accel.hpp"
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace rb::trace {
+
+enum class RaySet { primary, shadow, diffuse, random };
+const char* ray_set_name(RaySet s);
+RaySet parse_ray_set(const std::string& s);  // throws std::invalid_argument
+
+struct RaySetInfo {
+  std::string camera;  // "scene" or "stated"
+  std::string light;   // "scene" or "stated"
+  int width = 0, height = 0;
+};
+
+// About `count` rays of the set (primary: a width x height image of about count pixels; shadow
+// and diffuse: one per primary hit of an image of about count pixels). Uses `accel` for the
+// primary hits.
+RaySoA make_rays(const scene::Scene& s, const bvh::Accel& accel, RaySet set, std::size_t count, std::uint64_t seed,
+                 RaySetInfo* info = nullptr);
+
+// Sets flush-to-zero and denormals-are-zero on every thread of `threads` while alive, and on the
+// calling thread.
+struct ThreadScope {
+  explicit ThreadScope(int threads);
+  ~ThreadScope();
+  ThreadScope(const ThreadScope&) = delete;
+  ThreadScope& operator=(const ThreadScope&) = delete;
+  template <class Fn>
+  void run(Fn&& f);  // runs f inside the arena
+  struct Impl;
+  Impl* impl;
+  void run_fn(const std::function<void()>& f);
+};
+template <class Fn>
+void ThreadScope::run(Fn&& f) { run_fn(std::function<void()>(std::forward<Fn>(f))); }
+
+// A tracer: traces rays [begin, end) into out (begin a multiple of 16).
+using Tracer = std::function<void(std::size_t begin, std::size_t end, bvh::HitRec* out)>;
+
+// Times `reps` runs of the tracer over all rays with TBB parallel_for over tiles of `tile` rays;
+// returns the seconds of each run. `progress(done, total)` after each run.
+std::vector<double> time_runs(ThreadScope& ts, const Tracer& t, std::size_t rays, std::vector<bvh::HitRec>& out, int reps,
+                              std::size_t tile, const std::function<void(int, int)>& progress = {});
+
+double median(std::vector<double> v);
+
+// Ray-by-ray comparison: a mismatch is a hit against a miss, or two hits whose t differ by more
+// than rel_tol * max(1, |t|); `other_prim` counts hits at agreeing t on different primitives (ties
+// at shared edges, vertices or coincident surfaces).
+struct Compare {
+  std::size_t rays = 0, mismatches = 0, other_prim = 0;
+  double rate() const { return rays ? double(mismatches) / double(rays) : 0.0; }
+};
+Compare compare(const std::vector<bvh::HitRec>& a, const std::vector<bvh::HitRec>& b, std::size_t n, bool any, float rel_tol = 1e-4f);
+
+// A progress bar on stderr (only when stderr is a terminal).
+struct Progress {
+  std::string label;
+  bool tty;
+  explicit Progress(std::string l);
+  void update(double fraction);
+  void done();
+};
+
+}  // namespace rb::trace

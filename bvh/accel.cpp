@@ -1,0 +1,109 @@
+// Accel::build: prim boxes -> binned SAH -> batches reordered into leaf order -> 8-wide collapse.
+#include "bvh/accel.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+#include <stdexcept>
+#include <string>
+
+namespace rb::bvh {
+
+using scene::Kind;
+
+Accel Accel::build(const scene::Scene& s, const BuildOptions& opt) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Accel a;
+  a.options = opt;
+  const std::size_t need = s.primitive_count() * kBuildBytesPerPrim;
+  if (opt.max_bytes && need > opt.max_bytes)
+    throw std::length_error("the BVH of " + std::to_string(s.primitive_count()) + " primitives needs about " +
+                            std::to_string(need >> 20) + " MiB, above the limit of " + std::to_string(opt.max_bytes >> 20) + " MiB");
+  const std::vector<scene::PrimRef> refs = scene::prim_refs(s);
+  a.scene_prims = refs.size();
+  std::vector<float> lo(3 * refs.size()), hi(3 * refs.size());
+  std::vector<std::uint8_t> kind(refs.size());
+  auto boxes = [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      const scene::Bounds bb = scene::prim_bounds(s, refs[i]);
+      const float v[6] = {bb.lo.x, bb.lo.y, bb.lo.z, bb.hi.x, bb.hi.y, bb.hi.z};
+      for (int k = 0; k < 3; ++k) { lo[3 * i + std::size_t(k)] = v[k]; hi[3 * i + std::size_t(k)] = v[3 + k]; }
+      kind[i] = std::uint8_t(refs[i].kind);
+    }
+  };
+  if (opt.parallel)
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, refs.size(), 4096), [&](const auto& r) { boxes(r.begin(), r.end()); });
+  else
+    boxes(0, refs.size());
+  a.bin = build_sah(lo, hi, kind, opt);
+
+  // Reorder: every leaf becomes one 8-slot group of its kind's batch.
+  const auto t1 = std::chrono::steady_clock::now();
+  std::vector<std::vector<Vec3f>> polys;
+  for (auto& n : a.bin.nodes) {
+    if (!n.leaf()) continue;
+    const Kind k = Kind(n.kind);
+    auto& ids = a.id[int(k)];
+    const auto group = std::uint32_t(ids.size() / 8);  // ids are kept padded to whole groups
+    for (std::uint32_t j = n.first; j < n.first + n.count; ++j) {
+      const scene::PrimRef r = refs[a.bin.order[j]];
+      switch (k) {
+        case Kind::triangle: a.tri.push(scene::tri_verts(s, r.index)); break;
+        case Kind::sphere: a.sph.push(scene::sphere_prim(s, r.index)); break;
+        case Kind::cylinder: a.cyl.push(scene::cylinder_prim(s, r.index)); break;
+        case Kind::cone: a.cone.push(scene::cone_prim(s, r.index)); break;
+        case Kind::polygon: polys.push_back(scene::polygon_vertices(s, r.index)); break;
+      }
+      ids.push_back(r.index);
+    }
+    switch (k) {
+      case Kind::triangle: a.tri.seal(); break;
+      case Kind::sphere: a.sph.seal(); break;
+      case Kind::cylinder: a.cyl.seal(); break;
+      case Kind::cone: a.cone.seal(); break;
+      case Kind::polygon: break;
+    }
+    ids.resize(round_up(ids.size(), 8), UINT32_MAX);
+    n.first = group;
+  }
+  // Polygons: one PolygonSoA over the leaf-ordered polygons; each leaf lane keeps its slot.
+  if (!polys.empty()) {
+    a.poly = PolygonSoA::build(polys);
+    std::vector<std::uint32_t> slot_of(polys.size(), UINT32_MAX);
+    for (std::size_t j = 0; j < a.poly.id.size(); ++j)
+      if (a.poly.id[j] != UINT32_MAX) slot_of[a.poly.id[j]] = std::uint32_t(j);
+    a.poly_slot.assign(a.id[4].size(), UINT32_MAX);
+    std::size_t p = 0;
+    for (std::size_t j = 0; j < a.id[4].size(); ++j)
+      if (a.id[4][j] != UINT32_MAX) a.poly_slot[j] = slot_of[p++];
+  }
+  a.reorder_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
+  a.wide = collapse8(a.bin);
+  a.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return a;
+}
+
+std::size_t Accel::bytes_prims() const {
+  std::size_t b = tri.bytes() + sph.bytes() + cyl.bytes() + cone.bytes() + poly.bytes() + poly_slot.size() * 4;
+  for (const auto& v : id) b += v.size() * sizeof(std::uint32_t);
+  return b;
+}
+
+BruteForce::BruteForce(const scene::Scene& s) {
+  auto fill = [](auto& batch, std::vector<std::uint32_t>& ids) { ids = batch.id; ids.resize(batch.prims.size(), UINT32_MAX); };
+  auto t = scene::triangle_verts_batch(s);
+  fill(t, id[0]);
+  tri = std::move(t.prims);
+  auto sp = scene::sphere_batch(s);
+  fill(sp, id[1]);
+  sph = std::move(sp.prims);
+  auto cy = scene::cylinder_batch(s);
+  fill(cy, id[2]);
+  cyl = std::move(cy.prims);
+  auto co = scene::cone_batch(s);
+  fill(co, id[3]);
+  cone = std::move(co.prims);
+  poly = scene::polygon_batch(s);
+}
+
+}  // namespace rb::bvh

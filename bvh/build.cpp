@@ -1,0 +1,346 @@
+// Binned SAH builder (Wald 2007, "On fast construction of SAH-based bounding volume hierarchies"),
+// parallel with TBB: subtrees are tasks, and large nodes bin and bound their primitives with
+// parallel reductions.
+#include "bvh/bvh.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+#include <tbb/task_group.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+namespace rb::bvh {
+
+namespace {
+
+constexpr float kInfF = std::numeric_limits<float>::infinity();
+constexpr std::size_t kParallelNode = 16384;  // primitives above which a node bins in parallel
+constexpr std::size_t kTaskNode = 4096;       // primitives above which a child subtree is a task
+constexpr int kMaxBins = 64;
+
+struct Box {
+  float lo[3] = {kInfF, kInfF, kInfF}, hi[3] = {-kInfF, -kInfF, -kInfF};
+  void grow(const Box& b) {
+    for (int k = 0; k < 3; ++k) { lo[k] = std::min(lo[k], b.lo[k]); hi[k] = std::max(hi[k], b.hi[k]); }
+  }
+  void grow(const float* p) {
+    for (int k = 0; k < 3; ++k) { lo[k] = std::min(lo[k], p[k]); hi[k] = std::max(hi[k], p[k]); }
+  }
+  float area() const {
+    const float dx = hi[0] - lo[0], dy = hi[1] - lo[1], dz = hi[2] - lo[2];
+    if (!(dx >= 0)) return 0.f;
+    return 2.f * (dx * dy + dy * dz + dz * dx);
+  }
+};
+
+struct Bin {
+  Box box;
+  std::uint32_t n = 0;
+};
+struct Bins {
+  std::array<std::array<Bin, kMaxBins>, 3> b{};
+  void merge(const Bins& o, int nb) {
+    for (int a = 0; a < 3; ++a)
+      for (int i = 0; i < nb; ++i) { b[a][i].box.grow(o.b[a][i].box); b[a][i].n += o.b[a][i].n; }
+  }
+};
+
+struct Builder {
+  const BuildOptions& opt;
+  const float* plo;
+  const float* phi;
+  const std::uint8_t* kind;
+  std::vector<float> cen;  // 3 per primitive
+  std::vector<std::uint32_t>& idx;
+  std::vector<BNode>& nodes;
+  std::atomic<std::uint32_t> next{1};
+
+  Box prim_box(std::uint32_t p) const {
+    Box b;
+    for (int k = 0; k < 3; ++k) { b.lo[k] = plo[3 * p + k]; b.hi[k] = phi[3 * p + k]; }
+    return b;
+  }
+  // Box and centroid box of idx[begin, end).
+  std::pair<Box, Box> bounds(std::size_t begin, std::size_t end) const {
+    auto body = [&](std::size_t b, std::size_t e, std::pair<Box, Box> acc) {
+      for (std::size_t i = b; i < e; ++i) {
+        acc.first.grow(prim_box(idx[i]));
+        acc.second.grow(&cen[3 * std::size_t(idx[i])]);
+      }
+      return acc;
+    };
+    if (!opt.parallel || end - begin < kParallelNode) return body(begin, end, {});
+    return tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(begin, end, 4096), std::pair<Box, Box>{},
+        [&](const tbb::blocked_range<std::size_t>& r, std::pair<Box, Box> acc) { return body(r.begin(), r.end(), acc); },
+        [](std::pair<Box, Box> a, const std::pair<Box, Box>& b) {
+          a.first.grow(b.first);
+          a.second.grow(b.second);
+          return a;
+        });
+  }
+
+  // SAH counts primitives in blocks of the leaf's lane group: a leaf of up to `leaf_block`
+  // primitives is one kernel call.
+  float blocks(std::size_t n) const {
+    const std::size_t b = std::size_t(std::max(1, opt.leaf_block));
+    return float((n + b - 1) / b);
+  }
+  int bin_of(std::uint32_t p, int axis, float clo, float scale, int nb) const {
+    const int b = int((cen[3 * std::size_t(p) + std::size_t(axis)] - clo) * scale);
+    return std::clamp(b, 0, nb - 1);
+  }
+
+  void make_leaf(BNode& n, std::size_t begin, std::size_t end) {
+    n.first = std::uint32_t(begin);
+    n.count = std::uint16_t(end - begin);
+    n.kind = kind[idx[begin]];
+  }
+
+  // Builds node `ni` over idx[begin, end) whose box is `box`.
+  void build(std::uint32_t ni, std::size_t begin, std::size_t end, const Box& box, const Box& cbox, int depth) {
+    const std::size_t n = end - begin;
+    BNode& node = nodes[ni];
+    for (int k = 0; k < 3; ++k) { node.lo[k] = box.lo[k]; node.hi[k] = box.hi[k]; }
+    bool mixed = false;
+    for (std::size_t i = begin + 1; i < end && !mixed; ++i) mixed = kind[idx[i]] != kind[idx[begin]];
+    const std::size_t max_leaf = std::size_t(std::max(1, std::min(opt.max_leaf, 8)));
+    if (n == 1 || (n <= max_leaf && !mixed && n <= 2)) { make_leaf(node, begin, end); return; }
+
+    std::size_t mid = begin;
+    const int nb = std::clamp(opt.bins, 2, kMaxBins);
+    float ext[3];
+    int axis = 0;
+    for (int k = 0; k < 3; ++k) ext[k] = cbox.hi[k] - cbox.lo[k];
+    if (ext[1] > ext[axis]) axis = 1;
+    if (ext[2] > ext[axis]) axis = 2;
+    const bool flat = !(ext[axis] > 0);
+    float best_cost = kInfF;
+    int best_axis = -1, best_bin = 0;
+    if (!flat && depth < opt.max_depth) {
+      Bins bins;
+      float scale[3];
+      for (int k = 0; k < 3; ++k) scale[k] = ext[k] > 0 ? float(nb) * (1.f - 1e-6f) / ext[k] : 0.f;
+      auto body = [&](std::size_t b, std::size_t e, Bins& acc) {
+        for (std::size_t i = b; i < e; ++i) {
+          const std::uint32_t p = idx[i];
+          const Box pb = prim_box(p);
+          for (int k = 0; k < 3; ++k) {
+            Bin& bin = acc.b[k][bin_of(p, k, cbox.lo[k], scale[k], nb)];
+            bin.box.grow(pb);
+            ++bin.n;
+          }
+        }
+      };
+      if (opt.parallel && n >= kParallelNode) {
+        bins = tbb::parallel_reduce(
+            tbb::blocked_range<std::size_t>(begin, end, 4096), Bins{},
+            [&](const tbb::blocked_range<std::size_t>& r, Bins acc) { body(r.begin(), r.end(), acc); return acc; },
+            [nb](Bins a, const Bins& b) { a.merge(b, nb); return a; });
+      } else {
+        body(begin, end, bins);
+      }
+      const float inv_area = box.area() > 0 ? 1.f / box.area() : 0.f;
+      for (int k = 0; k < 3; ++k) {
+        if (!(ext[k] > 0)) continue;
+        std::array<float, kMaxBins> right_cost{};
+        Box acc;
+        std::uint32_t cnt = 0;
+        for (int i = nb - 1; i > 0; --i) {
+          acc.grow(bins.b[k][i].box);
+          cnt += bins.b[k][i].n;
+          right_cost[i] = acc.area() * blocks(cnt);
+        }
+        acc = Box{};
+        cnt = 0;
+        for (int i = 0; i < nb - 1; ++i) {
+          acc.grow(bins.b[k][i].box);
+          cnt += bins.b[k][i].n;
+          if (cnt == 0 || cnt == n) continue;
+          const float c = opt.traversal_cost + opt.intersection_cost * inv_area * (acc.area() * blocks(cnt) + right_cost[i + 1]);
+          if (c < best_cost) { best_cost = c; best_axis = k; best_bin = i; }
+        }
+      }
+    }
+    const float leaf_cost = opt.intersection_cost * blocks(n);
+    if (n <= max_leaf && !mixed && (best_axis < 0 || leaf_cost <= best_cost)) { make_leaf(node, begin, end); return; }
+
+    if (best_axis >= 0 && !(n <= max_leaf && mixed)) {
+      const float scale = float(nb) * (1.f - 1e-6f) / ext[best_axis];
+      const float clo = cbox.lo[best_axis];
+      mid = std::size_t(std::partition(idx.begin() + std::ptrdiff_t(begin), idx.begin() + std::ptrdiff_t(end),
+                                       [&](std::uint32_t p) { return bin_of(p, best_axis, clo, scale, nb) <= best_bin; }) -
+                        idx.begin());
+    } else if (mixed) {
+      // Split off the first primitive's kind (a leaf holds one kind).
+      const std::uint8_t k0 = kind[idx[begin]];
+      mid = std::size_t(std::stable_partition(idx.begin() + std::ptrdiff_t(begin), idx.begin() + std::ptrdiff_t(end),
+                                              [&](std::uint32_t p) { return kind[p] == k0; }) -
+                        idx.begin());
+    }
+    if (mid <= begin || mid >= end) {
+      // No usable split (coincident centroids, or too deep): the object median on the widest axis.
+      mid = begin + n / 2;
+      if (!flat)
+        std::nth_element(idx.begin() + std::ptrdiff_t(begin), idx.begin() + std::ptrdiff_t(mid), idx.begin() + std::ptrdiff_t(end),
+                         [&](std::uint32_t a, std::uint32_t b) { return cen[3 * std::size_t(a) + std::size_t(axis)] < cen[3 * std::size_t(b) + std::size_t(axis)]; });
+    }
+    const std::uint32_t c = next.fetch_add(2);
+    node.first = c;
+    node.count = 0;
+    node.kind = 0;
+    auto left = [&, c, begin, mid, depth] {
+      const auto [b, cb] = bounds(begin, mid);
+      build(c, begin, mid, b, cb, depth + 1);
+    };
+    auto right = [&, c, mid, end, depth] {
+      const auto [b, cb] = bounds(mid, end);
+      build(c + 1, mid, end, b, cb, depth + 1);
+    };
+    if (opt.parallel && n >= kTaskNode) {
+      tbb::task_group g;
+      g.run(left);
+      right();
+      g.wait();
+    } else {
+      left();
+      right();
+    }
+  }
+};
+
+}  // namespace
+
+Bvh2 build_sah(const std::vector<float>& lo, const std::vector<float>& hi, const std::vector<std::uint8_t>& kind,
+               const BuildOptions& opt) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Bvh2 out;
+  const std::size_t n = kind.size();
+  std::vector<std::uint32_t> idx;
+  idx.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    bool ok = true;
+    for (int k = 0; k < 3; ++k)
+      ok = ok && std::isfinite(lo[3 * i + std::size_t(k)]) && std::isfinite(hi[3 * i + std::size_t(k)]) && lo[3 * i + std::size_t(k)] <= hi[3 * i + std::size_t(k)];
+    if (ok) idx.push_back(std::uint32_t(i));
+  }
+  if (idx.empty()) {
+    out.stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return out;
+  }
+  out.nodes.resize(2 * idx.size());
+  Builder b{opt, lo.data(), hi.data(), kind.data(), std::vector<float>(3 * n), idx, out.nodes};
+  for (std::size_t i : idx)
+    for (int k = 0; k < 3; ++k) b.cen[3 * i + std::size_t(k)] = 0.5f * lo[3 * i + std::size_t(k)] + 0.5f * hi[3 * i + std::size_t(k)];
+  const auto [box, cbox] = b.bounds(0, idx.size());
+  b.build(0, 0, idx.size(), box, cbox, 0);
+  out.nodes.resize(b.next.load());
+  out.nodes.shrink_to_fit();
+  out.order = std::move(idx);
+  out.stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  tree_stats(out, opt);
+  return out;
+}
+
+void tree_stats(Bvh2& b, const BuildOptions& opt) {
+  BuildStats& s = b.stats;
+  s.nodes = b.nodes.size();
+  s.leaves = 0;
+  s.prims = b.order.size();
+  s.depth = 0;
+  s.sah_cost = 0;
+  s.leaf_hist.assign(9, 0);
+  if (b.nodes.empty()) return;
+  auto area = [](const BNode& n) {
+    const float dx = n.hi[0] - n.lo[0], dy = n.hi[1] - n.lo[1], dz = n.hi[2] - n.lo[2];
+    return 2.0 * (double(dx) * double(dy) + double(dy) * double(dz) + double(dz) * double(dx));
+  };
+  const double root = area(b.nodes[0]);
+  std::vector<std::pair<std::uint32_t, int>> st{{0u, 1}};
+  while (!st.empty()) {
+    const auto [i, d] = st.back();
+    st.pop_back();
+    const BNode& n = b.nodes[i];
+    s.depth = std::max(s.depth, d);
+    const double rel = root > 0 ? area(n) / root : 1.0;
+    if (n.leaf()) {
+      ++s.leaves;
+      if (n.count >= s.leaf_hist.size()) s.leaf_hist.resize(n.count + 1u, 0);
+      ++s.leaf_hist[n.count];
+      s.sah_cost += rel * double(opt.intersection_cost) * double((n.count + std::max(1, opt.leaf_block) - 1) / std::max(1, opt.leaf_block));
+    } else {
+      s.sah_cost += rel * double(opt.traversal_cost);
+      st.push_back({n.first, d + 1});
+      st.push_back({n.first + 1, d + 1});
+    }
+  }
+}
+
+Bvh8 collapse8(const Bvh2& b) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Bvh8 w;
+  if (b.nodes.empty()) return w;
+  auto ref_of_leaf = [](const BNode& n) { return make_leaf_ref(n.kind, n.first); };
+  if (b.nodes[0].leaf()) {
+    w.root = ref_of_leaf(b.nodes[0]);
+    // A one-leaf tree still gets a wide root holding that leaf, so traversal has one entry point.
+  }
+  auto area = [](const BNode& n) {
+    const float dx = n.hi[0] - n.lo[0], dy = n.hi[1] - n.lo[1], dz = n.hi[2] - n.lo[2];
+    return dx * dy + dy * dz + dz * dx;
+  };
+  // Work list: (binary node, wide node index to fill).
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> work;
+  w.nodes.reserve(b.nodes.size() / 4 + 1);
+  w.nodes.emplace_back();
+  work.push_back({0u, 0u});
+  while (!work.empty()) {
+    const auto [bi, wi] = work.back();
+    work.pop_back();
+    std::uint32_t kids[8];
+    int nk = 0;
+    if (b.nodes[bi].leaf()) {
+      kids[nk++] = bi;
+    } else {
+      kids[nk++] = b.nodes[bi].first;
+      kids[nk++] = b.nodes[bi].first + 1;
+      while (nk < 8) {
+        int best = -1;
+        float ba = -1;
+        for (int k = 0; k < nk; ++k)
+          if (!b.nodes[kids[k]].leaf() && area(b.nodes[kids[k]]) > ba) { ba = area(b.nodes[kids[k]]); best = k; }
+        if (best < 0) break;
+        const std::uint32_t open = kids[best];
+        kids[best] = b.nodes[open].first;
+        kids[nk++] = b.nodes[open].first + 1;
+      }
+    }
+    WNode node;
+    for (int a = 0; a < 3; ++a)
+      for (int c = 0; c < 8; ++c) { node.b[2 * a][c] = kInfF; node.b[2 * a + 1][c] = -kInfF; }
+    for (int c = 0; c < 8; ++c) node.child[c] = kEmpty;
+    for (int k = 0; k < nk; ++k) {
+      const BNode& n = b.nodes[kids[k]];
+      for (int a = 0; a < 3; ++a) { node.b[2 * a][k] = n.lo[a]; node.b[2 * a + 1][k] = n.hi[a]; }
+      if (n.leaf()) {
+        node.child[k] = ref_of_leaf(n);
+      } else {
+        const auto ci = std::uint32_t(w.nodes.size());
+        w.nodes.emplace_back();
+        node.child[k] = ci;
+        work.push_back({kids[k], ci});
+      }
+    }
+    w.nodes[wi] = node;
+  }
+  w.root = 0;
+  w.collapse_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return w;
+}
+
+}  // namespace rb::bvh

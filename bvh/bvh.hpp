@@ -1,0 +1,94 @@
+// The BVH as plain data: a binary tree of slabs (BNode) and the 8-wide tree collapsed from it
+// (WNode, SoA child boxes). Builders (bvh/build.cpp) and traversals (bvh/accel.hpp) are separate.
+//
+// Node byte budgets: BNode 32 bytes (box 24 + child-or-leaf 4 + count/kind 4); WNode 224 bytes
+// (six arrays of 8 floats: lo_x hi_x lo_y hi_y lo_z hi_z, then 8 child references).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace rb::bvh {
+
+// Binary node. Internal (count == 0): children are nodes `first` and `first + 1`.
+// Leaf (count > 0): `count` primitives of one kind, starting at `first` (in the builder's
+// primitive order; after bvh::Accel's reordering, the leaf's 8-slot group in its kind's batch).
+struct BNode {
+  float lo[3], hi[3];
+  std::uint32_t first;
+  std::uint16_t count;
+  std::uint8_t kind;
+  std::uint8_t pad_ = 0;
+  bool leaf() const { return count != 0; }
+};
+static_assert(sizeof(BNode) == 32);
+
+// Wide node: 8 children tested by one 8-lane slab test. Child references: kEmpty, an internal
+// node index (< kLeafBit), or a leaf: kLeafBit | kind << kKindShift | group (the leaf's 8-slot
+// group in its kind's batch). Empty slots have the box (+inf, -inf): no ray enters them.
+inline constexpr std::uint32_t kEmpty = 0xFFFFFFFFu;
+inline constexpr std::uint32_t kLeafBit = 0x80000000u;
+inline constexpr int kKindShift = 28;
+inline constexpr std::uint32_t kGroupMask = (1u << kKindShift) - 1;
+inline bool is_leaf(std::uint32_t ref) { return (ref & kLeafBit) != 0; }
+inline int leaf_kind(std::uint32_t ref) { return int((ref >> kKindShift) & 7u); }
+inline std::uint32_t leaf_group(std::uint32_t ref) { return ref & kGroupMask; }
+inline std::uint32_t make_leaf_ref(int kind, std::uint32_t group) { return kLeafBit | (std::uint32_t(kind) << kKindShift) | group; }
+
+struct alignas(32) WNode {
+  float b[6][8];  // [2 axis + 0] lo, [2 axis + 1] hi, per child
+  std::uint32_t child[8];
+};
+static_assert(sizeof(WNode) == 224);
+
+struct BuildOptions {
+  int max_leaf = 8;        // primitives per leaf (one 8-lane group)
+  int bins = 32;           // SAH bins per axis
+  // SAH: cost of a node visit and of one leaf kernel call over a block of `leaf_block` primitives
+  // (primitives in lanes: a leaf of 1..8 costs one call).
+  float traversal_cost = 1.0f, intersection_cost = 1.0f;
+  int leaf_block = 8;
+  int max_depth = 48;      // below this depth SAH may split unevenly; deeper nodes split at the median
+  bool parallel = true;    // TBB tasks for subtrees, parallel binning at large nodes
+  // Refuse (std::length_error, before allocating) a build whose estimated peak memory,
+  // kBuildBytesPerPrim per primitive, exceeds this; 0: no limit.
+  std::size_t max_bytes = std::size_t(16) << 30;
+};
+// Peak bytes per primitive of Accel::build (builder arrays, 2 binary nodes, batch slot, id,
+// wide nodes), an upper estimate checked against BuildOptions::max_bytes.
+inline constexpr std::size_t kBuildBytesPerPrim = 192;
+
+struct BuildStats {
+  double build_ms = 0;
+  std::size_t nodes = 0, leaves = 0, prims = 0;
+  int depth = 0;
+  double sah_cost = 0;
+  std::vector<std::size_t> leaf_hist;  // leaf_hist[n]: leaves with n primitives
+};
+
+// The builder's output: binary nodes (root 0) and the primitive order (leaves index contiguous
+// ranges of it). Primitives with an empty or non-finite box are left out (they never hit).
+struct Bvh2 {
+  std::vector<BNode> nodes;
+  std::vector<std::uint32_t> order;  // input primitive index per position
+  BuildStats stats;
+};
+
+// Binned SAH over primitive boxes. lo/hi: 3 floats per primitive; kind: per primitive (leaves
+// hold one kind only: a small mixed range is split by kind).
+Bvh2 build_sah(const std::vector<float>& lo, const std::vector<float>& hi, const std::vector<std::uint8_t>& kind,
+               const BuildOptions& opt = {});
+
+// Surface-area cost and depth of a finished tree (fills stats.sah_cost, depth, leaves, hist).
+void tree_stats(Bvh2& b, const BuildOptions& opt);
+
+// The 8-wide tree from the binary one: each wide node opens its largest internal children until
+// it has 8. `leaf_ref(node)` gives the reference of a binary leaf.
+struct Bvh8 {
+  std::vector<WNode> nodes;  // root 0 (when the tree is not empty)
+  std::uint32_t root = kEmpty;  // a leaf reference when the whole tree is one leaf
+  double collapse_ms = 0;
+};
+Bvh8 collapse8(const Bvh2& b);
+
+}  // namespace rb::bvh

@@ -1,0 +1,310 @@
+// The BVH against the loop over all objects (the oracle), its boxes, packets against single
+// rays, watertightness of the robust traversal, and hostile inputs.
+#include "bench/trace.hpp"
+#include "bvh/accel.hpp"
+#include "scene/sources.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <random>
+
+namespace {
+
+using namespace rb;
+using bvh::HitRec;
+using bvh::kNoPrim;
+
+// A closed icosphere (shared vertices, consistent winding) of radius r at c.
+scene::Scene icosphere(int levels, Vec3f c = {0, 0, 0}, float r = 1.0f) {
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  std::vector<Vec3d> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+                          {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  std::vector<std::array<std::uint32_t, 3>> f = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+                                                 {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
+                                                 {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+  for (int l = 0; l < levels; ++l) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> mid;
+    auto m = [&](std::uint32_t a, std::uint32_t b) {
+      const auto key = std::minmax(a, b);
+      auto it = mid.find(key);
+      if (it != mid.end()) return it->second;
+      v.push_back((v[a] + v[b]) * 0.5);
+      return mid[key] = std::uint32_t(v.size() - 1);
+    };
+    std::vector<std::array<std::uint32_t, 3>> g;
+    for (auto& q : f) {
+      const auto a = m(q[0], q[1]), b = m(q[1], q[2]), cc = m(q[2], q[0]);
+      g.push_back({q[0], a, cc}); g.push_back({q[1], b, a}); g.push_back({q[2], cc, b}); g.push_back({a, b, cc});
+    }
+    f = g;
+  }
+  scene::Scene s;
+  s.name = "icosphere";
+  for (auto& p : v) {
+    const double l = std::sqrt(dot(p, p));
+    s.verts.push_back(to_float(to_double(c) + p * (double(r) / l)));
+  }
+  for (auto& q : f) s.triangles.push_back({{q[0], q[1], q[2]}, 0});
+  return s;
+}
+
+// Spheres, cylinders, cones and polygons scattered in a box, a few of each kind overlapping.
+scene::Scene mixed(std::uint64_t seed) {
+  std::mt19937_64 g(seed);
+  std::uniform_real_distribution<float> U(-5, 5), R(0.1f, 0.8f);
+  scene::Scene s;
+  s.name = "mixed";
+  for (int i = 0; i < 60; ++i) s.spheres.push_back({{U(g), U(g), U(g)}, R(g), 0});
+  for (int i = 0; i < 40; ++i) {
+    const Vec3f b{U(g), U(g), U(g)};
+    const Vec3f a = b + Vec3f{R(g) * 2 - 0.8f, R(g) * 2, R(g) - 0.4f};
+    const float rb = R(g);
+    s.cones.push_back({b, rb, a, i % 2 ? rb : rb * 0.3f, 0});  // even: frustum, odd: cylinder
+  }
+  for (int i = 0; i < 40; ++i) {
+    const Vec3f c{U(g), U(g), U(g)};
+    const int n = 3 + i % 5;
+    const float r = R(g);
+    s.polygons.push_back({std::uint32_t(s.poly_verts.size()), std::uint32_t(n), 0});
+    const Vec3f ax = i % 3 == 0 ? Vec3f{1, 0, 0} : Vec3f{0, 1, 0};
+    for (int k = 0; k < n; ++k) {
+      const float a = 6.2831853f * float(k) / float(n);
+      const Vec3f p = i % 3 == 0 ? Vec3f{0, r * std::cos(a), r * std::sin(a)} : Vec3f{r * std::cos(a), 0.3f * r * std::sin(a), r * std::sin(a)};
+      s.poly_verts.push_back(c + p);
+      (void)ax;
+    }
+  }
+  // A few triangles too.
+  s.verts = {{-4, -4, -4}, {4, -4, -4}, {0, 4, -4}, {-4, -4, 4}, {4, -4, 4}};
+  s.triangles = {{{0, 1, 2}, 0}, {{0, 3, 4}, 0}, {{0, 4, 1}, 0}};
+  return s;
+}
+
+std::vector<HitRec> brute(const scene::Scene& s, const RaySoA& rays, bool any) {
+  const bvh::BruteForce bf(s);
+  std::vector<HitRec> h(rays.size());
+  for (std::size_t i = 0; i < rays.count; ++i) h[i] = bf.trace(rays.get(i), any);
+  return h;
+}
+
+void expect_same(const std::vector<HitRec>& a, const std::vector<HitRec>& b, std::size_t n, bool any, const std::string& what) {
+  std::size_t bad = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool ha = a[i].prim != kNoPrim, hb = b[i].prim != kNoPrim;
+    bool ok = ha == hb;
+    if (ok && ha && !any) ok = std::fabs(a[i].t - b[i].t) <= 1e-6f * std::max(1.0f, std::fabs(b[i].t));
+    if (!ok && ++bad <= 3)
+      ADD_FAILURE() << what << " ray " << i << ": " << a[i].t << " prim " << a[i].prim << " vs oracle " << b[i].t << " prim " << b[i].prim;
+  }
+  EXPECT_EQ(bad, 0u) << what;
+}
+
+void check_all_modes(const scene::Scene& s, std::size_t count) {
+  const bvh::Accel a = bvh::Accel::build(s);
+  for (auto set : {trace::RaySet::primary, trace::RaySet::shadow, trace::RaySet::diffuse, trace::RaySet::random}) {
+    const RaySoA rays = trace::make_rays(s, a, set, count, 7);
+    const bool any = set == trace::RaySet::shadow;
+    const auto ref = brute(s, rays, any);
+    std::size_t hits = 0;
+    for (std::size_t i = 0; i < rays.count; ++i) hits += ref[i].prim != kNoPrim;
+    if (set != trace::RaySet::shadow) EXPECT_GT(hits, 0u) << trace::ray_set_name(set);
+    struct Mode { bvh::Layout l; int packet; bool robust; };
+    for (Mode m : {Mode{bvh::Layout::wide, 1, false}, Mode{bvh::Layout::wide, 1, true}, Mode{bvh::Layout::binary, 1, false},
+                   Mode{bvh::Layout::binary, 1, true}, Mode{bvh::Layout::wide, 8, false}, Mode{bvh::Layout::wide, 8, true},
+                   Mode{bvh::Layout::wide, 16, false}}) {
+      bvh::TraceOptions o{m.l, m.packet, m.robust, any};
+      std::vector<HitRec> h(rays.size());
+      a.trace(rays, 0, rays.size(), h.data(), o);
+      const std::string what = std::string(trace::ray_set_name(set)) + (m.l == bvh::Layout::wide ? " wide" : " binary") + " packet " +
+                               std::to_string(m.packet) + (m.robust ? " robust" : "");
+      expect_same(h, ref, rays.count, any, what);
+      // The counted traversal gives the same answers.
+      bvh::TraceCounters c;
+      std::vector<HitRec> hc(rays.size());
+      a.trace_counted(rays, 0, rays.size(), hc.data(), o, c);
+      expect_same(hc, ref, rays.count, any, what + " counted");
+      EXPECT_GT(c.nodes, 0u);
+    }
+  }
+}
+
+TEST(Bvh, MeshEqualsBruteForceForEveryRaySetAndMode) { check_all_modes(icosphere(3), 512); }
+
+TEST(Bvh, MixedAnalyticSceneEqualsBruteForce) { check_all_modes(mixed(3), 512); }
+
+TEST(Bvh, GeneratedSceneEqualsBruteForce) { check_all_modes(scene::generate_spd("balls", 1), 256); }
+
+TEST(Bvh, EveryBoxContainsItsChildrenAndPrimitives) {
+  for (const auto& s : {icosphere(2), mixed(5)}) {
+    const bvh::Accel a = bvh::Accel::build(s);
+    const auto& N = a.bin.nodes;
+    ASSERT_FALSE(N.empty());
+    auto inside = [](const float* lo, const float* hi, const float* clo, const float* chi) {
+      for (int k = 0; k < 3; ++k)
+        if (!(lo[k] <= clo[k] && chi[k] <= hi[k])) return false;
+      return true;
+    };
+    std::size_t prims = 0;
+    for (const auto& n : N) {
+      if (!n.leaf()) {
+        EXPECT_TRUE(inside(n.lo, n.hi, N[n.first].lo, N[n.first].hi));
+        EXPECT_TRUE(inside(n.lo, n.hi, N[n.first + 1].lo, N[n.first + 1].hi));
+        continue;
+      }
+      for (std::size_t j = 0; j < 8; ++j) {
+        const std::uint32_t id = a.id[n.kind][std::size_t(n.first) * 8 + j];
+        if (id == UINT32_MAX) continue;
+        ++prims;
+        const scene::Bounds b = scene::prim_bounds(s, {scene::Kind(n.kind), id});
+        const float lo[3] = {b.lo.x, b.lo.y, b.lo.z}, hi[3] = {b.hi.x, b.hi.y, b.hi.z};
+        EXPECT_TRUE(inside(n.lo, n.hi, lo, hi));
+      }
+    }
+    EXPECT_EQ(prims, s.primitive_count());
+    // Wide nodes: every child box contains the boxes of its own children.
+    for (const auto& w : a.wide.nodes)
+      for (int c = 0; c < 8; ++c) {
+        if (w.child[c] == bvh::kEmpty || bvh::is_leaf(w.child[c])) continue;
+        const auto& ch = a.wide.nodes[w.child[c]];
+        for (int d = 0; d < 8; ++d) {
+          if (ch.child[d] == bvh::kEmpty) continue;
+          const float lo[3] = {w.b[0][c], w.b[2][c], w.b[4][c]}, hi[3] = {w.b[1][c], w.b[3][c], w.b[5][c]};
+          const float clo[3] = {ch.b[0][d], ch.b[2][d], ch.b[4][d]}, chi[3] = {ch.b[1][d], ch.b[3][d], ch.b[5][d]};
+          EXPECT_TRUE(inside(lo, hi, clo, chi));
+        }
+      }
+  }
+}
+
+TEST(Bvh, PacketsGiveTheSameHitsAsSingleRays) {
+  const scene::Scene s = icosphere(3);
+  const bvh::Accel a = bvh::Accel::build(s);
+  for (auto set : {trace::RaySet::primary, trace::RaySet::diffuse, trace::RaySet::random}) {
+    const RaySoA rays = trace::make_rays(s, a, set, 1024, 11);
+    std::vector<HitRec> one(rays.size()), p8(rays.size()), p16(rays.size());
+    a.trace(rays, 0, rays.size(), one.data(), {bvh::Layout::wide, 1, false, false});
+    a.trace(rays, 0, rays.size(), p8.data(), {bvh::Layout::wide, 8, false, false});
+    a.trace(rays, 0, rays.size(), p16.data(), {bvh::Layout::wide, 16, false, false});
+    for (std::size_t i = 0; i < rays.count; ++i) {
+      EXPECT_EQ(one[i].t, p8[i].t) << i;
+      EXPECT_EQ(one[i].t, p16[i].t) << i;
+    }
+  }
+}
+
+TEST(Bvh, RaySetsAreReproducibleFromTheSeed) {
+  const scene::Scene s = icosphere(2);
+  const bvh::Accel a = bvh::Accel::build(s);
+  const RaySoA x = trace::make_rays(s, a, trace::RaySet::diffuse, 300, 5), y = trace::make_rays(s, a, trace::RaySet::diffuse, 300, 5);
+  const RaySoA z = trace::make_rays(s, a, trace::RaySet::diffuse, 300, 6);
+  ASSERT_EQ(x.count, y.count);
+  for (std::size_t i = 0; i < x.count; ++i) EXPECT_EQ(x.dx[i], y.dx[i]);
+  bool differ = x.count != z.count;
+  for (std::size_t i = 0; i < std::min(x.count, z.count) && !differ; ++i) differ = x.dx[i] != z.dx[i];
+  EXPECT_TRUE(differ);
+}
+
+// Rays from inside a closed mesh must all hit it: robust slabs + the watertight triangle test,
+// including rays aimed exactly at vertices and along edges' midpoints.
+TEST(Bvh, RobustTraversalLetsNoRayThroughAClosedMesh) {
+  const scene::Scene s = icosphere(3, {0.25f, -0.5f, 0.125f}, 3.0f);
+  const bvh::Accel a = bvh::Accel::build(s);
+  RaySoA rays;
+  std::mt19937_64 g(42);
+  std::uniform_real_distribution<float> U(-1, 1);
+  const Vec3f c{0.25f, -0.5f, 0.125f};
+  for (int i = 0; i < 2000; ++i) rays.push(c + Vec3f{U(g), U(g), U(g)}, Vec3f{U(g), U(g), U(g)});
+  for (const auto& v : s.verts) rays.push(c, v - c);                         // exactly at every vertex
+  for (const auto& t : s.triangles) rays.push(c, (s.verts[t.v[0]] + s.verts[t.v[1]]) * 0.5f - c);  // edge midpoints
+  for (int packet : {1, 8, 16})
+    for (auto l : {bvh::Layout::wide, bvh::Layout::binary}) {
+      if (packet > 1 && l == bvh::Layout::binary) continue;
+      std::vector<HitRec> h(rays.size());
+      a.trace(rays, 0, rays.size(), h.data(), {l, packet, true, false});
+      std::size_t leaks = 0;
+      for (std::size_t i = 0; i < rays.count; ++i) leaks += h[i].prim == kNoPrim;
+      EXPECT_EQ(leaks, 0u) << "packet " << packet;
+    }
+}
+
+TEST(Bvh, HostileInputsGiveDefinedResults) {
+  // NaN, infinite and zero-direction rays: a miss.
+  const scene::Scene s = icosphere(1);
+  const bvh::Accel a = bvh::Accel::build(s);
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  RaySoA bad;
+  bad.push(Vec3f{nan, 0, 0}, Vec3f{0, 0, 1});
+  bad.push(Vec3f{0, 0, -5}, Vec3f{nan, 0, 1});
+  bad.push(Vec3f{0, 0, -5}, Vec3f{0, 0, 0});
+  bad.push(Vec3f{inf, 0, -5}, Vec3f{0, 0, 1});
+  bad.push(Vec3f{0, 0, -5}, Vec3f{0, 0, 1}, 0.0f, nan);
+  bad.push(Vec3f{0, 0, -5}, Vec3f{0, 0, 1});  // a good ray in the same packet
+  for (int packet : {1, 8, 16}) {
+    std::vector<HitRec> h(round_up(bad.size(), 16));
+    RaySoA r = bad;
+    while (r.size() < 16) r.push(Vec3f{0, 0, -5}, Vec3f{0, 0, 0});
+    a.trace(r, 0, r.size(), h.data(), {bvh::Layout::wide, packet, false, false});
+    for (int i = 0; i < 5; ++i) EXPECT_EQ(h[std::size_t(i)].prim, kNoPrim) << i;
+    EXPECT_NE(h[5].prim, kNoPrim);
+    EXPECT_NEAR(h[5].t, 4.0f, 0.1f);
+  }
+  // An empty scene builds and misses.
+  {
+    const scene::Scene e;
+    const bvh::Accel ea = bvh::Accel::build(e);
+    EXPECT_TRUE(ea.empty());
+    RaySoA r;
+    r.push(Vec3f{0, 0, 0}, Vec3f{0, 0, 1});
+    std::vector<HitRec> h(r.size());
+    for (int packet : {1, 8}) {
+      ea.trace(r, 0, r.size(), h.data(), {bvh::Layout::wide, packet, false, false});
+      EXPECT_EQ(h[0].prim, kNoPrim);
+      ea.trace(r, 0, r.size(), h.data(), {bvh::Layout::binary, 1, false, false});
+      EXPECT_EQ(h[0].prim, kNoPrim);
+    }
+  }
+  // One primitive; a degenerate primitive beside it is left out of the tree.
+  {
+    scene::Scene one;
+    one.spheres.push_back({{0, 0, 5}, 1, 0});
+    one.spheres.push_back({{0, 0, 9}, -1, 0});
+    const bvh::Accel oa = bvh::Accel::build(one);
+    EXPECT_EQ(oa.bin.nodes.size(), 1u);
+    RaySoA r;
+    r.push(Vec3f{0, 0, 0}, Vec3f{0, 0, 1});
+    for (auto l : {bvh::Layout::wide, bvh::Layout::binary}) {
+      std::vector<HitRec> h(r.size());
+      oa.trace(r, 0, r.size(), h.data(), {l, 1, false, false});
+      EXPECT_EQ(h[0].prim, bvh::prim_code(scene::Kind::sphere, 0));
+      EXPECT_FLOAT_EQ(h[0].t, 4.0f);
+    }
+  }
+  // All primitives at one point: the builder falls back to median splits, depth stays logarithmic.
+  {
+    scene::Scene same;
+    same.verts = {{0, 0, 1}, {1, 0, 1}, {0, 1, 1}};
+    for (int i = 0; i < 20000; ++i) same.triangles.push_back({{0, 1, 2}, 0});
+    const bvh::Accel sa = bvh::Accel::build(same);
+    EXPECT_LE(sa.bin.stats.depth, 64);
+    RaySoA r;
+    r.push(Vec3f{0.2f, 0.2f, 0}, Vec3f{0, 0, 1});
+    r.push(Vec3f{0.9f, 0.9f, 0}, Vec3f{0, 0, 1});
+    std::vector<HitRec> h(r.size());
+    sa.trace(r, 0, r.size(), h.data(), {bvh::Layout::wide, 8, false, false});
+    EXPECT_NE(h[0].prim, kNoPrim);
+    EXPECT_EQ(h[1].prim, kNoPrim);
+  }
+  // 10M identical triangles: refused before allocating when above the stated memory bound.
+  {
+    scene::Scene big;
+    big.verts = {{0, 0, 1}, {1, 0, 1}, {0, 1, 1}};
+    big.triangles.assign(10'000'000, scene::TriangleIn{{0, 1, 2}, 0});
+    bvh::BuildOptions o;
+    o.max_bytes = std::size_t(1) << 30;  // 1 GiB
+    EXPECT_THROW(bvh::Accel::build(big, o), std::length_error);
+  }
+}
+
+}  // namespace
