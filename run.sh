@@ -3,7 +3,9 @@
 #   ./run.sh report   install what is missing, build the release preset, run `raybench report`
 #   ./run.sh test     install what is missing, build the test executables (target rb_tests) of the
 #                     `exact` and `debug` (ASan+UBSan) presets, run the whole test suite in both
-# Other targets: ./run.sh setup (packages only), ./run.sh build PRESET.
+# Other targets: ./run.sh setup (packages only), ./run.sh build PRESET,
+#               ./run.sh pgo (profile-guided optimisation: train, rebuild, compare; fills the report's
+#               PGO section), ./run.sh pgo-test (the test suite built with the PGO profile).
 set -euo pipefail
 cd "$(dirname "$0")"
 
@@ -12,7 +14,7 @@ PACKAGES=(g++ cmake ninja-build git pkg-config
           libxsimd-dev xtl-dev libtbb-dev libbenchmark-dev libbenchmark-tools
           googletest libgtest-dev libcli11-dev nlohmann-json3-dev libfmt-dev
           libtinyobjloader-dev libgmp-dev libmpfr-dev libembree-dev
-          python3-matplotlib)
+          python3-matplotlib python3-scipy)
 
 setup() {
   local missing=()
@@ -42,6 +44,83 @@ build() {
   cmake --build --preset "$preset" "$@"
 }
 
+
+# ---- profile-guided optimisation ---------------------------------------------------------------
+# The measured workload is the report's: every kernel benchmark on the default data, and traces of
+# the bunny, the dragon and SPD balls. The honest profile is trained on other data (benchmark seed
+# 7, shorter runs) and other scenes (SPD tetra, mount, teapot, lecture glass balls) with another
+# ray seed and count; the tuned profile is trained on the measured workload itself, to show how
+# much a profile of the very benchmark flatters.
+PGO_OUT=build/pgo-results
+PGO_TRACE_SCENES=(data/meshes/stanford-bunny.obj data/meshes/dragon_vrip_res3_bin.ply spd:balls:3)
+PGO_TRAIN_SCENES=(spd:tetra:5 spd:mount:4 spd:teapot:4 lecture:five_glass_balls)
+PGO_RAY_SETS=(primary shadow diffuse random)
+PGO_PACKETS=(1 8)
+
+pgo_traces() {  # binary, out dir, seed, count, repetitions, scenes...
+  local bin=$1 dir=$2 seed=$3 count=$4 reps=$5
+  shift 5
+  mkdir -p "$dir"
+  for scene in "$@"; do
+    for rays in "${PGO_RAY_SETS[@]}"; do
+      for k in "${PGO_PACKETS[@]}"; do
+        local tag
+        tag=$(echo "$scene-$rays-$k" | tr '/:.' '___')
+        "$bin" trace "$scene" --rays "$rays" --packet "$k" --threads 1 --seed "$seed" --count "$count" \
+          -r "$reps" --brute 0 --no-embree --json "$dir/trace-$tag.json" 2>/dev/null ||
+          echo "[pgo] warning: trace $scene $rays K=$k failed with $bin" >&2
+      done
+    done
+  done
+}
+
+pgo_train() {  # name of the profile: honest | tuned
+  local name=$1 gen=build/pgo-gen/apps/raybench prof=build/pgo-profiles
+  rm -rf "$prof/raw" "$prof/$name"
+  echo "[pgo] training the $name profile"
+  if [ "$name" = honest ]; then
+    "$gen" bench --seed 7 --repetitions 1 --min-time 0.01 --out "$prof/train-bench.json" >/dev/null
+    pgo_traces "$gen" "$prof/train-trace" 7 131072 1 "${PGO_TRAIN_SCENES[@]}"
+  else
+    "$gen" bench --repetitions 1 --min-time 0.05 --out "$prof/train-bench.json" >/dev/null
+    pgo_traces "$gen" "$prof/train-trace" 1 524288 1 "${PGO_TRACE_SCENES[@]}"
+  fi
+  mv "$prof/raw" "$prof/$name"
+  echo "[pgo] $name profile: $(find "$prof/$name" -name '*.gcda' | wc -l) .gcda files"
+}
+
+pgo() {
+  setup
+  local t0=$SECONDS
+  build release --target raybench
+  build pgo-gen --target raybench
+  pgo_train honest
+  pgo_train tuned
+  build pgo-use --target raybench 2>&1 | grep -E 'missing-profile|error' || true
+  build pgo-tuned --target raybench 2>&1 | grep -E 'missing-profile|error' || true
+  rm -rf "$PGO_OUT"
+  declare -A bins=([normal]=build/release/apps/raybench [pgo]=build/pgo-use/apps/raybench [tuned]=build/pgo-tuned/apps/raybench)
+  # Back to back: two rounds of 3 repetitions per build, interleaved, then the traces build after
+  # build for each scene, ray set and packet size.
+  for round in 1 2; do
+    for b in normal pgo tuned; do
+      echo "[pgo] kernel benchmarks, round $round of 2: $b build"
+      mkdir -p "$PGO_OUT/$b"
+      "${bins[$b]}" bench --repetitions 3 --min-time 0.05 --out "$PGO_OUT/$b/bench-$round.json" >/dev/null
+    done
+  done
+  for scene in "${PGO_TRACE_SCENES[@]}"; do
+    echo "[pgo] traces: $scene"
+    for b in normal pgo tuned; do
+      pgo_traces "${bins[$b]}" "$PGO_OUT/$b" 1 524288 5 "$scene"
+    done
+  done
+  /usr/bin/python3 tools/pgo.py "$PGO_OUT" report \
+    --honest "bench --seed 7 (other rays and primitives, 1 repetition of 0.01 s); traces of ${PGO_TRAIN_SCENES[*]} with ray seed 7, 131072 rays" \
+    --tuned "the measured workload itself: bench on the default data; traces of ${PGO_TRACE_SCENES[*]} with ray seed 1, 524288 rays" \
+    --minutes $(( (SECONDS - t0 + 59) / 60 ))
+}
+
 case "${1:-}" in
   setup) setup ;;
   build) setup; build "${2:-release}" ;;
@@ -58,8 +137,15 @@ case "${1:-}" in
     build debug --target rb_tests
     ctest --preset debug
     ;;
+  pgo) pgo ;;
+  pgo-test)
+    setup
+    [ -d build/pgo-profiles/honest ] || { echo "error: no profile yet: run ./run.sh pgo first" >&2; exit 1; }
+    build pgo-use --target rb_tests
+    ctest --preset pgo-use
+    ;;
   *)
-    echo "usage: $0 report [raybench report options] | test | setup | build PRESET" >&2
+    echo "usage: $0 report [raybench report options] | test | setup | build PRESET | pgo | pgo-test" >&2
     exit 2
     ;;
 esac

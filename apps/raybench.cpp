@@ -2,6 +2,7 @@
 #include "apps/commands.hpp"
 #include "apps/machine.hpp"
 #include "apps/report.hpp"
+#include "bench/harness.hpp"
 #include "bench/ops_table.hpp"
 
 #include <CLI/CLI.hpp>
@@ -34,12 +35,14 @@ int main(int argc, char** argv) {
 
   std::string bench_out = "bench.json", bench_filter = ".";
   int bench_reps = 3;
+  std::uint32_t bench_seed = rb::bench::kBenchSeed;
   double bench_min = 0.1;
   auto* bench = app.add_subcommand("bench", "Run the kernel benchmarks (Google Benchmark) and write their JSON");
   bench->add_option("-o,--out", bench_out, "JSON output file")->capture_default_str();
   bench->add_option("--filter", bench_filter, "Regex on kernel/method/variant/case")->capture_default_str();
   bench->add_option("-r,--repetitions", bench_reps, "Repetitions")->capture_default_str()->check(CLI::Range(1, 100));
   bench->add_option("--min-time", bench_min, "Seconds per repetition")->capture_default_str()->check(CLI::Range(0.001, 10.0));
+  bench->add_option("--seed", bench_seed, "Seed of the benchmark rays and primitives (the report uses the default)")->capture_default_str();
 
   rb::app::add_info_command(app);
   rb::app::add_query_command(app);
@@ -64,7 +67,7 @@ int main(int argc, char** argv) {
       }
       return 0;
     }
-    if (*bench) return rb::app::run_benchmarks(bench_out, bench_reps, bench_min, bench_filter);
+    if (*bench) return rb::app::run_benchmarks(bench_out, bench_reps, bench_min, bench_filter, bench_seed);
     if (*mach) { std::cout << rb::app::machine().json().dump(2) << "\n"; return 0; }
   } catch (const std::exception& e) {
     std::cerr << "raybench: " << e.what() << "\n";

@@ -2,6 +2,7 @@
 // report/index.md with JSON and PNG charts beside it.
 #pragma once
 
+#include <cstdint>
 #include <string>
 
 namespace rb::app {
@@ -16,7 +17,9 @@ struct ReportOptions {
 
 int run_report(const ReportOptions& o);
 
-// Runs the registered benchmarks in this process, writing Google Benchmark JSON to `json_out`.
-int run_benchmarks(const std::string& json_out, int repetitions, double min_time, const std::string& filter);
+// Runs the kernel benchmarks matching `filter` in this process, writing Google Benchmark JSON to
+// `json_out` with every repetition (U-tests need them). `seed` makes the rays and primitives
+// (bench::kBenchSeed is the reported data).
+int run_benchmarks(const std::string& json_out, int repetitions, double min_time, const std::string& filter, std::uint32_t seed);
 
 }  // namespace rb::app
