@@ -94,11 +94,16 @@ Result eval(const Ray<float>& r0, const P& prim, K kern, N normal, bool uv = fal
 
 // A frame taking +z to `axis`, origin at `o`, with the query's error message.
 Affine3d frame(const Vec3d& o, const Vec3d& axis) {
-  try {
-    return Affine3d::frame(o, axis);
-  } catch (const std::invalid_argument&) {
-    throw QueryError("\"axis\" must be a non-zero finite vector");
-  }
+  const std::optional<Affine3d> M = Affine3d::frame(o, axis);
+  if (!M) throw QueryError("\"axis\" must be a non-zero finite vector");
+  return *M;
+}
+
+// A builder's result, or the query's error with the builder's reason (docs/DESIGN.md section 7).
+template <class P>
+P built(P p, const std::string& why) {
+  if (!why.empty()) throw QueryError(why);
+  return p;
 }
 
 // The methods of one primitive, each in number type F.
@@ -127,15 +132,15 @@ std::vector<Named> methods(const json& pj, std::string& type) {
     add("compensated", [=](const Ray<float>& r) { return eval<F>(r, s, [](auto& a, auto& b) { return intersect_sphere_compensated(a, b); }, nrm); });
     const Vec3d pole = pj.contains("pole") ? vec(pj, "pole") : Vec3d{0, 0, 1};
     const Vec3d eq = pj.contains("equator") ? vec(pj, "equator") : Vec3d{1, 0, 0};
-    try {
-      const auto su = make_sphere_uv(vec(pj, "center"), num(pj, "radius"), pole, eq);
-      add("uv", [=](const Ray<float>& r) {
-        return eval<F>(r, su, [](auto& a, auto& b) { return intersect_sphere_uv(a, b); },
-                       [](const auto& p, const auto& x) { return sphere_normal(p.s, x); }, true);
-      });
-    } catch (const std::invalid_argument& e) {
-      throw QueryError(e.what());
-    }
+    std::string why;
+    const auto su = make_sphere_uv(vec(pj, "center"), num(pj, "radius"), pole, eq, &why);
+    // A degenerate radius leaves every method to report the miss; a bad pole or equator (with a
+    // valid sphere) is the caller's error.
+    if (!why.empty() && s.r2 > 0.f) throw QueryError(why);
+    add("uv", [=](const Ray<float>& r) {
+      return eval<F>(r, su, [](auto& a, auto& b) { return intersect_sphere_uv(a, b); },
+                     [](const auto& p, const auto& x) { return sphere_normal(p.s, x); }, true);
+    });
   } else if (type == "triangle") {
     const Vec3d a = vec(pj, "v0"), b = vec(pj, "v1"), c = vec(pj, "v2");
     int axis = 2;
@@ -178,12 +183,9 @@ std::vector<Named> methods(const json& pj, std::string& type) {
       json w = {{"v", v}};
       vs.push_back(vec(w, "v"));
     }
-    auto soa = std::make_shared<PolygonSoA>();
-    try {
-      *soa = PolygonSoA::build(std::vector<std::vector<Vec3d>>{vs}, true);
-    } catch (const std::invalid_argument& e) {
-      throw QueryError(e.what());
-    }
+    const PolygonInfo info = polygon_info(vs);
+    if (!info.valid) throw QueryError(std::string("polygon: ") + info.why);
+    auto soa = std::make_shared<PolygonSoA>(PolygonSoA::build(std::vector<std::vector<Vec3d>>{vs}));
     std::size_t slot = 0;
     while (slot < soa->id.size() && soa->id[slot] != 0) ++slot;
     add("crossing", [soa, slot](const Ray<float>& r0) {
@@ -212,7 +214,8 @@ std::vector<Named> methods(const json& pj, std::string& type) {
     const double rad = num(pj, "radius"), ht = num(pj, "height");
     if (!(rad > 0) || !(ht > 0) || !std::isfinite(rad) || !std::isfinite(ht)) throw QueryError("cylinder: radius and height must be positive and finite");
     const bool caps = flag(pj, "caps");
-    const auto c = make_transformed(frame(vec(pj, "base"), vec(pj, "axis")), make_cylinder(0.f, 0.f, float(rad), 0.f, float(ht)));
+    std::string why;
+    const auto c = built(make_transformed(frame(vec(pj, "base"), vec(pj, "axis")), make_cylinder(0.f, 0.f, float(rad), 0.f, float(ht)), &why), why);
     add_placed(caps ? "capped" : "lecture", c,
                [caps](const auto& lr, const auto& p) { return caps ? intersect_cylinder_capped(lr, p) : intersect_cylinder(lr, p); },
                [caps](const auto& q, const auto& l) { return caps ? capped_cylinder_normal(q, l) : cylinder_normal(q, l); });
@@ -234,17 +237,15 @@ std::vector<Named> methods(const json& pj, std::string& type) {
     if (caps && !std::isfinite(ht)) throw QueryError("cone: caps need a finite height");
     const Affine3d M = frame(vec(pj, "apex"), vec(pj, "axis")) * Affine3d::scale({tan_a, tan_a, 1});
     const float h1 = std::isfinite(ht) ? float(ht) : std::numeric_limits<float>::infinity();
-    const auto c = make_transformed(M, caps ? make_capped_cone(Vec3f{0, 0, 0}, 0.f, h1) : make_cone(Vec3f{0, 0, 0}, 0.f, h1));
+    std::string why;
+    const auto c = built(make_transformed(M, caps ? make_capped_cone(Vec3f{0, 0, 0}, 0.f, h1, &why) : make_cone(Vec3f{0, 0, 0}, 0.f, h1), &why), why);
     add_placed(caps ? "capped" : "lecture", c,
                [caps](const auto& lr, const auto& p) { return caps ? intersect_cone_capped(lr, p) : intersect_cone(lr, p); },
                [caps](const auto& q, const auto& l) { return caps ? capped_cone_normal(q, l) : cone_normal(q, l); });
   } else if (type == "torus") {
-    Torus<float> t;
-    try {
-      t = make_torus(vec(pj, "center"), vec(pj, "axis"), num(pj, "major"), num(pj, "minor"));
-    } catch (const std::invalid_argument& e) {
-      throw QueryError(e.what());
-    }
+    std::string why;
+    const Torus<float> t =
+        built(make_torus(vec(pj, "center"), vec(pj, "axis"), num(pj, "major"), num(pj, "minor"), Vec3d{1, 0, 0}, &why), why);
     auto nrm = [](const auto& p, const auto& x) { return torus_normal(p, x); };
     add("ferrari", [=](const Ray<float>& r) { return eval<F>(r, t, [](auto& x, auto& y) { return intersect_torus_ferrari(x, y); }, nrm, true); });
     add("robust", [=](const Ray<float>& r) { return eval<F>(r, t, [](auto& x, auto& y) { return intersect_torus_robust(x, y); }, nrm, true); });
@@ -256,12 +257,7 @@ std::vector<Named> methods(const json& pj, std::string& type) {
       if (!pj["coefficients"][i].is_number()) throw QueryError("\"coefficients\" must all be numbers");
       k[i] = pj["coefficients"][i].get<double>();
     }
-    Quadric<float> q;
-    try {
-      q = make_quadric(QuadricCoeffs{k[0], k[1], k[2], k[3], k[4], k[5], k[6], k[7], k[8], k[9]});
-    } catch (const std::invalid_argument& e) {
-      throw QueryError(e.what());
-    }
+    const Quadric<float> q = make_quadric(QuadricCoeffs{k[0], k[1], k[2], k[3], k[4], k[5], k[6], k[7], k[8], k[9]});
     auto nrm = [](const auto& p, const auto& x) { return quadric_normal(p, x); };
     add("matrix", [=](const Ray<float>& r) { return eval<F>(r, q, [](auto& x, auto& y) { return intersect_quadric_matrix(x, y); }, nrm); });
     add("coeffs10", [=](const Ray<float>& r) { return eval<F>(r, q, [](auto& x, auto& y) { return intersect_quadric_coeffs10(x, y); }, nrm); });

@@ -1,6 +1,6 @@
 // The true scalar baseline. This file is compiled with -fno-tree-vectorize and
 // -fno-tree-slp-vectorize (bench/CMakeLists.txt): GCC -O3 otherwise vectorises a "scalar" SoA
-// loop to within 10% of explicit SIMD (DESIGN.md section 6). The kernels are always_inline, so
+// loop to within 10% of explicit SIMD (docs/DESIGN.md section 6). The kernels are always_inline, so
 // their code is generated here, with these flags.
 #include "bench/register.hpp"
 #include "bench/specs.hpp"

@@ -40,7 +40,7 @@ struct PlaneUVSpec : UnboundedRays {
     std::vector<TriLecture<float>> p(in.size());
     std::vector<int> ax(in.size());
     for (std::size_t i = 0; i < in.size(); ++i) p[i] = make_plane_uv(in[i].p0, in[i].u, in[i].v, ax[i]);
-    return lecture_soa(p, ax);
+    return TriLectureSoA::from(p, ax);
   }
   static std::size_t count(const Soa& s) { return s.real; }
   template <class F>

@@ -1,13 +1,13 @@
 // The number-type layer: every kernel is written once over a number type F and calls only the
 // functions in this header (vmin, vmax, vselect, vsqrt, vabs, vfma, any_of, all_of, none_of,
-// lane, load, ...). Each supported type is described once, by a specialisation of num<F>.
+// mask_xor, lane, load, ...). Each supported type is described once, by a specialisation of num<F>.
 //
 // Supported: float, double, the 8-lane float batch (AVX2+FMA), the 4-lane double batch, and
 // Counted<T> over each of those (core/counted.hpp).
 //
 // Names are deliberately not min/max/select/any/all: unqualified calls on xsimd batches would
 // find xsimd's overloads by argument-dependent lookup and the result would depend on include
-// order (DESIGN.md section 3).
+// order (docs/DESIGN.md section 3).
 #pragma once
 
 #include <xsimd/xsimd.hpp>
@@ -53,7 +53,7 @@ struct scalar_num {
   using mask = bool;
   static constexpr int lanes = 1;
   // a < b ? a : b, the semantics of minps/maxps: a NaN in the first argument yields the second.
-  // (std::min and xsimd 8.1's scalar min differ: DESIGN.md section 6.)
+  // (std::min and xsimd 8.1's scalar min differ: docs/DESIGN.md section 6.)
   static RB_INLINE T min(T a, T b) { return a < b ? a : b; }
   static RB_INLINE T max(T a, T b) { return a > b ? a : b; }
   static RB_INLINE T select(bool m, T a, T b) { return m ? a : b; }
@@ -185,6 +185,9 @@ template <class F> RB_INLINE bool any_of(const mask_t<F>& m) { return num<F>::an
 template <class F> RB_INLINE bool all_of(const mask_t<F>& m) { return num<F>::all(m); }
 template <class F> RB_INLINE bool none_of(const mask_t<F>& m) { return !num<F>::any(m); }
 template <class F> RB_INLINE mask_t<F> mask_not(const mask_t<F>& m) { return num<F>::mnot(m); }
+template <class F> RB_INLINE mask_t<F> mask_xor(const mask_t<F>& a, const mask_t<F>& b) {
+  return (a & mask_not<F>(b)) | (mask_not<F>(a) & b);
+}
 template <class F> RB_INLINE scalar_t<F> lane(const F& v, int i) { return num<F>::lane(v, i); }
 template <class F> RB_INLINE bool lane_mask(const mask_t<F>& m, int i) { return num<F>::lane_mask(m, i); }
 template <class F> RB_INLINE int count_true(const mask_t<F>& m) { return num<F>::count(m); }

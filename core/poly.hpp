@@ -21,6 +21,7 @@
 #pragma once
 
 #include "core/num.hpp"
+#include "core/roots.hpp"
 
 #include <limits>
 
@@ -70,16 +71,7 @@ RB_INLINE void poly_mul_linear(F (&c)[Cap], int deg, const F& a, const F& b) {
   c[0] = c[0] * a;
 }
 
-// Sorts n values ascending with min/max (insertion network: branch-free on every lane).
-template <int N, class F>
-RB_INLINE void sort_net(F (&x)[N]) {
-  for (int i = 1; i < N; ++i)
-    for (int j = i; j >= 1; --j) {
-      const F a = vmin(x[j - 1], x[j]), b = vmax(x[j - 1], x[j]);
-      x[j - 1] = a;
-      x[j] = b;
-    }
-}
+// sort_net (ascending, branch-free) lives with the root lists: core/roots.hpp.
 
 // Real roots of c2 x^2 + c1 x + c0 in [lo, hi] (c2 may be 0: then the linear root), ascending.
 template <class F>

@@ -3,6 +3,9 @@
 
 #include "core/num.hpp"
 
+#include <cmath>
+#include <cstddef>
+
 namespace rb {
 
 template <class F>
@@ -39,6 +42,26 @@ template <class F> RB_INLINE Vec3<F> normalize(const Vec3<F>& a) { return a * (F
 template <class T> inline bool finite3(const Vec3<T>& a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
 template <class T> inline Vec3d to_double(const Vec3<T>& a) { return {double(a.x), double(a.y), double(a.z)}; }
 inline Vec3f to_float(const Vec3d& a) { return {float(a.x), float(a.y), float(a.z)}; }
+// Newell's normal of the closed polygon p[0], ..., p[n-1], in double and not normalised: twice its
+// vector area, for either winding, robust to collinear runs and slightly non-planar input. Zero
+// when the polygon has no area.
+template <class T>
+inline Vec3d newell_normal(const Vec3<T>* p, std::size_t n) {
+  Vec3d nn{0, 0, 0};
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3d a = to_double(p[i]), b = to_double(p[(i + 1) % n]);
+    nn.x += (a.y - b.y) * (a.z + b.z);
+    nn.y += (a.z - b.z) * (a.x + b.x);
+    nn.z += (a.x - b.x) * (a.y + b.y);
+  }
+  return nn;
+}
+// The axis (0, 1, 2) of the largest |component| of n, x before y before z on ties: the axis a
+// planar figure with normal n is projected along so that its projection keeps the most area.
+inline int dominant_axis(const Vec3d& n) {
+  const double ax = std::fabs(n.x), ay = std::fabs(n.y), az = std::fabs(n.z);
+  return ax >= ay && ax >= az ? 0 : (ay >= az ? 1 : 2);
+}
 template <class F> RB_INLINE Vec3<scalar_t<F>> lane3(const Vec3<F>& v, int i) { return {lane(v.x, i), lane(v.y, i), lane(v.z, i)}; }
 
 }  // namespace rb

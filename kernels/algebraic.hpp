@@ -21,10 +21,11 @@
 #include "core/poly.hpp"
 #include "core/ray.hpp"
 #include "core/roots.hpp"
+#include "core/why.hpp"
+#include "kernels/bounding_sphere.hpp"
 
 #include <array>
 #include <cmath>
-#include <stdexcept>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -145,20 +146,21 @@ inline TriPoly tri_torus(Vec3d c, double R, double r) {
   return G * G + (4.0 * R * R) * (Z * Z + TriPoly::constant(-r * r));
 }
 
-// From world-coordinate coefficients and a bounding sphere. Throws std::invalid_argument when the
-// degree exceeds D, a coefficient or the sphere is not finite, or every coefficient is 0 (A == 0
-// is all of space, not a surface); a non-positive radius gives never().
+// From world-coordinate coefficients and a bounding sphere. never() (the reason in *why) when the
+// degree exceeds D, a coefficient or the sphere is not finite, the radius is not positive, or
+// every coefficient is 0 (A == 0 is all of space, not a surface).
 template <int D>
-inline Algebraic<float, D> make_algebraic(const TriPoly& p, Vec3d bc, double radius) {
-  if (p.D > D) throw std::invalid_argument("make_algebraic: polynomial degree " + std::to_string(p.D) + " exceeds " + std::to_string(D));
+inline Algebraic<float, D> make_algebraic(const TriPoly& p, Vec3d bc, double radius, std::string* why = nullptr) {
+  using P = Algebraic<float, D>;
+  if (p.D > D) return never_because<P>(why, "algebraic: polynomial degree " + std::to_string(p.D) + " exceeds " + std::to_string(D));
   for (double x : p.a)
-    if (!std::isfinite(x)) throw std::invalid_argument("make_algebraic: non-finite coefficient");
-  if (!finite3(bc) || !std::isfinite(radius)) throw std::invalid_argument("make_algebraic: non-finite bounding sphere");
-  if (!(radius > 0.0)) return Algebraic<float, D>::never();
+    if (!std::isfinite(x)) return never_because<P>(why, "algebraic: non-finite coefficient");
+  if (!finite3(bc) || !std::isfinite(radius)) return never_because<P>(why, "algebraic: non-finite bounding sphere");
+  if (!(radius > 0.0)) return never_because<P>(why, "algebraic: bounding radius is not positive");
   const TriPoly q = p.shifted(bc.x, bc.y, bc.z);
   double big = 0;
   for (double x : q.a) big = std::max(big, std::fabs(x));
-  if (!(big > 0.0)) throw std::invalid_argument("make_algebraic: all coefficients are zero (A == 0 is not a surface)");
+  if (!(big > 0.0)) return never_because<P>(why, "algebraic: all coefficients are zero (A == 0 is not a surface)");
   Algebraic<float, D> s;
   for (int i = 0; i <= D; ++i)
     for (int j = 0; j <= D - i; ++j)
@@ -205,14 +207,10 @@ RB_INLINE void algebraic_on_ray(const Algebraic<F, D>& A, const Vec3<F>& q, cons
 template <int D, class F>
 RB_INLINE Roots<F, D> algebraic_roots(const Ray<F>& r, const Algebraic<F, D>& A, IterCount* ic = nullptr) {
   const Vec3<F> q = r.o - A.bc;
-  const F b = dot(q, r.d);
-  const F disc = b * b - (dot(q, q) - A.br2);
-  mask_t<F> m = disc >= F(0);
+  const Roots<F, 2> clip = bounding_sphere_span(r, q, A.br2);
+  const mask_t<F> m = clip.valid[0];
   if (none_of<F>(m)) return Roots<F, D>::none();
-  const F sq = vsqrt(disc);
-  const F t0 = vmax(r.tmin, -b - sq), t1 = vmin(r.tmax, -b + sq);
-  m = m & (t0 <= t1);
-  if (none_of<F>(m)) return Roots<F, D>::none();
+  const F t0 = clip.lo(), t1 = clip.hi();
   const F W = vmax(t1 - t0, F(0));
   const Vec3<F> q0 = q + r.d * t0;
   F c[D + 1];
@@ -222,13 +220,7 @@ RB_INLINE Roots<F, D> algebraic_roots(const Ray<F>& r, const Algebraic<F, D>& A,
   mask_t<F> ok[D];
   poly_roots_in<D, F>(c, F(0), W, tol, s, ok, ic);
   for (int k = 0; k < D; ++k) s[k] = vselect(m & ok[k], t0 + s[k], F(kInf<F>));
-  sort_net<D>(s);
-  Roots<F, D> out;
-  for (int k = 0; k < D; ++k) {
-    out.t[k] = s[k];
-    out.valid[k] = s[k] < F(kInf<F>);
-  }
-  return out;
+  return Roots<F, D>::canonical(s);
 }
 
 template <int D, class F>

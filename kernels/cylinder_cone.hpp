@@ -38,7 +38,6 @@
 #include "kernels/transform.hpp"
 
 #include <cmath>
-#include <stdexcept>
 
 namespace rb {
 
@@ -81,54 +80,33 @@ RB_INLINE CylQuad<F> cylinder_quad(const Ray<F>& r, const Cylinder<F>& c) {
 // Open surface: the nearer root whose z lies in [z0, z1] and t in [tmin, tmax].
 //   2+- 2*, 8 cmp, 1 select (+ make_hit)
 template <class F>
-RB_INLINE Hit<F> open_surface_hit(const Ray<F>& r, mask_t<F> m, const QuadRoots<F>& q, const F& oz, const F& z0, const F& z1) {
-  const F zl = oz + q.lo * r.d.z, zh = oz + q.hi * r.d.z;
-  const mask_t<F> okl = (q.lo >= r.tmin) & (q.lo <= r.tmax) & (zl >= z0) & (zl <= z1);
-  const mask_t<F> okh = (q.hi >= r.tmin) & (q.hi <= r.tmax) & (zh >= z0) & (zh <= z1);
-  m = m & (okl | okh);
-  return make_hit<F>(m, vselect(okl, q.lo, q.hi));
+RB_INLINE Hit<F> open_surface_hit(const Ray<F>& r, const Roots<F, 2>& q, const F& oz, const F& z0, const F& z1) {
+  const F zl = oz + q.lo() * r.d.z, zh = oz + q.hi() * r.d.z;
+  const mask_t<F> okl = (q.lo() >= r.tmin) & (q.lo() <= r.tmax) & (zl >= z0) & (zl <= z1);
+  const mask_t<F> okh = (q.hi() >= r.tmin) & (q.hi() <= r.tmax) & (zh >= z0) & (zh <= z1);
+  const mask_t<F> m = q.valid[0] & (okl | okh);
+  return make_hit<F>(m, vselect(okl, q.lo(), q.hi()));
 }
 
-// Solid interval [lo, hi] of the infinite solid intersected with the slab z0 <= oz + t d.z <= z1.
+// Solid span [lo, hi] of the infinite solid intersected with the slab z0 <= oz + t d.z <= z1
+// (a raw Roots<F, 2>: valid where entry <= exit).
 //   1/ 2+- 2*, 1 cmp 2 select, 2 min/max, 1 cmp (entry <= exit)
 template <class F>
-struct Interval {
-  mask_t<F> m;
-  F enter, exit;
-};
-template <class F>
-RB_INLINE Interval<F> clip_to_slab(const Ray<F>& r, const mask_t<F>& m, const F& lo, const F& hi, const F& oz, const F& z0, const F& z1) {
+RB_INLINE Roots<F, 2> clip_to_slab(const Ray<F>& r, const mask_t<F>& m, const F& lo, const F& hi, const F& oz, const F& z0, const F& z1) {
   const F idz = F(1) / r.d.z;
   const F ta = (z0 - oz) * idz, tb = (z1 - oz) * idz;
   const mask_t<F> up = idz >= F(0);
   const F slo = vselect(up, ta, tb), shi = vselect(up, tb, ta);
   const F enter = vmax(slo, lo), exit = vmin(shi, hi);  // NaN slab bound first: dropped
-  const mask_t<F> in = m & (enter <= exit);
-  return {in, enter, exit};
+  return Roots<F, 2>::span(m & (enter <= exit), enter, exit);
 }
 
 template <class F>
-RB_INLINE Hit<F> interval_first_hit(const Ray<F>& r, const Interval<F>& iv) {
-  const F t = vselect(iv.enter >= r.tmin, iv.enter, iv.exit);  // 1 cmp 1 select
-  const mask_t<F> m = iv.m & (t >= r.tmin) & (t <= r.tmax);     // 2 cmp
-  return make_hit<F>(m, t);                                     // 1 select
-}
-
-template <class F>
-RB_INLINE Roots<F, 2> interval_roots(const Interval<F>& iv) {
-  Roots<F, 2> out;
-  out.valid[0] = out.valid[1] = iv.m;
-  out.t[0] = vselect(iv.m, iv.enter, F(kInf<F>));
-  out.t[1] = vselect(iv.m, iv.exit, F(kInf<F>));
-  return out;
-}
-
-template <class F>
-RB_INLINE Interval<F> capped_cylinder_interval(const Ray<F>& r, const Cylinder<F>& c, const CylQuad<F>& k, const mask_t<F>& m) {
-  const QuadRoots<F> q = stable_roots(k.A, k.B, k.C, k.disc);
+RB_INLINE Roots<F, 2> capped_cylinder_interval(const Ray<F>& r, const Cylinder<F>& c, const CylQuad<F>& k, const mask_t<F>& m) {
+  const Roots<F, 2> q = stable_roots(k.A, k.B, k.C, k.disc, m);
   const mask_t<F> par = k.A == F(0);                             // 1 cmp
   const F plo = vselect(k.C <= F(0), F(-kInf<F>), F(kInf<F>));   // 1 cmp 1 select
-  const F lo = vselect(par, plo, q.lo), hi = vselect(par, -plo, q.hi);  // 2 select
+  const F lo = vselect(par, plo, q.lo()), hi = vselect(par, -plo, q.hi());  // 2 select
   return clip_to_slab(r, m, lo, hi, r.o.z, c.z0, c.z1);
 }
 }  // namespace detail
@@ -139,7 +117,7 @@ RB_INLINE Hit<F> intersect_cylinder(const Ray<F>& r, const Cylinder<F>& c) {
   const detail::CylQuad<F> k = detail::cylinder_quad(r, c);
   const mask_t<F> m = k.disc >= F(0);                   // 1 cmp (negative case ends here)
   if (none_of<F>(m)) return miss_hit<F>();
-  return detail::open_surface_hit(r, m, stable_roots(k.A, k.B, k.C, k.disc), r.o.z, c.z0, c.z1);
+  return detail::open_surface_hit(r, stable_roots(k.A, k.B, k.C, k.disc, m), r.o.z, c.z0, c.z1);
 }
 
 // capped: the closed solid; t is the entry (or the exit when the origin is inside).
@@ -148,7 +126,7 @@ RB_INLINE Hit<F> intersect_cylinder_capped(const Ray<F>& r, const Cylinder<F>& c
   const detail::CylQuad<F> k = detail::cylinder_quad(r, c);
   const mask_t<F> m = k.disc >= F(0);                   // a parallel ray has disc = 0: kept
   if (none_of<F>(m)) return miss_hit<F>();
-  return detail::interval_first_hit(r, detail::capped_cylinder_interval(r, c, k, m));
+  return first_hit(r, detail::capped_cylinder_interval(r, c, k, m));
 }
 
 // Entry/exit interval of the capped cylinder on the whole line (not clipped to [tmin, tmax]).
@@ -157,7 +135,8 @@ RB_INLINE Roots<F, 2> cylinder_roots(const Ray<F>& r, const Cylinder<F>& c) {
   const detail::CylQuad<F> k = detail::cylinder_quad(r, c);
   const mask_t<F> m = k.disc >= F(0);
   if (none_of<F>(m)) return Roots<F, 2>::none();
-  return detail::interval_roots(detail::capped_cylinder_interval(r, c, k, m));
+  const Roots<F, 2> s = detail::capped_cylinder_interval(r, c, k, m);
+  return Roots<F, 2>::closed_span(s.valid[0], s.lo(), s.hi());
 }
 
 // Lateral unit normal (x - cx, y - cy, 0) / R: 2+- 2* 1+- 1 sqrt 1/ 2*.
@@ -205,10 +184,11 @@ inline Cone<float> make_cone(Vec3<T> apex, T z0, T z1) {
 
 // The closed single-nappe cone (frustum) for intersect_cone_capped / cone_roots: as make_cone, and
 // a height range containing the apex strictly inside (z0 < 0 < z1: two nappes, not a convex
-// solid) is a construction error (std::invalid_argument).
+// solid) gives never(), the reason in *why.
 template <class T>
-inline Cone<float> make_capped_cone(Vec3<T> apex, T z0, T z1) {
-  if (z0 < T(0) && z1 > T(0)) throw std::invalid_argument("make_capped_cone: the height range contains the apex (two nappes are not one closed solid)");
+inline Cone<float> make_capped_cone(Vec3<T> apex, T z0, T z1, std::string* why = nullptr) {
+  if (z0 < T(0) && z1 > T(0))
+    return never_because<Cone<float>>(why, "capped cone: the height range contains the apex (two nappes are not one closed solid)");
   return make_cone(apex, z0, z1);
 }
 
@@ -241,8 +221,8 @@ RB_INLINE ConeQuad<F> cone_quad(const Ray<F>& r, const Cone<F>& c) {
 }
 
 template <class F>
-RB_INLINE Interval<F> capped_cone_interval(const Ray<F>& r, const Cone<F>& c, const ConeQuad<F>& k, const mask_t<F>& m) {
-  const QuadRoots<F> q = stable_roots(k.A, k.B, k.C, k.disc);
+RB_INLINE Roots<F, 2> capped_cone_interval(const Ray<F>& r, const Cone<F>& c, const ConeQuad<F>& k, const mask_t<F>& m) {
+  const Roots<F, 2> q = stable_roots(k.A, k.B, k.C, k.disc, m);
   // A < 0: inside on (-inf, lo] and [hi, +inf), one per nappe; keep the half-line in the solid's
   // nappe: going up (dz > 0) the upper nappe's (z > 0) part comes last, [hi, +inf), going down it
   // comes first, (-inf, lo]; the lower nappe the other way round. Decided by signs, not by
@@ -255,11 +235,10 @@ RB_INLINE Interval<F> capped_cone_interval(const Ray<F>& r, const Cone<F>& c, co
   const mask_t<F> upper = c.z1 > F(0);                               // 1 cmp
   const mask_t<F> low = (up & mask_not<F>(upper)) | (mask_not<F>(up) & upper);  // up != upper
   const mask_t<F> neg = k.steep;
-  const F lo = vselect(neg, vselect(low, F(-kInf<F>), q.hi), q.lo);  // 2 select
-  const F hi = vselect(neg, vselect(low, q.lo, F(kInf<F>)), q.hi);   // 2 select
+  const F lo = vselect(neg, vselect(low, F(-kInf<F>), q.hi()), q.lo());  // 2 select
+  const F hi = vselect(neg, vselect(low, q.lo(), F(kInf<F>)), q.hi());   // 2 select
   const F enter = vmax(slo, lo), exit = vmin(shi, hi);
-  const mask_t<F> in = m & (enter <= exit);
-  return {in, enter, exit};
+  return Roots<F, 2>::span(m & (enter <= exit), enter, exit);
 }
 }  // namespace detail
 
@@ -269,7 +248,7 @@ RB_INLINE Hit<F> intersect_cone(const Ray<F>& r, const Cone<F>& c) {
   const detail::ConeQuad<F> k = detail::cone_quad(r, c);
   const mask_t<F> m = k.m;                              // (negative case ends here)
   if (none_of<F>(m)) return miss_hit<F>();
-  return detail::open_surface_hit(r, m, stable_roots(k.A, k.B, k.C, k.disc), k.oz, c.z0, c.z1);
+  return detail::open_surface_hit(r, stable_roots(k.A, k.B, k.C, k.disc, m), k.oz, c.z0, c.z1);
 }
 
 // capped: the closed single-nappe frustum (make_capped_cone).
@@ -278,7 +257,7 @@ RB_INLINE Hit<F> intersect_cone_capped(const Ray<F>& r, const Cone<F>& c) {
   const detail::ConeQuad<F> k = detail::cone_quad(r, c);
   const mask_t<F> m = k.m;
   if (none_of<F>(m)) return miss_hit<F>();
-  return detail::interval_first_hit(r, detail::capped_cone_interval(r, c, k, m));
+  return first_hit(r, detail::capped_cone_interval(r, c, k, m));
 }
 
 template <class F>
@@ -286,7 +265,8 @@ RB_INLINE Roots<F, 2> cone_roots(const Ray<F>& r, const Cone<F>& c) {
   const detail::ConeQuad<F> k = detail::cone_quad(r, c);
   const mask_t<F> m = k.m;
   if (none_of<F>(m)) return Roots<F, 2>::none();
-  return detail::interval_roots(detail::capped_cone_interval(r, c, k, m));
+  const Roots<F, 2> s = detail::capped_cone_interval(r, c, k, m);
+  return Roots<F, 2>::closed_span(s.valid[0], s.lo(), s.hi());
 }
 
 namespace detail {
@@ -329,39 +309,36 @@ RB_INLINE Vec3<F> capped_cone_normal(const Cone<F>& c, const Vec3<F>& p) {
 // no caps, as NFF's cone/cylinder): a cylinder in basic position when the radii are equal, else
 // the unit cone x^2 + y^2 = z^2 cut to the frustum, each placed by an affine map (seed 000's
 // transformed instances). Degenerate input (non-finite, zero length, negative or both-zero radii)
-// gives never().
-inline Transformed<Cylinder>::T<float> place_cylinder(Vec3d b, Vec3d a, double r) {
+// gives never(), the reason in *why.
+inline Transformed<Cylinder>::T<float> place_cylinder(Vec3d b, Vec3d a, double r, std::string* why = nullptr) {
+  using X = Transformed<Cylinder>::T<float>;
   const Vec3d w = a - b;
   const double len = std::sqrt(dot(w, w));
-  if (!(len > 0) || !std::isfinite(len) || !(r > 0) || !std::isfinite(r) || !finite3(b))
-    return Transformed<Cylinder>::T<float>::never();
-  try {
-    return make_transformed(Affine3d::frame(b, w), make_cylinder(0.0, 0.0, r, 0.0, len));
-  } catch (const std::invalid_argument&) {
-    return Transformed<Cylinder>::T<float>::never();
-  }
+  if (!(len > 0) || !std::isfinite(len) || !finite3(b)) return never_because<X>(why, "cylinder: zero-length or non-finite axis");
+  if (!(r > 0) || !std::isfinite(r)) return never_because<X>(why, "cylinder: radius is not positive and finite");
+  return make_transformed(Affine3d::frame(b, w, why), make_cylinder(0.0, 0.0, r, 0.0, len), why);
 }
 
 // rb != ra. The unit cone's apex is the shell's virtual apex; local z runs along the axis away
 // from it, scaled by the slope k = |rb - ra| / length so that the local radius equals the world
 // radius: world = frame(apex, axis) scale(1, 1, 1/k) local, z in [min(ra, rb), max(ra, rb)].
-inline Transformed<Cone>::T<float> place_cone(Vec3d b, double rb, Vec3d a, double ra) {
+inline Transformed<Cone>::T<float> place_cone(Vec3d b, double rb, Vec3d a, double ra, std::string* why = nullptr) {
+  using X = Transformed<Cone>::T<float>;
   if (ra > rb) {
     std::swap(a, b);
     std::swap(ra, rb);
   }
   const Vec3d w = a - b;  // from the wide end towards the narrow end and the virtual apex
   const double len = std::sqrt(dot(w, w));
-  if (!(len > 0) || !std::isfinite(len) || !(ra >= 0) || !(rb > ra) || !std::isfinite(rb) || !finite3(b))
-    return Transformed<Cone>::T<float>::never();
+  if (!(len > 0) || !std::isfinite(len) || !finite3(b)) return never_because<X>(why, "cone: zero-length or non-finite axis");
+  if (!(ra >= 0) || !(rb > ra) || !std::isfinite(rb))
+    return never_because<X>(why, "cone: radii must be finite, non-negative and different");
   const double k = (rb - ra) / len;
   const Vec3d u = w * (1.0 / len);
   const Vec3d apex = b + u * (rb / k);
-  try {
-    return make_transformed(Affine3d::frame(apex, u * -1.0) * Affine3d::scale({1, 1, 1 / k}), make_cone(Vec3d{0, 0, 0}, ra, rb));
-  } catch (const std::invalid_argument&) {
-    return Transformed<Cone>::T<float>::never();
-  }
+  const std::optional<Affine3d> to_apex = Affine3d::frame(apex, u * -1.0, why);
+  if (!to_apex) return X::never();
+  return make_transformed(*to_apex * Affine3d::scale({1, 1, 1 / k}), make_cone(Vec3d{0, 0, 0}, ra, rb), why);
 }
 
 }  // namespace rb

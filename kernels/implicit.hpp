@@ -18,8 +18,9 @@
 
 #include "core/poly.hpp"
 #include "core/ray.hpp"
+#include "core/why.hpp"
+#include "kernels/bounding_sphere.hpp"
 
-#include <stdexcept>
 #include <tuple>
 
 namespace rb {
@@ -39,27 +40,16 @@ RB_INLINE F eval_live(const Fn& f, const Ray<F>& r, const F& t, const mask_t<F>&
   return f(Vec3<F>{vselect(live, p.x, bc.x), vselect(live, p.y, bc.y), vselect(live, p.z, bc.z)});
 }
 
-template <class F>
-RB_INLINE mask_t<F> bound_clip(const Ray<F>& r, const Vec3<F>& bc, const F& br2, F& t0, F& t1) {
-  const Vec3<F> q = r.o - bc;
-  const F b = dot(q, r.d);
-  const F disc = b * b - (dot(q, q) - br2);
-  mask_t<F> m = disc >= F(0);
-  if (none_of<F>(m)) return m;
-  const F sq = vsqrt(disc);
-  t0 = vmax(r.tmin, -b - sq);
-  t1 = vmin(r.tmax, -b + sq);
-  return m & (t0 <= t1);
-}
 }  // namespace detail
 
 // Sphere tracing with step |f| * inv_L; hit when the step is <= eps.
 template <class F, class Fn>
 RB_INLINE Hit<F> intersect_implicit_sphere_trace(const Ray<F>& r, const Fn& f, const Vec3<F>& bc, const F& br2, const F& inv_L,
                                                  const F& eps, IterCount* ic = nullptr) {
-  F t0, t1;
-  mask_t<F> act = detail::bound_clip(r, bc, br2, t0, t1);
-  if (none_of<F>(act)) return miss_hit<F>();
+  const Roots<F, 2> clip = bounding_sphere_span(r, r.o - bc, br2);
+  if (none_of<F>(clip.valid[0])) return miss_hit<F>();
+  mask_t<F> act = clip.valid[0];
+  const F t0 = clip.lo(), t1 = clip.hi();
   F t = vselect(act, t0, F(0));
   mask_t<F> hit = mask_false<F>();
   for (int it = 0; it < kSphereTraceCap && any_of<F>(act); ++it) {
@@ -77,9 +67,10 @@ RB_INLINE Hit<F> intersect_implicit_sphere_trace(const Ray<F>& r, const Fn& f, c
 template <class F, class Fn>
 RB_INLINE Hit<F> intersect_implicit_illinois(const Ray<F>& r, const Fn& f, const Vec3<F>& bc, const F& br2, const F& h,
                                              const F& tol, IterCount* ic = nullptr) {
-  F t0, t1;
-  mask_t<F> act = detail::bound_clip(r, bc, br2, t0, t1);
-  if (none_of<F>(act)) return miss_hit<F>();
+  const Roots<F, 2> clip = bounding_sphere_span(r, r.o - bc, br2);
+  if (none_of<F>(clip.valid[0])) return miss_hit<F>();
+  const F t0 = clip.lo(), t1 = clip.hi();
+  mask_t<F> act = clip.valid[0];
   F ta = vselect(act, t0, F(0));
   F fa = detail::eval_live(f, r, ta, act, bc);
   F tb = ta, fb = fa;
@@ -151,9 +142,10 @@ RB_INLINE F wavy_eval(const Wavy<F>& W, const Vec3<F>& p) {
 // |dF/dz| <= |cc| + 1 + rb + 2a (|y| <= rb), L = |(those)|. Non-finite input: never();
 // rb <= 0: never(); a == 0 is allowed (then F = cc cos z + y sin z + cos 0 ...).
 template <class T>
-inline Wavy<float> make_wavy(Vec3<T> c, T a, T cc, T rb, int steps_per_radius = 8) {
-  if (!finite3(c) || !std::isfinite(a) || !std::isfinite(cc) || !std::isfinite(rb) || !(rb > T(0))) return Wavy<float>::never();
-  if (steps_per_radius < 1) throw std::invalid_argument("make_wavy: steps_per_radius must be >= 1");
+inline Wavy<float> make_wavy(Vec3<T> c, T a, T cc, T rb, int steps_per_radius = 8, std::string* why = nullptr) {
+  if (!finite3(c) || !std::isfinite(a) || !std::isfinite(cc) || !std::isfinite(rb)) return never_because<Wavy<float>>(why, "wavy: non-finite input");
+  if (!(rb > T(0))) return never_because<Wavy<float>>(why, "wavy: bounding radius is not positive");
+  if (steps_per_radius < 1) return never_because<Wavy<float>>(why, "wavy: steps_per_radius must be >= 1");
   const double A = std::fabs(double(a)), R = double(rb);
   const double gx = 2 * A + A * A, gy = 1.0, gz = std::fabs(double(cc)) + 1.0 + R + 2 * A;
   const double L = std::sqrt(gx * gx + gy * gy + gz * gz);

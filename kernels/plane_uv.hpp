@@ -15,47 +15,12 @@
 
 #include "kernels/triangle.hpp"
 
-#include <stdexcept>
-
 namespace rb {
 
-// The lecture data of the frame (PI0, U, V). Zero area (U x V == 0 after rounding) or non-finite
-// input: TriLecture::never() (n = 0: parallel to every ray). `axis` receives the dropped axis.
+// The lecture data of the frame (PI0, U, V): make_lecture_frame (kernels/triangle.hpp).
 template <class T>
 inline TriLecture<float> make_plane_uv(Vec3<T> pi0, Vec3<T> u_dir, Vec3<T> v_dir, int& axis) {
-  const Vec3d R0 = to_double(pi0), U = to_double(u_dir), V = to_double(v_dir);
-  const Vec3d n = cross(U, V);
-  axis = 2;
-  if (!finite3(R0) || !finite3(U) || !finite3(V) || !finite3(n) || dot(n, n) == 0.0) return TriLecture<float>::never();
-  const int ax = dominant_axis(n);
-  const int a = (ax + 1) % 3, b = (ax + 2) % 3;
-  TriLecture<float> t;
-  t.n = to_float(n);
-  t.D = float(-dot(n, R0));
-  t.r0a = float(R0[a]); t.r0b = float(R0[b]);
-  t.ua = float(U[a]); t.ub = float(U[b]); t.va = float(V[a]); t.vb = float(V[b]);
-  const double det = double(t.ua) * double(t.vb) - double(t.va) * double(t.ub);
-  if (!std::isfinite(t.D) || !finite3(t.n) || dot(to_double(t.n), to_double(t.n)) == 0.0 || det == 0.0 ||
-      !std::isfinite(float(det)) || float(det) == 0.f)
-    return TriLecture<float>::never();
-  t.det = float(det);
-  axis = ax;
-  return t;
-}
-
-// A TriLectureSoA from already built lecture primitives and their dropped axes (grouped by axis,
-// each group padded to 8 lanes, exactly as TriLectureSoA::build does for triangles).
-inline TriLectureSoA lecture_soa(const std::vector<TriLecture<float>>& prims, const std::vector<int>& axes) {
-  if (prims.size() != axes.size()) throw std::invalid_argument("lecture_soa: one axis per primitive");
-  TriLectureSoA s;
-  s.real = prims.size();
-  for (int a = 0; a < 3; ++a) {
-    for (std::size_t i = 0; i < prims.size(); ++i)
-      if (axes[i] == a) { s.prims.push(prims[i]); s.axis.push_back(std::int8_t(a)); s.id.push_back(std::uint32_t(i)); }
-    s.prims.seal();
-    while (s.axis.size() < s.prims.size()) { s.axis.push_back(std::int8_t(a)); s.id.push_back(UINT32_MAX); }
-  }
-  return s;
+  return make_lecture_frame(to_double(pi0), to_double(u_dir), to_double(v_dir), axis);
 }
 
 // [u,v] of a point on the plane: the slide's "inverse transformation on the plane" with the

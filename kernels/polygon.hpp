@@ -24,22 +24,14 @@
 #pragma once
 
 #include "kernels/plane.hpp"
-#include "kernels/triangle.hpp"  // dominant_axis
-#include "soa/prims.hpp"
+#include "kernels/triangle.hpp"
+#include "soa/axis_grouped.hpp"
 
 #include <algorithm>
 #include <numeric>
-#include <stdexcept>
 #include <vector>
 
 namespace rb {
-
-namespace detail {
-template <class F>
-RB_INLINE mask_t<F> mask_xor(const mask_t<F>& a, const mask_t<F>& b) {
-  return (a & mask_not<F>(b)) | (mask_not<F>(a) & b);
-}
-}  // namespace detail
 
 // What the kernel sees of one polygon (broadcast) or of a lane group (load).
 template <class F>
@@ -68,15 +60,12 @@ template <class T>
 inline PolygonInfo polygon_info(const std::vector<Vec3<T>>& v) {
   PolygonInfo info;
   if (v.size() < 3) { info.why = "fewer than 3 vertices"; return info; }
-  Vec3d n{0, 0, 0}, c{0, 0, 0};
+  Vec3d c{0, 0, 0};
   for (std::size_t i = 0; i < v.size(); ++i) {
     if (!finite3(v[i])) { info.why = "non-finite vertex"; return info; }
-    const Vec3d p = to_double(v[i]), q = to_double(v[(i + 1) % v.size()]);
-    n.x += (p.y - q.y) * (p.z + q.z);
-    n.y += (p.z - q.z) * (p.x + q.x);
-    n.z += (p.x - q.x) * (p.y + q.y);
-    c = c + p;
+    c = c + to_double(v[i]);
   }
+  const Vec3d n = newell_normal(v.data(), v.size());
   const double len = std::sqrt(dot(n, n));
   if (!std::isfinite(len) || len == 0.0) { info.why = "zero area (collinear or repeated vertices)"; return info; }
   const int ax = dominant_axis(n);
@@ -95,39 +84,32 @@ inline PolygonInfo polygon_info(const std::vector<Vec3<T>>& v) {
   return info;
 }
 
-struct PolygonSoA {
-  PrimSoA<Plane> planes;             // one slot per polygon, padded per group of 8
-  std::vector<std::int8_t> axis;     // per slot
-  std::vector<std::uint32_t> id;     // input index per slot (UINT32_MAX for padding)
+// The planes, axes and ids are the axis-grouped batch of soa/axis_grouped.hpp (prims: one Plane
+// slot per polygon, padded per group of 8); the projected vertices are added per group.
+struct PolygonSoA : AxisGrouped<Plane> {
   std::vector<std::uint32_t> nverts; // per slot (0: padding or degenerate)
   std::vector<std::uint32_t> base;   // per group of 8 slots: offset of its vertex 0 in vx, vy
   std::vector<std::uint32_t> maxv;   // per group: its largest vertex count
   avec<float> vx, vy;                // projected vertices, interleaved per group (see the header)
-  std::size_t real = 0;
   std::size_t degenerate = 0;        // inputs stored as never-hit slots
 
-  std::size_t size() const { return planes.size(); }
-  std::size_t bytes() const { return planes.bytes() + (vx.size() + vy.size()) * sizeof(float); }
+  std::size_t bytes() const { return prims.bytes() + (vx.size() + vy.size()) * sizeof(float); }
 
-  // Degenerate polygons are kept (so ids stay aligned with the input) as slots that never hit.
-  // `strict`: throw std::invalid_argument on the first degenerate polygon instead.
+  // Degenerate polygons are kept (so ids stay aligned with the input) as slots that never hit;
+  // polygon_info(p).why says why a polygon is degenerate.
   template <class T>
-  static PolygonSoA build(const std::vector<std::vector<Vec3<T>>>& polys, bool strict = false) {
+  static PolygonSoA build(const std::vector<std::vector<Vec3<T>>>& polys) {
     PolygonSoA s;
     s.real = polys.size();
     std::vector<PolygonInfo> info(polys.size());
     for (std::size_t i = 0; i < polys.size(); ++i) {
       info[i] = polygon_info(polys[i]);
-      if (!info[i].valid) {
-        if (strict) throw std::invalid_argument(std::string("polygon ") + std::to_string(i) + ": " + info[i].why);
-        ++s.degenerate;
-      }
+      if (!info[i].valid) ++s.degenerate;
     }
     auto count = [&](std::size_t i) { return info[i].valid ? polys[i].size() : std::size_t(0); };
+    auto groups = by_axis(polys.size(), [&](std::size_t i) { return info[i].axis; });
     for (int a = 0; a < 3; ++a) {
-      std::vector<std::size_t> idx;
-      for (std::size_t i = 0; i < polys.size(); ++i)
-        if (info[i].axis == a) idx.push_back(i);
+      std::vector<std::size_t>& idx = groups[std::size_t(a)];
       std::stable_sort(idx.begin(), idx.end(), [&](std::size_t p, std::size_t q) { return count(p) < count(q); });
       for (std::size_t g = 0; g < idx.size(); g += 8) {
         const std::size_t n = std::min<std::size_t>(8, idx.size() - g);
@@ -150,29 +132,24 @@ struct PolygonSoA {
             X[8 * r + k] = p[ka];
             Y[8 * r + k] = p[kb];
           }
-          s.planes.push(k < n ? info[i].plane : Plane<float>::never());
-          s.axis.push_back(std::int8_t(a));
-          s.id.push_back(k < n ? std::uint32_t(i) : UINT32_MAX);
           s.nverts.push_back(std::uint32_t(c));
         }
-        s.planes.seal();
+        s.push_group(a, idx.data() + g, n, [&](std::size_t i) { return info[i].plane; });
       }
     }
     return s;
   }
 
-  int axis_of(std::size_t j) const { return axis[j]; }
-
   template <class F>
   RB_INLINE PolygonRef<F> broadcast(std::size_t j) const {
     const std::size_t g = j / 8, off = base[g] + j % 8;
-    return {planes.broadcast<F>(j), vx.data() + off, vy.data() + off, nverts[j], axis[j], false};
+    return {prims.broadcast<F>(j), vx.data() + off, vy.data() + off, nverts[j], axis[j], false};
   }
   // Lanes j .. j + lanes_v<F> - 1, all in one group of 8 (j a multiple of the lane count).
   template <class F>
   RB_INLINE PolygonRef<F> load(std::size_t j) const {
     const std::size_t g = j / 8, off = base[g] + j % 8;
-    return {planes.load<F>(j), vx.data() + off, vy.data() + off, maxv[g], axis[j], true};
+    return {prims.load<F>(j), vx.data() + off, vy.data() + off, maxv[g], axis[j], true};
   }
 };
 
@@ -203,8 +180,8 @@ RB_INLINE mask_t<F> polygon_contains(const PolygonRef<F>& p, const F& pa, const 
     const F x1 = p.vx(i) - pa, y1 = p.vy(i) - pb;   // 2+-
     const mask_t<F> c1 = y1 >= z;                   // 1 cmp
     const mask_t<F> cross = y1 * (x0 - x1) >= x1 * (y0 - y1);  // 2+- 2* 1 cmp
-    const mask_t<F> flip = detail::mask_xor<F>(c0, c1) & mask_not<F>(detail::mask_xor<F>(cross, c1));
-    inside = detail::mask_xor<F>(inside, flip);
+    const mask_t<F> flip = mask_xor<F>(c0, c1) & mask_not<F>(mask_xor<F>(cross, c1));
+    inside = mask_xor<F>(inside, flip);
     x0 = x1; y0 = y1; c0 = c1;
   }
   return inside;

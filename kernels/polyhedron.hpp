@@ -137,13 +137,8 @@ template <class F, int K>
 RB_INLINE Roots<F, 2> polyhedron_roots(const Ray<F>& r, const HalfspacesK<F, K>& h) {
   F t_in = F(-kInf<F>), t_out = F(kInf<F>);
   mask_t<F> alive = mask_true<F>();
-  Roots<F, 2> out = Roots<F, 2>::none();
-  if (!detail::halfspace_clip<true>(r, h, t_in, t_out, alive)) return out;
-  out.t[0] = vselect(alive, t_in, F(kInf<F>));
-  out.t[1] = vselect(alive, t_out, F(kInf<F>));
-  out.valid[0] = alive;
-  out.valid[1] = alive;
-  return out;
+  if (!detail::halfspace_clip<true>(r, h, t_in, t_out, alive)) return Roots<F, 2>::none();
+  return Roots<F, 2>::closed_span(alive, t_in, t_out);
 }
 
 // Outward unit normal of the face nearest to a point on the surface (largest signed distance).
@@ -245,13 +240,8 @@ template <class F, int K>
 RB_INLINE Roots<F, 2> slabs_roots(const Ray<F>& r, const SlabsK<F, K>& s) {
   F t_in = F(-kInf<F>), t_out = F(kInf<F>);
   mask_t<F> alive = mask_true<F>();
-  Roots<F, 2> out = Roots<F, 2>::none();
-  if (!detail::slab_clip<true>(r, s, t_in, t_out, alive)) return out;
-  out.t[0] = vselect(alive, t_in, F(kInf<F>));
-  out.t[1] = vselect(alive, t_out, F(kInf<F>));
-  out.valid[0] = alive;
-  out.valid[1] = alive;
-  return out;
+  if (!detail::slab_clip<true>(r, s, t_in, t_out, alive)) return Roots<F, 2>::none();
+  return Roots<F, 2>::closed_span(alive, t_in, t_out);
 }
 
 }  // namespace rb

@@ -16,34 +16,25 @@
 //                  roots are NaN (0/0) and every range test fails: a defined miss.
 // One NaN (t1 = 0/0 when C == q == 0: a double root at t = 0, t0 = 0 / A = 0) is dropped by the
 // argument order of vmin/vmax (minps semantics return the second argument when the first is NaN).
+// The roots come back as a raw two-slot Roots (core/roots.hpp), valid where the caller's mask is.
 #pragma once
 
-#include "core/ray.hpp"
+#include "core/roots.hpp"
 
 namespace rb {
 
-template <class F>
-struct QuadRoots {
-  F lo, hi;  // lo <= hi; NaN only when A == B == 0
-};
-
-// Caller has already formed disc = B^2 - A C and exited early where disc < 0 on every lane.
+// Caller has already formed disc = B^2 - A C, exited early where disc < 0 on every lane, and
+// passes m = (disc >= 0). lo <= hi; NaN only when A == B == 0.
 //   1 sqrt, 1+-, 2/, 2 min/max
 template <class F>
-RB_INLINE QuadRoots<F> stable_roots(const F& A, const F& B, const F& C, const F& disc) {
+RB_INLINE Roots<F, 2> stable_roots(const F& A, const F& B, const F& C, const F& disc, const mask_t<F>& m) {
   const F q = -(B + vcopysign(vsqrt(disc), B));  // 1 sqrt 1+-
   const F t0 = q / A;                            // 1/   (+-inf when A == 0: the linear case)
   const F t1 = C / q;                            // 1/   (NaN only when C == q == 0)
-  return {vmin(t1, t0), vmax(t1, t0)};           // 2 min/max, NaN t1 dropped
+  return Roots<F, 2>::span(m, vmin(t1, t0), vmax(t1, t0));  // 2 min/max, NaN t1 dropped
 }
 
-// The nearer root in [tmin, tmax] (the far one when the near one is before tmin).
-//   3 cmp 2 select (with make_hit)
-template <class F>
-RB_INLINE Hit<F> first_root_hit(const Ray<F>& r, mask_t<F> m, const QuadRoots<F>& q) {
-  const F t = vselect(q.lo >= r.tmin, q.lo, q.hi);  // 1 cmp 1 select
-  m = m & (t >= r.tmin) & (t <= r.tmax);            // 2 cmp
-  return make_hit<F>(m, t);                         // 1 select
-}
+// The nearer root in [tmin, tmax] (the far one when the near one is before tmin): first_hit in
+// core/roots.hpp (3 cmp 2 select with make_hit).
 
 }  // namespace rb

@@ -28,7 +28,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
+#include <optional>
 
 namespace rb {
 
@@ -54,8 +54,12 @@ struct QuadricCoeffs {
     return {Q[0][0], Q[1][1], Q[2][2], Q[0][1], Q[1][2], Q[0][2], Q[0][3], Q[1][3], Q[2][3], Q[3][3]};
   }
   // The same surface placed by M (world = M local): Q' = M^-T Q M^-1 (4x4 with the row 0 0 0 1).
-  QuadricCoeffs placed(const Affine3d& M) const {
-    const Affine3d v = M.inverse();
+  // A singular or non-finite M gives all-zero coefficients (make_quadric: never()), the reason
+  // in *why.
+  QuadricCoeffs placed(const Affine3d& M, std::string* why = nullptr) const {
+    const std::optional<Affine3d> inv = M.inverse(why);
+    if (!inv) return {};
+    const Affine3d& v = *inv;
     double I[4][4] = {};
     for (int r = 0; r < 3; ++r)
       for (int s = 0; s < 4; ++s) I[r][s] = v.m[r][s];
@@ -128,17 +132,17 @@ inline Quadric<float> make_quadric(const QuadricCoeffs& q) {
   return {o[0], o[1], o[2], o[3], o[4], o[5], o[6], o[7], o[8], o[9]};
 }
 
-// From the symmetric 4x4 matrix of seed 000. A non-symmetric Q is a construction error
-// (std::invalid_argument): x^T Q x only sees the symmetric part, and a caller passing an
-// asymmetric matrix has most likely mixed up the layout.
-inline Quadric<float> make_quadric_matrix(const double Q[4][4]) {
+// From the symmetric 4x4 matrix of seed 000. A non-symmetric Q gives never() (the reason in
+// *why): x^T Q x only sees the symmetric part, and a caller passing an asymmetric matrix has most
+// likely mixed up the layout.
+inline Quadric<float> make_quadric_matrix(const double Q[4][4], std::string* why = nullptr) {
   double mx = 0;
   for (int r = 0; r < 4; ++r)
     for (int s = 0; s < 4; ++s) mx = std::max(mx, std::fabs(Q[r][s]));
   for (int r = 0; r < 4; ++r)
     for (int s = 0; s < r; ++s)
       if (!(std::fabs(Q[r][s] - Q[s][r]) <= 1e-12 * mx)) {
-        if (std::isfinite(mx)) throw std::invalid_argument("make_quadric_matrix: Q is not symmetric");
+        if (std::isfinite(mx)) return never_because<Quadric<float>>(why, "quadric: Q is not symmetric");
       }
   return make_quadric(QuadricCoeffs::from_matrix(Q));
 }
@@ -164,7 +168,7 @@ RB_INLINE Hit<F> intersect_quadric_matrix(const Ray<F>& r, const Quadric<F>& q) 
   const F disc = B * B - A * C;                        // 2* 1+-
   const mask_t<F> m = disc >= F(0);                    // 1 cmp   (negative case ends here)
   if (none_of<F>(m)) return miss_hit<F>();
-  return first_root_hit(r, m, stable_roots(A, B, C, disc));
+  return first_hit(r, stable_roots(A, B, C, disc, m));
 }
 
 // coeffs10 method (seed 004), the slide's A, B, C term by term (B halved).
@@ -180,7 +184,7 @@ RB_INLINE Hit<F> intersect_quadric_coeffs10(const Ray<F>& r, const Quadric<F>& q
   const F disc = B * B - A * C;                        // 2* 1+-
   const mask_t<F> m = disc >= F(0);                    // 1 cmp   (negative case ends here)
   if (none_of<F>(m)) return miss_hit<F>();
-  return first_root_hit(r, m, stable_roots(A, B, C, disc));
+  return first_hit(r, stable_roots(A, B, C, disc, m));
 }
 
 // Unit gradient at p (seed 004): 9* 9+-, normalised 3* 2+- 1 sqrt 1/ 3*.
@@ -220,7 +224,7 @@ RB_INLINE Hit<F> intersect_quadric_rev(const Ray<F>& r, const QuadricRev<F>& q) 
   const F disc = B * B - A * C;                        // 2* 1+-
   const mask_t<F> m = disc >= F(0);                    // 1 cmp
   if (none_of<F>(m)) return miss_hit<F>();
-  return first_root_hit(r, m, stable_roots(A, B, C, disc));
+  return first_hit(r, stable_roots(A, B, C, disc, m));
 }
 
 // Unit normal (x, y, a z + b/2) about the centre: 3+- 1* 1+-, normalised.

@@ -18,8 +18,9 @@
 
 #include "core/poly.hpp"
 #include "core/ray.hpp"
+#include "core/why.hpp"
+#include "kernels/bounding_sphere.hpp"
 
-#include <stdexcept>
 #include <tuple>
 
 namespace rb {
@@ -40,17 +41,20 @@ struct Revolution {
 };
 
 // From power-basis profile coefficients (r(s) = r[0] + r[1] s + ..., likewise z). Non-finite
-// input or a zero axis: std::invalid_argument. A zero-length profile (K constant: a point or a
-// circle, no area) gives never().
+// input, a zero axis, or a zero-length profile (constant: a point or a circle, no area): never(),
+// the reason in *why.
 template <class T>
-inline Revolution<float> make_revolution_poly(Vec3<T> c, Vec3<T> axis, const std::array<double, 4>& r, const std::array<double, 4>& z) {
+inline Revolution<float> make_revolution_poly(Vec3<T> c, Vec3<T> axis, const std::array<double, 4>& r, const std::array<double, 4>& z,
+                                              std::string* why = nullptr) {
+  using P = Revolution<float>;
   for (int k = 0; k < 4; ++k)
-    if (!std::isfinite(r[k]) || !std::isfinite(z[k])) throw std::invalid_argument("make_revolution: non-finite profile coefficient");
-  if (!finite3(c) || !finite3(axis)) throw std::invalid_argument("make_revolution: non-finite axis");
+    if (!std::isfinite(r[k]) || !std::isfinite(z[k])) return never_because<P>(why, "revolution: non-finite profile coefficient");
+  if (!finite3(c) || !finite3(axis)) return never_because<P>(why, "revolution: non-finite centre or axis");
   Vec3d w = to_double(axis);
   const double wl = std::sqrt(w.x * w.x + w.y * w.y + w.z * w.z);
-  if (!(wl > 0.0)) throw std::invalid_argument("make_revolution: zero axis");
-  if (r[1] == 0 && r[2] == 0 && r[3] == 0 && z[1] == 0 && z[2] == 0 && z[3] == 0) return Revolution<float>::never();
+  if (!(wl > 0.0)) return never_because<P>(why, "revolution: zero axis");
+  if (r[1] == 0 && r[2] == 0 && r[3] == 0 && z[1] == 0 && z[2] == 0 && z[3] == 0)
+    return never_because<P>(why, "revolution: constant profile (no area)");
   // Bernstein coefficients bound the curve (convex hull): the bounding sphere about c.
   auto bern = [](const std::array<double, 4>& p) {
     return std::array<double, 4>{p[0], p[0] + p[1] / 3, p[0] + 2 * p[1] / 3 + p[2] / 3, p[0] + p[1] + p[2] + p[3]};
@@ -69,23 +73,22 @@ inline Revolution<float> make_revolution_poly(Vec3<T> c, Vec3<T> axis, const std
 
 // From a cubic Bezier in (r, z): control points (r_i, z_i), i = 0..3.
 template <class T>
-inline Revolution<float> make_revolution_bezier(Vec3<T> c, Vec3<T> axis, const std::array<std::array<double, 2>, 4>& P) {
+inline Revolution<float> make_revolution_bezier(Vec3<T> c, Vec3<T> axis, const std::array<std::array<double, 2>, 4>& P,
+                                                std::string* why = nullptr) {
   auto power = [&](int a) {
     const double p0 = P[0][a], p1 = P[1][a], p2 = P[2][a], p3 = P[3][a];
     return std::array<double, 4>{p0, 3 * (p1 - p0), 3 * (p0 - 2 * p1 + p2), p3 - p0 + 3 * (p1 - p2)};
   };
-  return make_revolution_poly(c, axis, power(0), power(1));
+  return make_revolution_poly(c, axis, power(0), power(1), why);
 }
 
 template <class F>
 RB_INLINE Hit<F> intersect_revolution(const Ray<F>& ray, const Revolution<F>& S, IterCount* ic = nullptr) {
   const Vec3<F> q = ray.o - S.c;
+  // The bounding sphere: the negative case (its span is not used further: the profile's roots
+  // are found in the curve parameter s).
+  if (none_of<F>(bounding_sphere_span(ray, q, S.bs2).valid[0])) return miss_hit<F>();
   const F qd = dot(q, ray.d), qq = dot(q, q);
-  {  // bounding sphere: the negative case
-    const F disc = qd * qd - (qq - S.bs2);
-    const mask_t<F> in = disc >= F(0);
-    if (none_of<F>(in)) return miss_hit<F>();
-  }
   const F z0 = dot(q, S.w), z1 = dot(ray.d, S.w);
   const F e = qd - z0 * z1, b = dot(ray.d, ray.d) - z1 * z1, f = qq - z0 * z0;
   const F a = -(z1 * z1);

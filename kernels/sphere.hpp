@@ -11,9 +11,9 @@
 
 #include "core/ray.hpp"
 #include "core/roots.hpp"
+#include "core/why.hpp"
 #include "kernels/quadratic.hpp"
 
-#include <stdexcept>
 
 namespace rb {
 
@@ -101,7 +101,7 @@ RB_INLINE Hit<F> intersect_sphere_stable(const Ray<F>& r, const Sphere<F>& s) {
   const F disc = b * b - a * c;                 // 1+- 2*
   const mask_t<F> m = disc >= F(0);             // 1 cmp   (negative case ends here)
   if (none_of<F>(m)) return miss_hit<F>();
-  return first_root_hit(r, m, stable_roots(a, b, c, disc));  // 1+- 1 sqrt 2/ 2 minmax, 3 cmp 2 select
+  return first_hit(r, stable_roots(a, b, c, disc, m));  // 1+- 1 sqrt 2/ 2 minmax, 3 cmp 2 select
 }
 
 template <class F>
@@ -115,7 +115,7 @@ RB_INLINE Hit<F> intersect_sphere_hearn_baker(const Ray<F>& r, const Sphere<F>& 
   const F c = dot(f, f) - s.r2;                 // 3+- 3*
   const F q = -(b + vcopysign(vsqrt(disc), b)); // 1+- 1 sqrt
   const F t1 = c / q;                           // 1/   (a = 1: t0 = q)
-  return first_root_hit(r, m, QuadRoots<F>{vmin(t1, q), vmax(t1, q)});  // 2 minmax, 3 cmp 2 select
+  return first_hit(r, Roots<F, 2>::span(m, vmin(t1, q), vmax(t1, q)));  // 2 minmax, 3 cmp 2 select
 }
 
 // ---- compensated: float in, float out, right on a planet ------------------------------------------
@@ -200,12 +200,8 @@ RB_INLINE Roots<F, 2> sphere_roots(const Ray<F>& r, const Sphere<F>& s) {
   const F disc = b * b - a * c;
   const mask_t<F> m = disc >= F(0);
   if (none_of<F>(m)) return Roots<F, 2>::none();
-  const QuadRoots<F> q = stable_roots(a, b, c, disc);
-  Roots<F, 2> out;
-  out.valid[0] = out.valid[1] = m;
-  out.t[0] = vselect(m, q.lo, F(kInf<F>));
-  out.t[1] = vselect(m, q.hi, F(kInf<F>));
-  return out;
+  const Roots<F, 2> q = stable_roots(a, b, c, disc, m);
+  return Roots<F, 2>::closed_span(m, q.lo(), q.hi());
 }
 
 // ---- [u,v] on the sphere (seed 000 "Inverse transformation on the sphere") ----------------------
@@ -229,23 +225,25 @@ struct SphereUV {
   }
 };
 
-// Degenerate sphere (as make_sphere): never(). A zero or non-finite pole, or an equator
-// direction that is zero or parallel to the pole: std::invalid_argument. E is made orthogonal to
-// P (Gram-Schmidt in double) and both are normalised.
+// Degenerate sphere (as make_sphere), a zero or non-finite pole, or an equator direction that is
+// zero or parallel to the pole: never() (the reason in *why). E is made orthogonal to P
+// (Gram-Schmidt in double) and both are normalised.
 template <class T>
-inline SphereUV<float> make_sphere_uv(Vec3<T> c, T r, Vec3<T> pole = {T(0), T(0), T(1)}, Vec3<T> equator = {T(1), T(0), T(0)}) {
+inline SphereUV<float> make_sphere_uv(Vec3<T> c, T r, Vec3<T> pole = {T(0), T(0), T(1)}, Vec3<T> equator = {T(1), T(0), T(0)},
+                                      std::string* why = nullptr) {
+  using S = SphereUV<float>;
   const Vec3d p = to_double(pole), e = to_double(equator);
   const double lp = std::sqrt(dot(p, p));
-  if (!finite3(p) || !std::isfinite(lp) || lp == 0.0) throw std::invalid_argument("make_sphere_uv: pole direction is zero or not finite");
+  if (!finite3(p) || !std::isfinite(lp) || lp == 0.0) return never_because<S>(why, "sphere: pole direction is zero or not finite");
   const Vec3d P = p * (1.0 / lp);
   const Vec3d e2 = e - P * dot(e, P);
   const double le = std::sqrt(dot(e2, e2));
   const double le0 = std::sqrt(dot(e, e));
   if (!finite3(e) || !std::isfinite(le0) || !(le > 1e-6 * le0))
-    throw std::invalid_argument("make_sphere_uv: equator direction is zero, not finite or parallel to the pole");
+    return never_because<S>(why, "sphere: equator direction is zero, not finite or parallel to the pole");
   const Vec3d E = e2 * (1.0 / le);
   const Sphere<float> s = make_sphere(c, r);
-  if (!(s.r2 > 0.f)) return SphereUV<float>::never();
+  if (!(s.r2 > 0.f)) return never_because<S>(why, "sphere: radius is not positive and finite");
   return {s, to_float(P), to_float(E), to_float(cross(P, E))};
 }
 

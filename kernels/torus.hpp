@@ -10,21 +10,22 @@
 //            largest root: 2 cbrt or 1 acos + 1 cos), two quadratics. The quartic is formed at
 //            the ray origin, as the textbook does; its coefficients then carry terms of size
 //            |q|^4 that cancel to the size of the answer, so accuracy falls with distance.
-//   robust   moves the origin to the bounding-sphere entry (|q| <= R + r there), forms the
+//   robust   moves the origin to the bounding-sphere entry (kernels/bounding_sphere.hpp) (|q| <= R + r there), forms the
 //            quartic in s = t - t0 on [0, t1 - t0], isolates its roots between the roots of its
 //            derivatives and refines them by safeguarded Newton (core/poly.hpp), then polishes
 //            with Newton steps on T_ab evaluated directly at the point (not on the expanded
 //            polynomial). Iterations: see IterCount.
 // Both reject with the bounding sphere |q| <= R + r first (the negative case).
-// Spindle / horn tori (r >= R) self-intersect: make_torus refuses them (std::invalid_argument).
+// Spindle / horn tori (r >= R) self-intersect: make_torus refuses them (never(), with the reason).
 #pragma once
 
 #include "core/poly.hpp"
 #include "core/ray.hpp"
 #include "core/roots.hpp"
+#include "core/why.hpp"
+#include "kernels/bounding_sphere.hpp"
 
 #include <numbers>
-#include <stdexcept>
 #include <string>
 #include <tuple>
 
@@ -40,20 +41,22 @@ struct Torus {
   }
 };
 
-// Non-finite input, r <= 0 or a zero axis: Torus::never(). r >= R: std::invalid_argument (the
-// spindle / horn torus crosses itself; T_ab still has roots there, but the tube's inside and the
-// normal at the axis are not defined). `ref` picks the u = 0 direction (projected onto the plane
+// Non-finite input, r <= 0, a zero axis, or r >= R (the spindle / horn torus crosses itself; T_ab
+// still has roots there, but the tube's inside and the normal at the axis are not defined):
+// Torus::never(), the reason in *why. `ref` picks the u = 0 direction (projected onto the plane
 // of the ring; any perpendicular is used when it is parallel to the axis).
 template <class T>
-inline Torus<float> make_torus(Vec3<T> c, Vec3<T> axis, T R, T r, Vec3<T> ref = {T(1), T(0), T(0)}) {
-  if (!finite3(c) || !finite3(axis) || !finite3(ref) || !std::isfinite(R) || !std::isfinite(r) || !(r > T(0)))
-    return Torus<float>::never();
+inline Torus<float> make_torus(Vec3<T> c, Vec3<T> axis, T R, T r, Vec3<T> ref = {T(1), T(0), T(0)}, std::string* why = nullptr) {
+  using P = Torus<float>;
+  if (!finite3(c) || !finite3(axis) || !finite3(ref) || !std::isfinite(R) || !std::isfinite(r))
+    return never_because<P>(why, "torus: non-finite input");
+  if (!(r > T(0))) return never_because<P>(why, "torus: tube radius r is not positive");
   if (!(R > r))
-    throw std::invalid_argument("make_torus: tube radius r = " + std::to_string(double(r)) + " >= ring radius R = " +
-                                std::to_string(double(R)) + " (spindle/horn torus is self-intersecting: not supported)");
+    return never_because<P>(why, "torus: tube radius r = " + std::to_string(double(r)) + " >= ring radius R = " +
+                                     std::to_string(double(R)) + " (spindle/horn torus is self-intersecting: not supported)");
   Vec3d w = to_double(axis);
   const double wl = std::sqrt(w.x * w.x + w.y * w.y + w.z * w.z);
-  if (!(wl > 0.0)) return Torus<float>::never();
+  if (!(wl > 0.0)) return never_because<P>(why, "torus: zero axis");
   w = {w.x / wl, w.y / wl, w.z / wl};
   auto perp = [&](Vec3d v) {
     const double k = v.x * w.x + v.y * w.y + v.z * w.z;
@@ -71,29 +74,6 @@ inline Torus<float> make_torus(Vec3<T> c, Vec3<T> axis, T R, T r, Vec3<T> ref = 
 }
 
 namespace detail {
-
-// Bounding sphere |q| <= R + r: the ray's segment [t0, t1] inside it, clipped to [tmin, tmax].
-template <class F>
-struct TorusClip {
-  Vec3<F> q;  // o - c
-  F t0, t1;
-  mask_t<F> m;
-};
-
-template <class F>
-RB_INLINE TorusClip<F> torus_clip(const Ray<F>& r, const Torus<F>& T) {
-  TorusClip<F> k;
-  k.q = r.o - T.c;
-  const F b = dot(k.q, r.d);
-  const F disc = b * b - (dot(k.q, k.q) - T.bs2);
-  k.m = disc >= F(0);
-  if (none_of<F>(k.m)) return k;
-  const F sq = vsqrt(disc);
-  k.t0 = vmax(r.tmin, -b - sq);
-  k.t1 = vmin(r.tmax, -b + sq);
-  k.m = k.m & (k.t0 <= k.t1);
-  return k;
-}
 
 // Coefficients c[0..4] of T_ab(q + s d) in s.
 template <class F>
@@ -118,17 +98,6 @@ RB_INLINE void torus_f_df(const Vec3<F>& p, const Vec3<F>& d, const Torus<F>& T,
   const F fR2 = F(4) * R2;
   f = G * G - fR2 * (r2 - z * z);
   df = F(4) * G * dot(p, d) + F(2) * fR2 * z * dot(d, T.w);
-}
-
-template <int N, class F>
-RB_INLINE Roots<F, N> compact_roots(F (&t)[N]) {
-  sort_net<N>(t);
-  Roots<F, N> out;
-  for (int k = 0; k < N; ++k) {
-    out.t[k] = t[k];
-    out.valid[k] = t[k] < F(kInf<F>);
-  }
-  return out;
 }
 
 }  // namespace detail
@@ -160,10 +129,11 @@ RB_INLINE F cubic_largest_root(const F& a, const F& b, const F& c) {
 // All real roots of the torus quartic in [tmin, tmax] by Ferrari / Schwarze, ascending.
 template <class F>
 RB_INLINE Roots<F, 4> torus_roots_ferrari(const Ray<F>& r, const Torus<F>& T) {
-  const detail::TorusClip<F> k = detail::torus_clip(r, T);
-  if (none_of<F>(k.m)) return Roots<F, 4>::none();
+  const Vec3<F> oc = r.o - T.c;
+  const Roots<F, 2> clip = bounding_sphere_span(r, oc, T.bs2);
+  if (none_of<F>(clip.valid[0])) return Roots<F, 4>::none();
   F c[5];
-  detail::torus_quartic(k.q, r.d, T, c);
+  detail::torus_quartic(oc, r.d, T, c);
   const F inv = F(1) / c[4];
   const F A = c[3] * inv, B = c[2] * inv, C = c[1] * inv, D = c[0] * inv;
   const F A2 = A * A;
@@ -180,8 +150,8 @@ RB_INLINE Roots<F, 4> torus_roots_ferrari(const Ray<F>& r, const Torus<F>& T) {
   const F s1 = vsqrt(vmax(d1, F(0))), s2 = vsqrt(vmax(d2, F(0)));
   F t[4] = {-hv - s1 - shift, -hv + s1 - shift, hv - s2 - shift, hv + s2 - shift};
   const mask_t<F> ok[4] = {d1 >= F(0), d1 >= F(0), d2 >= F(0), d2 >= F(0)};
-  for (int i = 0; i < 4; ++i) t[i] = vselect(k.m & ok[i] & (t[i] >= r.tmin) & (t[i] <= r.tmax), t[i], F(kInf<F>));
-  return detail::compact_roots<4>(t);
+  for (int i = 0; i < 4; ++i) t[i] = vselect(clip.valid[0] & ok[i] & (t[i] >= r.tmin) & (t[i] <= r.tmax), t[i], F(kInf<F>));
+  return Roots<F, 4>::canonical(t);
 }
 
 template <class F>
@@ -203,19 +173,20 @@ struct TorusLocal {
 template <class F>
 RB_INLINE TorusLocal<F> torus_local_roots(const Ray<F>& r, const Torus<F>& T, IterCount* ic) {
   TorusLocal<F> L;
-  const TorusClip<F> k = torus_clip(r, T);
-  L.m = k.m;
-  if (none_of<F>(k.m)) return L;
-  L.t0 = k.t0;
-  L.q0 = k.q + r.d * k.t0;
-  const F W = vmax(k.t1 - k.t0, F(0));
+  const Vec3<F> q = r.o - T.c;
+  const Roots<F, 2> clip = bounding_sphere_span(r, q, T.bs2);
+  L.m = clip.valid[0];
+  if (none_of<F>(L.m)) return L;
+  L.t0 = clip.lo();
+  L.q0 = q + r.d * L.t0;
+  const F W = vmax(clip.hi() - clip.lo(), F(0));
   F c[5];
   torus_quartic(L.q0, r.d, T, c);
   const F tol = F(4 * std::numeric_limits<scalar_t<F>>::epsilon()) * (W + T.r);
   F s[4];
   mask_t<F> ok[4];
   poly_roots_in<4, F>(c, F(0), W, tol, s, ok, ic);
-  for (int i = 0; i < 4; ++i) s[i] = vselect(k.m & ok[i], s[i], F(kInf<F>));
+  for (int i = 0; i < 4; ++i) s[i] = vselect(L.m & ok[i], s[i], F(kInf<F>));
   sort_net<4>(s);
   for (int i = 0; i < 4; ++i) L.s[i] = s[i];
   return L;

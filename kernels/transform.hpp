@@ -16,16 +16,18 @@
 // rd = 1/p1' is formed only on request (kRecip = true: +3/); otherwise it is NaN, so a kernel
 // that wrongly reads it reports misses, never plausible hits.
 //
-// Construction: a non-finite or singular M (or one whose inverse overflows float) is rejected
-// with std::invalid_argument; never() (zero inverse, never() primitive) misses every ray.
+// Construction (docs/DESIGN.md section 7): a non-finite or singular M, or one whose inverse
+// overflows float, gives never() (zero inverse, never() primitive: misses every ray), the reason
+// in *why. Affine3d::frame and Affine3d::inverse return std::nullopt for such input.
 #pragma once
 
 #include "core/ray.hpp"
+#include "core/why.hpp"
 #include "soa/prims.hpp"
 
 #include <cmath>
 #include <limits>
-#include <stdexcept>
+#include <optional>
 #include <tuple>
 
 namespace rb {
@@ -57,10 +59,17 @@ struct Affine3d {
     return a;
   }
   // A rigid frame taking +z to `axis` and the origin to `o`: world = frame(o, axis) local.
-  // Throws std::invalid_argument for a zero or non-finite axis.
-  static Affine3d frame(Vec3d o, Vec3d axis) {
+  // std::nullopt (the reason in *why) for a zero or non-finite axis or a non-finite origin.
+  static std::optional<Affine3d> frame(Vec3d o, Vec3d axis, std::string* why = nullptr) {
     const double l = std::sqrt(dot(axis, axis));
-    if (!(l > 0) || !std::isfinite(l)) throw std::invalid_argument("axis must be a non-zero finite vector");
+    if (!(l > 0) || !std::isfinite(l)) {
+      tell_why(why, "axis must be a non-zero finite vector");
+      return std::nullopt;
+    }
+    if (!finite3(o)) {
+      tell_why(why, "origin must be finite");
+      return std::nullopt;
+    }
     axis = axis * (1.0 / l);
     const Vec3d z{0, 0, 1};
     const Vec3d k = cross(z, axis);
@@ -99,14 +108,20 @@ struct Affine3d {
     return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
            m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
   }
-  // The inverse; throws std::invalid_argument for a non-finite or (numerically) singular matrix:
-  // |det| <= 1e-12 |A_0| |A_1| |A_2| (the row norms: a scale-free test of the 3x3 part).
-  Affine3d inverse() const {
-    if (!finite()) throw std::invalid_argument("affine transform: matrix has a non-finite entry");
+  // The inverse; std::nullopt (the reason in *why) for a non-finite or (numerically) singular
+  // matrix: |det| <= 1e-12 |A_0| |A_1| |A_2| (the row norms: a scale-free test of the 3x3 part).
+  std::optional<Affine3d> inverse(std::string* why = nullptr) const {
+    if (!finite()) {
+      tell_why(why, "affine transform: matrix has a non-finite entry");
+      return std::nullopt;
+    }
     const double d = det();
     double rn = 1.0;
     for (const auto& r : m) rn *= std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
-    if (!(std::fabs(d) > 1e-12 * rn)) throw std::invalid_argument("affine transform: matrix is singular (det ~ 0)");
+    if (!(std::fabs(d) > 1e-12 * rn)) {
+      tell_why(why, "affine transform: matrix is singular (det ~ 0)");
+      return std::nullopt;
+    }
     Affine3d v;
     const double id = 1.0 / d;
     v.m[0][0] = (m[1][1] * m[2][2] - m[1][2] * m[2][1]) * id;
@@ -150,22 +165,35 @@ struct Transformed {
   };
 };
 
-// Places `prim` (built in its own frame) by M: world = M local. Throws std::invalid_argument for
-// a non-finite or singular M, or one whose inverse is not representable in float.
+// Places `prim` (built in its own frame) by M: world = M local. never() (the reason in *why) for
+// a non-finite or singular M, one whose inverse is not representable in float, or a missing M
+// (a frame that could not be built).
 template <template <class> class P>
-inline typename Transformed<P>::template T<float> make_transformed(const Affine3d& M, const P<float>& prim) {
-  const Affine3d v = M.inverse();
-  typename Transformed<P>::template T<float> x;
+inline typename Transformed<P>::template T<float> make_transformed(const Affine3d& M, const P<float>& prim, std::string* why = nullptr) {
+  using X = typename Transformed<P>::template T<float>;
+  const std::optional<Affine3d> inv = M.inverse(why);
+  if (!inv) return X::never();
+  const Affine3d& v = *inv;
+  X x;
   float* dst[12] = {&x.inv.m00, &x.inv.m01, &x.inv.m02, &x.inv.m03, &x.inv.m10, &x.inv.m11,
                     &x.inv.m12, &x.inv.m13, &x.inv.m20, &x.inv.m21, &x.inv.m22, &x.inv.m23};
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 4; ++j) {
       const float f = float(v.m[i][j]);
-      if (!std::isfinite(f)) throw std::invalid_argument("affine transform: inverse overflows float");
+      if (!std::isfinite(f)) return never_because<X>(why, "affine transform: inverse overflows float");
       *dst[i * 4 + j] = f;
     }
   x.prim = prim;
   return x;
+}
+
+// The same from a placement that may be missing (Affine3d::frame, Affine3d::inverse): no M gives
+// never(), *why as the function that failed to build M left it.
+template <template <class> class P>
+inline typename Transformed<P>::template T<float> make_transformed(const std::optional<Affine3d>& M, const P<float>& prim,
+                                                                   std::string* why = nullptr) {
+  if (!M) return Transformed<P>::template T<float>::never();
+  return make_transformed(*M, prim, why);
 }
 
 // The ray in the primitive's frame: 15+- 18* (the slide's count); kRecip adds rd = 1/p1' (3/).

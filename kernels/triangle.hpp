@@ -10,7 +10,7 @@
 #pragma once
 
 #include "core/ray.hpp"
-#include "soa/prims.hpp"
+#include "soa/axis_grouped.hpp"
 
 #include <algorithm>
 #include <vector>
@@ -27,31 +27,35 @@ struct TriLecture {
   static TriLecture never() { return {{F(0), F(0), F(0)}, F(0), F(0), F(0), F(0), F(0), F(0), F(0), F(1)}; }
 };
 
-// The dropped axis of a lecture triangle: the largest component of its normal.
-inline int dominant_axis(const Vec3d& n) {
-  const double ax = std::fabs(n.x), ay = std::fabs(n.y), az = std::fabs(n.z);
-  return ax >= ay && ax >= az ? 0 : (ay >= az ? 1 : 2);
-}
-
-// Builds the lecture form of triangle (v0, v1, v2) (parallelogram: same data, different test).
-// Zero area or non-finite input gives never(); `axis` receives the dropped axis.
-template <class T>
-inline TriLecture<float> make_tri_lecture(Vec3<T> v0, Vec3<T> v1, Vec3<T> v2, int& axis) {
-  const Vec3d R0 = to_double(v0), U = to_double(v1) - R0, V = to_double(v2) - R0;
+// The lecture data of the frame R0 + u U + v V (triangle, parallelogram, plane with [u,v]): the
+// dropped axis is dominant_axis(n) (core/vec3.hpp). Zero area (U x V == 0, also after rounding
+// to float), non-finite input, or n, D or the determinant not representable in float:
+// TriLecture::never() (n = 0: parallel to every ray), axis 2. `axis` receives the dropped axis.
+inline TriLecture<float> make_lecture_frame(const Vec3d& R0, const Vec3d& U, const Vec3d& V, int& axis) {
   const Vec3d n = cross(U, V);
   axis = 2;
   if (!finite3(R0) || !finite3(U) || !finite3(V) || !finite3(n) || dot(n, n) == 0.0) return TriLecture<float>::never();
-  axis = dominant_axis(n);
-  const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+  const int ax = dominant_axis(n);
+  const int a = (ax + 1) % 3, b = (ax + 2) % 3;
   TriLecture<float> t;
   t.n = to_float(n);
   t.D = float(-dot(n, R0));
   t.r0a = float(R0[a]); t.r0b = float(R0[b]);
   t.ua = float(U[a]); t.ub = float(U[b]); t.va = float(V[a]); t.vb = float(V[b]);
   const double det = double(t.ua) * double(t.vb) - double(t.va) * double(t.ub);
-  if (det == 0.0 || !std::isfinite(float(det)) || float(det) == 0.f) { axis = 2; return TriLecture<float>::never(); }
+  if (!std::isfinite(t.D) || !finite3(t.n) || dot(to_double(t.n), to_double(t.n)) == 0.0 || det == 0.0 ||
+      !std::isfinite(float(det)) || float(det) == 0.f)
+    return TriLecture<float>::never();
   t.det = float(det);
+  axis = ax;
   return t;
+}
+
+// The lecture form of triangle (v0, v1, v2) (parallelogram: same data, different test).
+template <class T>
+inline TriLecture<float> make_tri_lecture(Vec3<T> v0, Vec3<T> v1, Vec3<T> v2, int& axis) {
+  const Vec3d R0 = to_double(v0);
+  return make_lecture_frame(R0, to_double(v1) - R0, to_double(v2) - R0, axis);
 }
 
 template <class F>
@@ -72,33 +76,22 @@ RB_INLINE Hit<F> intersect_triangle_lecture(const Ray<F>& r, const TriLecture<F>
   return make_hit<F>(m, t, u, v);                   // 1 select
 }
 
-// Batch of lecture triangles grouped by dropped axis, each group padded to 8 lanes, so that
+// Batch of lecture triangles grouped by dropped axis (soa/axis_grouped.hpp), so that
 // `axis_of(i)` is uniform over any aligned lane group.
-struct TriLectureSoA {
-  PrimSoA<TriLecture> prims;
-  std::vector<std::int8_t> axis;   // per slot (padded)
-  std::vector<std::uint32_t> id;   // input index per slot (UINT32_MAX for padding)
-  std::size_t real = 0;
-
+struct TriLectureSoA : AxisGrouped<TriLecture> {
+  // From already built lecture primitives and their dropped axes (parallelograms, planes with uv).
+  static TriLectureSoA from(const std::vector<TriLecture<float>>& prims, const std::vector<int>& axes) {
+    TriLectureSoA s;
+    s.assign(prims, axes);
+    return s;
+  }
   template <class T>
   static TriLectureSoA build(const std::vector<std::array<Vec3<T>, 3>>& tris) {
     std::vector<TriLecture<float>> t(tris.size());
     std::vector<int> ax(tris.size());
     for (std::size_t i = 0; i < tris.size(); ++i) t[i] = make_tri_lecture(tris[i][0], tris[i][1], tris[i][2], ax[i]);
-    TriLectureSoA s;
-    s.real = tris.size();
-    for (int a = 0; a < 3; ++a) {
-      for (std::size_t i = 0; i < tris.size(); ++i)
-        if (ax[i] == a) { s.prims.push(t[i]); s.axis.push_back(std::int8_t(a)); s.id.push_back(std::uint32_t(i)); }
-      s.prims.seal();
-      while (s.axis.size() < s.prims.size()) { s.axis.push_back(std::int8_t(a)); s.id.push_back(UINT32_MAX); }
-    }
-    return s;
+    return from(t, ax);
   }
-  int axis_of(std::size_t i) const { return axis[i]; }
-  std::size_t size() const { return prims.size(); }
-  template <class F> RB_INLINE TriLecture<F> load(std::size_t i) const { return prims.load<F>(i); }
-  template <class F> RB_INLINE TriLecture<F> broadcast(std::size_t i) const { return prims.broadcast<F>(i); }
 };
 
 // ---- Moller-Trumbore --------------------------------------------------------------------------

@@ -28,17 +28,6 @@ std::string read_file(const std::string& path) {
   return data;
 }
 
-Vec3d newell_normal(const Vec3f* p, std::size_t n) {
-  Vec3d nn{0, 0, 0};
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec3d a = to_double(p[i]), b = to_double(p[(i + 1) % n]);
-    nn.x += (a.y - b.y) * (a.z + b.z);
-    nn.y += (a.z - b.z) * (a.x + b.x);
-    nn.z += (a.x - b.x) * (a.y + b.y);
-  }
-  return nn;
-}
-
 namespace {
 struct P2 { double x, y; };
 double orient(P2 a, P2 b, P2 c) { return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x); }
@@ -56,8 +45,7 @@ void triangulate(const std::uint32_t* idx, std::size_t n, const std::vector<Vec3
   Vec3f pts[kMaxEarClip];
   for (std::size_t i = 0; i < n; ++i) pts[i] = verts[idx[i]];
   const Vec3d nn = newell_normal(pts, n);
-  const double ax = std::fabs(nn.x), ay = std::fabs(nn.y), az = std::fabs(nn.z);
-  const int drop = ax >= ay && ax >= az ? 0 : (ay >= az ? 1 : 2);
+  const int drop = dominant_axis(nn);
   const double sgn = nn[drop] < 0 ? -1.0 : 1.0;
   if (!(nn[drop] != 0.0) || !std::isfinite(nn[drop])) return fan(idx, n);
   const int a = (drop + 1) % 3, b = (drop + 2) % 3;

@@ -66,8 +66,6 @@ namespace detail {
 // Triangulates polygon `idx` (indices into `verts`) into `out` (see OBJ above); `mat` for all.
 void triangulate(const std::uint32_t* idx, std::size_t n, const std::vector<Vec3f>& verts, std::uint32_t mat,
                  std::vector<TriangleIn>& out);
-// Newell normal of a polygon (not normalised).
-Vec3d newell_normal(const Vec3f* p, std::size_t n);
 }  // namespace detail
 
 }  // namespace rb::scene

@@ -16,8 +16,6 @@ template <class F>
 struct FirstKernels : ::testing::Test {};
 TYPED_TEST_SUITE(FirstKernels, AllNumbers);
 
-const float kInfF = std::numeric_limits<float>::infinity();
-const float kNaNF = std::numeric_limits<float>::quiet_NaN();
 
 // Tolerance on t for double-precision instantiations of float data (inputs are exact here).
 constexpr double kTol = 1e-5;

@@ -67,6 +67,25 @@ TEST(Query, TIsInTheCallersDirectionUnits) {
   EXPECT_NEAR(out[0]["results"][0]["normal"][2].get<double>(), -1.0, 1e-6);
 }
 
+TEST(Query, FarTorusRayReturnsTheEntry) {
+  // |d|^2 - 1 of the float-rounded direction must not move the bounding-sphere clip past the entry.
+  const std::string line =
+      R"({"primitive":{"type":"torus","center":[0.5,-0.25,0.125],"axis":[0,0,1],"major":1,"minor":0.25},)"
+      R"("ray":{"origin":[-375.5374450683594,128.5894012451172,-482.1832580566406],)"
+      R"("direction":[375.24676513671875,-129.3311004638672,482.7933654785156]}, "method":"robust"})";
+  for (const bool dbl : {false, true}) {
+    const auto out = run(line + "\n", dbl);
+    ASSERT_EQ(out.size(), 1u);
+    ASSERT_EQ(out[0]["results"].size(), 1u) << out[0].dump();
+    const auto& r = out[0]["results"][0];
+    ASSERT_TRUE(r["hit"].get<bool>()) << r.dump();
+    // t is in the caller's direction units: |direction| = 624.67...; distance 624.3249.
+    const double len = std::sqrt(375.24676513671875 * 375.24676513671875 + 129.3311004638672 * 129.3311004638672 +
+                                 482.7933654785156 * 482.7933654785156);
+    EXPECT_NEAR(r["t"].get<double>() * len, 624.3249, 2e-3) << (dbl ? "double" : "float");
+  }
+}
+
 TEST(Query, MissesAndBadRays) {
   const auto out = run(R"({"primitive": {"type":"box","min":[-1,-1,-1],"max":[1,1,1]}, "ray": {"origin":[5,0,-10],"direction":[0,0,1]}})"
                        "\n"

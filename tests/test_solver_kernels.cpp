@@ -17,8 +17,6 @@
 namespace rb::test {
 namespace {
 
-const float kNaNF = std::numeric_limits<float>::quiet_NaN();
-const double kInfD = std::numeric_limits<double>::infinity();
 
 template <class F>
 struct SolverKernels : ::testing::Test {};
@@ -71,6 +69,34 @@ TYPED_TEST(SolverKernels, TorusHandWorked) {
   torus_uv(prim_cast<F>(T), Vec3<F>{F(2), F(0), F(9.5f)}, u, v);
   EXPECT_NEAR(double(lane(u, 0)), 0.0, 1e-5);
   EXPECT_NEAR(double(lane(v, 0)), 0.75, 1e-5);
+}
+
+// A ray from 500 torus sizes away, nearly through the bounding sphere's centre line: its
+// float-rounded unit direction has |d|^2 - 1 = -7e-8, and a bounding-sphere clip that assumed
+// |d| = 1 moved the entry past the torus's entry (the robust method then returned the exit,
+// 624.6837). Exact roots 624.3249 and 624.6837 (ferrari is not accurate this far away in float).
+TYPED_TEST(SolverKernels, TorusFarRayKeepsTheEntryRoot) {
+  using F = TypeParam;
+  const auto T = make_torus(Vec3f{0.5f, -0.25f, 0.125f}, Vec3f{0, 0, 1}, 1.f, 0.25f);
+  const auto r = make_ray(Vec3f{-375.5374450683594f, 128.5894012451172f, -482.1832580566406f},
+                          Vec3f{375.24676513671875f, -129.3311004638672f, 482.7933654785156f});
+  const HitF h = run_one<F>(RB_KERNEL(intersect_torus_robust), r, T);
+  ASSERT_TRUE(h.hit);
+  EXPECT_NEAR(h.t, 624.3249, 2e-4);
+  const Roots<F, 4> rr = torus_roots_robust(Ray<F>::broadcast(r), prim_cast<F>(T));
+  EXPECT_EQ(rr.count_in_lane(0), 2);
+  EXPECT_NEAR(double(lane(rr.t[1], 0)), 624.6837, 2e-4);
+  if constexpr (std::is_same_v<scalar_t<F>, double>) {
+    const Roots<F, 4> rf = torus_roots_ferrari(Ray<F>::broadcast(r), prim_cast<F>(T));
+    EXPECT_NEAR(double(lane(rf.t[0], 0)), 624.3249, 2e-4);
+  }
+  // The same clip serves the algebraic form of this torus.
+  const Algebraic4<float> A{make_algebraic<4>(tri_torus({0.5, -0.25, 0.125}, 1.0, 0.25), {0.5, -0.25, 0.125}, 1.25)};
+  const HitF ha = run_one<F>([](const auto& kr, const auto& ka) { return intersect_algebraic<4>(kr, ka); }, r, A);
+  if constexpr (std::is_same_v<scalar_t<F>, double>) {
+    ASSERT_TRUE(ha.hit);
+    EXPECT_NEAR(ha.t, 624.3249, 2e-4);
+  }
 }
 
 TYPED_TEST(SolverKernels, AlgebraicHandWorked) {
@@ -160,17 +186,44 @@ TYPED_TEST(SolverKernels, BadRaysMiss) {
 
 // ---- degenerate primitives ----------------------------------------------------------------------
 
+// Degenerate input gives never() and, when asked, the reason (docs/DESIGN.md section 7).
+template <class P>
+void expect_never_because(const P& p, const std::string& why, const std::string& part) {
+  const auto r = make_ray(Vec3f{0, 0, -5}, Vec3f{0, 0, 1});
+  EXPECT_NE(why.find(part), std::string::npos) << why;
+  if constexpr (requires { intersect_torus_robust(r, p); }) {
+    EXPECT_FALSE(intersect_torus_robust(r, p).mask);
+  }
+}
+
 TEST(SolverDegenerate, ConstructionErrorsAndNever) {
-  EXPECT_THROW(make_torus(Vec3f{0, 0, 0}, Vec3f{0, 0, 1}, 0.5f, 1.f), std::invalid_argument);  // R < r
-  EXPECT_THROW(make_torus(Vec3f{0, 0, 0}, Vec3f{0, 0, 1}, 1.f, 1.f), std::invalid_argument);   // horn
-  EXPECT_THROW(make_algebraic<4>(TriPoly(4), {0, 0, 0}, 1.0), std::invalid_argument);         // all zero
+  std::string why;
+  const Vec3f ref{1, 0, 0};
+  expect_never_because(make_torus(Vec3f{0, 0, 0}, Vec3f{0, 0, 1}, 0.5f, 1.f, ref, &why), why, "r = 1");  // R < r
+  why.clear();
+  expect_never_because(make_torus(Vec3f{0, 0, 0}, Vec3f{0, 0, 1}, 1.f, 1.f, ref, &why), why, "self-intersecting");  // horn
+  why.clear();
+  expect_never_because(make_torus(Vec3f{0, 0, 0}, Vec3f{0, 0, 0}, 1.f, 0.5f, ref, &why), why, "zero axis");
+  why.clear();
+  (void)make_torus(Vec3f{0, 0, 0}, Vec3f{0, 0, 1}, 1.f, 0.5f, ref, &why);
+  EXPECT_TRUE(why.empty()) << why;  // a valid torus leaves why alone
+  const auto r = make_ray(Vec3f{0, 0, -5}, Vec3f{0, 0, 1});
+  auto alg_never = [&](const auto& a, const char* part) {
+    EXPECT_NE(why.find(part), std::string::npos) << why;
+    EXPECT_FALSE(intersect_algebraic<std::remove_cvref_t<decltype(a)>::kDegree>(r, a).mask);
+    why.clear();
+  };
+  why.clear();
+  alg_never(make_algebraic<4>(TriPoly(4), {0, 0, 0}, 1.0, &why), "all coefficients are zero");
   TriPoly nan = tri_sphere({0, 0, 0}, 1.0);
   nan.at(1, 0, 0) = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_THROW(make_algebraic<2>(nan, {0, 0, 0}, 1.0), std::invalid_argument);
-  EXPECT_THROW(make_algebraic<2>(tri_torus({0, 0, 0}, 2, 1), {0, 0, 0}, 1.0), std::invalid_argument);  // degree 4 > 2
-  EXPECT_THROW(make_revolution_poly(Vec3f{0, 0, 0}, Vec3f{0, 0, 1}, {kNaNF, 0, 0, 0}, {0, 1, 0, 0}), std::invalid_argument);
-  EXPECT_THROW(make_revolution_poly(Vec3f{0, 0, 0}, Vec3f{0, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}), std::invalid_argument);
-  const auto r = make_ray(Vec3f{0, 0, -5}, Vec3f{0, 0, 1});
+  alg_never(make_algebraic<2>(nan, {0, 0, 0}, 1.0, &why), "non-finite coefficient");
+  alg_never(make_algebraic<2>(tri_torus({0, 0, 0}, 2, 1), {0, 0, 0}, 1.0, &why), "degree 4 exceeds 2");
+  (void)make_revolution_poly(Vec3f{0, 0, 0}, Vec3f{0, 0, 1}, {kNaNF, 0, 0, 0}, {0, 1, 0, 0}, &why);
+  EXPECT_NE(why.find("non-finite profile"), std::string::npos) << why;
+  const auto rv = make_revolution_poly(Vec3f{0, 0, 0}, Vec3f{0, 0, 0}, {1, 0, 0, 0}, {0, 1, 0, 0}, &why);
+  EXPECT_NE(why.find("zero axis"), std::string::npos) << why;
+  EXPECT_FALSE(intersect_revolution(r, rv).mask);
   // never(): zero tube, NaN torus, zero-length profile, zero radius ball, NaN wavy.
   for (const auto& T : {make_torus(Vec3f{0, 0, 0}, Vec3f{0, 0, 1}, 1.f, 0.f), make_torus(Vec3f{kNaNF, 0, 0}, Vec3f{0, 0, 1}, 1.f, 0.5f),
                         make_torus(Vec3f{0, 0, 0}, Vec3f{0, 0, 0}, 1.f, 0.5f)}) {
@@ -455,8 +508,9 @@ TEST(SolverOps, FerrariIsBranchFreeAndMissIsCheap) {
   const OpCounts h2 = count(make_ray(Vec3f{-5, 0, 10}, Vec3f{1, 0, 0}));
   const OpCounts m = count(make_ray(Vec3f{5, 0, 0}, Vec3f{0, 0, 1}));
   EXPECT_EQ(h1, h2);  // closed form: the same work for every ray that reaches the quartic
-  // Golden miss: q = o - c (3+), q.d (2+ 3*), q.q - bs2 (3+ 3*), b^2 - (...) (1+ 1*), 1 cmp.
-  EXPECT_EQ(m, (OpCounts{9, 7, 0, 0, 1, 0, 1, 0}));  // + 1 select: t = +inf
+  // Golden miss (kernels/bounding_sphere.hpp): q = o - c (3+), q x d (3+ 6*), its square (2+ 3*),
+  // m = d.d (2+ 3*), m R2 - |q x d|^2 (1+ 1*), 1 cmp; no division.
+  EXPECT_EQ(m, (OpCounts{11, 13, 0, 0, 1, 0, 1, 0}));  // + 1 select: t = +inf
   std::printf("ferrari hit: %s, miss: %s\n", h1.str().c_str(), m.str().c_str());
 }
 

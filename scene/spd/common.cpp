@@ -154,23 +154,14 @@ void Builder::cone(const Vec3d& b, double br, const Vec3d& a, double ar) {
 }
 
 namespace {
-Vec3f newell_normal(const Vec3f* v, std::size_t n) {
-  Vec3d acc{0, 0, 0};
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec3d p = to_double(v[i]), q = to_double(v[(i + 1) % n]);
-    acc.x += (p.y - q.y) * (p.z + q.z);
-    acc.y += (p.z - q.z) * (p.x + q.x);
-    acc.z += (p.x - q.x) * (p.y + q.y);
-  }
-  return to_float(unit(acc));
-}
+Vec3f unit_newell_normal(const Vec3f* v, std::size_t n) { return to_float(unit(newell_normal(v, n))); }
 }  // namespace
 
 void Builder::fill_vert_normals() {
   for (std::size_t t = s_.vert_normals.size() / 3; t < s_.triangles.size(); ++t) {
     const auto& tri = s_.triangles[t];
     const Vec3f p[3] = {s_.verts[tri.v[0]], s_.verts[tri.v[1]], s_.verts[tri.v[2]]};
-    const Vec3f n = newell_normal(p, 3);
+    const Vec3f n = unit_newell_normal(p, 3);
     s_.vert_normals.insert(s_.vert_normals.end(), {n, n, n});
   }
 }
@@ -178,7 +169,7 @@ void Builder::fill_vert_normals() {
 void Builder::fill_poly_normals() {
   for (const auto& poly : s_.polygons) {
     if (poly.first < s_.poly_normals.size()) continue;
-    const Vec3f n = newell_normal(&s_.poly_verts[poly.first], poly.count);
+    const Vec3f n = unit_newell_normal(&s_.poly_verts[poly.first], poly.count);
     s_.poly_normals.insert(s_.poly_normals.end(), poly.count, n);
   }
 }
