@@ -64,7 +64,8 @@ const Entry kEntries[] = {
      "early exit; an axis-aligned box this way costs 12+- 12* 6/ more than box/slab (6+- 6*: 1/d stored per ray, "
      "the 0/1 normals implicit); the first crossing in [tmin, tmax] as the halfspaces: 3 cmp 1 select + make_hit"},
     {"polyhedron", "slabs", "miss", std::nullopt,
-     "miss = ray beside the box (x + 10): early exit after the first slab empties [t_in, t_out]"},
+     "miss = ray beside the box (x + 10): early exit after the second slab empties [t_in, t_out] (it starts as the whole "
+     "line, not [tmin, tmax], so that the exit from inside is known: one slab later than the clamped form)"},
 };
 
 // count3 (ops_detail.hpp) for batches whose primitive view is not a plain P<float>: the batch's

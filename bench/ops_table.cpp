@@ -28,11 +28,11 @@ const Entry kEntries[] = {
     {"triangle", "normal_mt", "hit", std::nullopt, "e1 x e2 (the lecture form stores n = U x V: 0 ops)"},
     {"sphere", "geometric", "miss", Lecture{9, 6, 0, 1, 0},
      "+1*: the slide's own formulas need 7* (v.p1 3*, v.v 3*, t0^2 1*); the slide's 6* is one short; "
-     "+2+- +4* +1/: a = p1.p1 (2+- 3*), 1/a and t0/a (1/ 1*) where the slide assumes |p1| = 1: a float-rounded unit "
-     "direction is 1 +- 1e-7 long, and t0^2 then misclassified half the rays at distance/R = 1e4, even in double"},
+     "+2+- +5*: a = p1.p1 (2+- 3*) where the slide assumes |p1| = 1, the squares kept times a (a v.v, a R^2: 2*): a "
+     "float-rounded unit direction is 1 +- 1e-7 long, and t0^2 then misclassified half the rays at distance/R = 1e4, even in double"},
     {"sphere", "geometric", "hit", Lecture{11, 6, 0, 1, 1},
-     "+2+- +5* +1/: as in the miss case, and tD = sqrt(tD^2 / a) (1*); +3 cmp: choosing the root >= tmin and t within "
-     "[tmin, tmax]; +2 select (root choice, t = +inf on misses)"},
+     "+2+- +7* +1/: as in the miss case, then 1/a, t0/a and sqrt(a tD^2)/a (1/ 2*); +3 cmp: choosing the root >= tmin and t "
+     "within [tmin, tmax]; +2 select (root choice, t = +inf on misses)"},
     {"sphere", "algebraic", "miss", std::nullopt, "seed 002's quadratic: A = d.d, B = 2 d.(e-c), C, disc = B^2 - 4AC"},
     {"sphere", "algebraic", "hit", std::nullopt, "both roots (-B -+ sqrt(disc)) / 2A, nearer one >= tmin"},
     {"sphere", "normal", "hit", std::nullopt, "(P - C) / R with 1/R stored per sphere"},

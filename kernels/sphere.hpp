@@ -2,8 +2,8 @@
 //   geometric (seed 000 "Sphere (geometric solution)"): v = C - P0, t0 = v . p1,
 //     D^2 = v . v - t0^2, tD^2 = R^2 - D^2; miss if tD^2 < 0, else t = t0 -+ tD.
 //     lecture: negative case 9+- 6* 1<, positive additionally 2+- 1 sqrt. Needs |p1| = 1; here
-//     a = p1 . p1 is used where the lecture has 1 (negative case 11+- 11* 1/ 1<, positive
-//     additionally 2+- 1* 1 sqrt), see intersect_sphere_geometric.
+//     a = p1 . p1 is used where the lecture has 1 (negative case 11+- 12* 1<, positive
+//     additionally 2+- 2* 1/ 1 sqrt), see intersect_sphere_geometric.
 //   algebraic (seed 002 "Ray-Sphere Intersection"): A = d . d, B = 2 d . (e - c),
 //     C = (e - c) . (e - c) - R^2, disc = B^2 - 4AC, t = (-B -+ sqrt(disc)) / 2A.
 // Both return the nearer root in [tmin, tmax] (the far one when the near one is before tmin).
@@ -39,19 +39,20 @@ inline Sphere<float> make_sphere(Vec3<T> c, T r) {
 // rounded to float has |p1|^2 = 1 +- 1e-7, and t0^2 (up to (distance)^2) then carries an error of
 // 1e-7 t0^2, which exceeds R^2 once distance / R is above ~3e3: half the rays at distance / R =
 // 1e4 were misclassified, in double too (the double ray is the float one, widened). With
-// a = p1 . p1: D^2 = v . v - t0^2 / a, and the roots t = (t0 -+ sqrt(a tD^2)) / a.
+// a = p1 . p1 the squares are kept multiplied by a (no division before the test):
+// a D^2 = a v . v - t0^2, a tD^2 = a R^2 - a D^2, and the roots t = t0 / a -+ sqrt(a tD^2) / a.
 template <class F>
 RB_INLINE Hit<F> intersect_sphere_geometric(const Ray<F>& r, const Sphere<F>& s) {
   const Vec3<F> v = s.c - r.o;                  // 3+-
   const F t0 = dot(v, r.d);                     // 2+- 3*
   const F a = dot(r.d, r.d);                    // 2+- 3*
+  const F D2a = a * dot(v, v) - t0 * t0;        // 3+- 5*
+  const F tD2a = a * s.r2 - D2a;                // 1+- 1*
+  mask_t<F> m = tD2a >= F(0);                   // 1 cmp   (negative case ends here)
+  if (none_of<F>(m)) return miss_hit<F>();
   const F ia = F(1) / a;                        // 1/
   const F t0a = t0 * ia;                        // 1*
-  const F D2 = dot(v, v) - t0 * t0a;            // 3+- 4*
-  const F tD2 = s.r2 - D2;                      // 1+-
-  mask_t<F> m = tD2 >= F(0);                    // 1 cmp   (negative case ends here)
-  if (none_of<F>(m)) return miss_hit<F>();
-  const F tD = vsqrt(tD2 * ia);                 // 1* 1 sqrt
+  const F tD = vsqrt(tD2a) * ia;                // 1* 1 sqrt
   const F t1 = t0a - tD, t2 = t0a + tD;         // 2+-
   const F t = vselect(t1 >= r.tmin, t1, t2);    // 1 cmp 1 select
   m = m & (t >= r.tmin) & (t <= r.tmax);        // 2 cmp

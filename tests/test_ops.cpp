@@ -20,10 +20,11 @@ TEST(OpsTable, GoldenScalarCounts) {
   EXPECT_EQ(gold(find_row("plane", "lecture", "miss", "float").measured), Golden(2, 3, 0, 0, 1, 0, 0, 0));
   EXPECT_EQ(gold(find_row("plane", "lecture", "hit", "float").measured), Golden(5, 6, 1, 0, 3, 0, 1, 0));
   EXPECT_EQ(gold(find_row("plane", "point", "hit", "float").measured), Golden(3, 3, 0, 0, 0, 0, 0, 0));
-  // Sphere, geometric: negative 11+- 11* 1/ 1 cmp (the lecture's 9+- 7* with a = p1.p1, 1/a and
-  // t0/a, since a float unit direction is not of length 1); positive additionally 2+- 1* 1 sqrt.
-  EXPECT_EQ(gold(find_row("sphere", "geometric", "miss", "float").measured), Golden(11, 11, 1, 0, 1, 0, 0, 0));
-  EXPECT_EQ(gold(find_row("sphere", "geometric", "hit", "float").measured), Golden(13, 12, 1, 1, 4, 0, 2, 0));
+  // Sphere, geometric: negative 11+- 12* 1 cmp (the lecture's 9+- 7* with a = p1.p1 and the
+  // squares times a, since a float unit direction is not of length 1); positive additionally
+  // 2+- 2* 1/ 1 sqrt.
+  EXPECT_EQ(gold(find_row("sphere", "geometric", "miss", "float").measured), Golden(11, 12, 0, 0, 1, 0, 0, 0));
+  EXPECT_EQ(gold(find_row("sphere", "geometric", "hit", "float").measured), Golden(13, 14, 1, 1, 4, 0, 2, 0));
   EXPECT_EQ(gold(find_row("sphere", "algebraic", "miss", "float").measured), Golden(11, 13, 0, 0, 1, 0, 0, 0));
   EXPECT_EQ(gold(find_row("sphere", "algebraic", "hit", "float").measured), Golden(13, 14, 2, 1, 4, 0, 2, 0));
   EXPECT_EQ(gold(find_row("triangle", "lecture", "hit", "float").measured), Golden(12, 12, 3, 0, 6, 0, 1, 0));
