@@ -16,7 +16,19 @@ struct ReportOptions {
 
 int run_report(const ReportOptions& o);
 
-// Runs the registered benchmarks in this process, writing Google Benchmark JSON to `json_out`.
-int run_benchmarks(const std::string& json_out, int repetitions, double min_time, const std::string& filter);
+// A run of the registered benchmarks (apps/bench_run.cpp).
+struct BenchOptions {
+  std::string json_out = "bench.json";  // Google Benchmark JSON (compare.py reads it)
+  int repetitions = 3;
+  double min_time = 0.1;                // seconds per repetition
+  std::string filter = ".";             // regex on kernel/method/variant/case
+  bool every_repetition = true;         // false: medians and the other aggregates only
+  std::string what = "raybench bench";  // the progress bar's label
+};
+
+// Runs the benchmarks in this process with a progress bar on stderr, writing every figure as
+// Google Benchmark JSON to `json_out`. 0 on success, 2 when the filter selects nothing or the
+// file cannot be written, 1 when a benchmark reported an error.
+int run_benchmarks(const BenchOptions& o);
 
 }  // namespace rb::app
