@@ -137,7 +137,7 @@ std::string scene_info_markdown(const json& j) {
   return o + "\n";
 }
 
-void add_info_command(CLI::App& app) {
+Command add_info_command(CLI::App& app) {
   struct Opts {
     std::string scene, json_out;
   };
@@ -146,29 +146,38 @@ void add_info_command(CLI::App& app) {
                                          "per batch (input form and SoA kernel batch)");
   cmd->add_option("scene", o->scene, "A .obj/.ply/.nff file, spd:NAME[:SIZE] (balls gears mount rings teapot tetra tree) or lecture:NAME")
       ->required();
-  cmd->add_option("--json", o->json_out, "Write the description as JSON to this file ('-' for stdout) instead of the table");
-  cmd->final_callback([o] {
-    try {
-      const auto t0 = std::chrono::steady_clock::now();
-      const rb::scene::Scene s = rb::scene::load_scene(o->scene);
-      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-      json j = scene_info(s);
-      j["source"] = o->scene;
-      j["load_ms"] = ms;
-      if (o->json_out.empty()) {
-        std::cout << scene_info_text(j);
-      } else if (o->json_out == "-") {
-        std::cout << j.dump(2) << "\n";
-      } else {
-        std::ofstream f(o->json_out);
-        f << j.dump(2) << "\n";
-        if (!f) throw rb::scene::SceneError(o->json_out + ": cannot write");
-      }
-    } catch (const std::exception& e) {
-      std::cerr << "raybench info: " << e.what() << "\n";
-      throw CLI::RuntimeError(1);
-    }
-  });
+  cmd->add_option("--json", o->json_out, "Write the description as JSON to this file instead of the table (no FILE or '-': stdout)")
+      ->expected(0, 1)
+      ->default_str("-");
+  return {cmd, [o]() -> int {
+            json j;
+            try {
+              const auto t0 = std::chrono::steady_clock::now();
+              const rb::scene::Scene s = rb::scene::load_scene(o->scene);
+              const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+              j = scene_info(s);
+              j["source"] = o->scene;
+              j["load_ms"] = ms;
+            } catch (const std::exception& e) {
+              // Loader errors name the file and line; a generator's name the scene.
+              const std::string what = e.what();
+              std::cerr << "raybench info: " << (what.find(o->scene) == std::string::npos ? o->scene + ": " : "") << what << "\n";
+              return 1;
+            }
+            if (o->json_out.empty()) {
+              std::cout << scene_info_text(j);
+            } else if (o->json_out == "-") {
+              std::cout << j.dump(2) << "\n";
+            } else {
+              std::ofstream f(o->json_out);
+              f << j.dump(2) << "\n";
+              if (!f) {
+                std::cerr << "raybench info: cannot write " << o->json_out << "\n";
+                return 1;
+              }
+            }
+            return 0;
+          }};
 }
 
 }  // namespace rb::app

@@ -28,6 +28,7 @@
 #include <functional>
 #include <iostream>
 #include <numbers>
+#include <sstream>
 #include <string>
 
 namespace rb::app {
@@ -310,6 +311,11 @@ json answer(const json& q, bool dbl) {
 }  // namespace
 
 int run_query(std::istream& in, std::ostream& out, bool dbl) {
+  std::ostringstream ignored;
+  return run_query(in, out, ignored, dbl);
+}
+
+int run_query(std::istream& in, std::ostream& out, std::ostream& err, bool dbl) {
   std::string line;
   long n = 0;
   int errors = 0;
@@ -328,12 +334,13 @@ int run_query(std::istream& in, std::ostream& out, bool dbl) {
       o = {{"line", n}, {"error", e.what()}};
       ++errors;
     }
+    if (o.contains("error")) err << "raybench query: stdin line " << n << ": " << o["error"].get<std::string>() << "\n";
     out << o.dump() << "\n";
   }
   return errors ? 1 : 0;
 }
 
-void add_query_command(CLI::App& app) {
+Command add_query_command(CLI::App& app) {
   auto* q = app.add_subcommand(
       "query",
       "One-off intersection queries: JSON lines on stdin, e.g.\n"
@@ -342,13 +349,10 @@ void add_query_command(CLI::App& app) {
       "Types: sphere(center,radius[,pole,equator]) triangle(v0,v1,v2) plane(point,normal[,u,v]) parallelogram(origin,u,v)\n"
       "polygon(vertices) box(min,max) cylinder(base,axis,radius,height[,caps]) cone(apex,axis,angle|radius+height[,caps])\n"
       "torus(center,axis,major,minor) quadric(coefficients: a b c d e f g h j k of seed 004).\n"
-      "A malformed line gets {\"line\": N, \"error\": ...}; the exit status is 1 if any line failed.");
+      "A malformed line gets {\"line\": N, \"error\": ...} (and a line on stderr); the exit status is 1 if any line failed.");
   auto dbl = std::make_shared<bool>(false);
   q->add_flag("--double", *dbl, "Run the kernels in double precision (on the same float-rounded primitive and ray)");
-  q->final_callback([dbl] {
-    const int rc = run_query(std::cin, std::cout, *dbl);
-    if (rc) throw CLI::RuntimeError(rc);
-  });
+  return {q, [dbl] { return run_query(std::cin, std::cout, std::cerr, *dbl); }};
 }
 
 }  // namespace rb::app

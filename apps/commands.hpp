@@ -1,13 +1,28 @@
-// Subcommands that live in their own files. Each adds itself to the CLI and runs from a CLI11
-// final callback; a non-zero exit status is thrown as CLI::RuntimeError(code).
+// Subcommands that live in their own files. Each adds itself to the CLI and returns the function
+// that runs it. The convention of every subcommand: the exit status says how it went (0 done,
+// 1 the input was bad or a line failed, 2 usage), and each error is one line on stderr that names
+// the input (file, scene, line) it is about.
 #pragma once
 
 #include <CLI/CLI.hpp>
 
+#include <functional>
+#include <iosfwd>
+
 namespace rb::app {
-void add_info_command(CLI::App& app);   // cmd_info.cpp  (issue 4: raybench info SCENE)
-void add_query_command(CLI::App& app);  // cmd_query.cpp (issue 3: raybench query)
-void add_trace_command(CLI::App& app);  // cmd_trace.cpp (raybench trace SCENE)
-// The query loop itself (tests call it): one JSON line out per line in; 1 if any line failed.
+
+struct Command {
+  CLI::App* cli;
+  std::function<int()> run;  // called after parsing when this subcommand was given
+};
+
+Command add_info_command(CLI::App& app);   // cmd_info.cpp:  raybench info SCENE
+Command add_query_command(CLI::App& app);  // cmd_query.cpp: raybench query
+Command add_trace_command(CLI::App& app);  // cmd_trace.cpp: raybench trace SCENE
+
+// The query loop itself (tests call it): one JSON line out per line in; 1 if any line failed,
+// with one line on `err` per failed input line.
 int run_query(std::istream& in, std::ostream& out, bool dbl);
+int run_query(std::istream& in, std::ostream& out, std::ostream& err, bool dbl);
+
 }  // namespace rb::app

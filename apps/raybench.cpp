@@ -2,7 +2,6 @@
 #include "apps/commands.hpp"
 #include "apps/machine.hpp"
 #include "apps/report.hpp"
-#include "bench/harness.hpp"
 #include "bench/ops_table.hpp"
 
 #include <CLI/CLI.hpp>
@@ -31,22 +30,22 @@ int main(int argc, char** argv) {
   std::string ops_json;
   auto* ops = app.add_subcommand("ops", "Operations per intersection: the lecture's counts beside Counted<float> and per-lane "
                                         "Counted<simd8> measurements, with the reason for every difference");
-  ops->add_option("--json", ops_json, "Write the rows as a JSON array to this file ('-' for stdout) instead of the table");
+  ops->add_option("--json", ops_json, "Write the rows as a JSON array to this file instead of the table (no FILE or '-': stdout)")
+      ->expected(0, 1)
+      ->default_str("-");
 
-  std::string bench_out = "bench.json", bench_filter = ".";
-  int bench_reps = 3;
-  std::uint32_t bench_seed = rb::bench::kBenchSeed;
-  double bench_min = 0.1;
-  auto* bench = app.add_subcommand("bench", "Run the kernel benchmarks (Google Benchmark) and write their JSON");
-  bench->add_option("-o,--out", bench_out, "JSON output file")->capture_default_str();
-  bench->add_option("--filter", bench_filter, "Regex on kernel/method/variant/case")->capture_default_str();
-  bench->add_option("-r,--repetitions", bench_reps, "Repetitions")->capture_default_str()->check(CLI::Range(1, 100));
-  bench->add_option("--min-time", bench_min, "Seconds per repetition")->capture_default_str()->check(CLI::Range(0.001, 10.0));
-  bench->add_option("--seed", bench_seed, "Seed of the benchmark rays and primitives (the report uses the default)")->capture_default_str();
+  rb::app::BenchOptions bo;
+  auto* bench = app.add_subcommand("bench", "Run the kernel benchmarks (Google Benchmark) and write their JSON, every repetition "
+                                            "and its aggregates (what Google Benchmark's compare.py reads)");
+  bench->add_option("-o,--out", bo.json_out, "JSON output file")->capture_default_str();
+  bench->add_option("--filter", bo.filter, "Regex on kernel/method/variant/case")->capture_default_str();
+  bench->add_option("-r,--repetitions", bo.repetitions, "Repetitions")->capture_default_str()->check(CLI::Range(1, 100));
+  bench->add_option("--min-time", bo.min_time, "Seconds per repetition")->capture_default_str()->check(CLI::Range(0.001, 10.0));
+  bench->add_option("--seed", bo.seed, "Seed of the benchmark rays and primitives (0: the report's data)")->capture_default_str();
 
-  rb::app::add_info_command(app);
-  rb::app::add_query_command(app);
-  rb::app::add_trace_command(app);
+  const rb::app::Command info = rb::app::add_info_command(app);
+  const rb::app::Command query = rb::app::add_query_command(app);
+  const rb::app::Command trace = rb::app::add_trace_command(app);
 
   auto* mach = app.add_subcommand("machine", "Print the machine and build description recorded with every result (JSON)");
 
@@ -67,7 +66,14 @@ int main(int argc, char** argv) {
       }
       return 0;
     }
-    if (*bench) return rb::app::run_benchmarks(bench_out, bench_reps, bench_min, bench_filter, bench_seed);
+    if (*bench) {
+      const int rc = rb::app::run_benchmarks(bo);
+      if (rc == 0) std::cerr << "wrote " << bo.json_out << "\n";
+      return rc;
+    }
+    if (*info.cli) return info.run();
+    if (*query.cli) return query.run();
+    if (*trace.cli) return trace.run();
     if (*mach) { std::cout << rb::app::machine().json().dump(2) << "\n"; return 0; }
   } catch (const std::exception& e) {
     std::cerr << "raybench: " << e.what() << "\n";

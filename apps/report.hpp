@@ -17,9 +17,20 @@ struct ReportOptions {
 
 int run_report(const ReportOptions& o);
 
-// Runs the kernel benchmarks matching `filter` in this process, writing Google Benchmark JSON to
-// `json_out` with every repetition (U-tests need them). `seed` makes the rays and primitives
-// (bench::kBenchSeed is the reported data).
-int run_benchmarks(const std::string& json_out, int repetitions, double min_time, const std::string& filter, std::uint32_t seed);
+// A run of the registered benchmarks (apps/bench_run.cpp).
+struct BenchOptions {
+  std::string json_out = "bench.json";  // Google Benchmark JSON (compare.py reads it)
+  int repetitions = 3;
+  double min_time = 0.1;                // seconds per repetition
+  std::string filter = ".";             // regex on kernel/method/variant/case
+  bool every_repetition = true;         // false: medians and the other aggregates only
+  std::uint32_t seed = 0;               // seed of the rays and primitives; 0: the report's data
+  std::string what = "raybench bench";  // the progress bar's label
+};
+
+// Runs the benchmarks in this process with a progress bar on stderr, writing every figure as
+// Google Benchmark JSON to `json_out`. 0 on success, 2 when the filter selects nothing or the
+// file cannot be written, 1 when a benchmark reported an error.
+int run_benchmarks(const BenchOptions& o);
 
 }  // namespace rb::app

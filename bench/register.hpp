@@ -51,6 +51,7 @@ void register_quadric_scalar();
 void register_quadric_simd();
 void register_solver_scalar();
 void register_solver_simd();
+void register_wide_node();  // bench_wide_node.cpp: the 8-wide BVH node's slab test
 inline void register_all_benchmarks() {
   register_basic_scalar();
   register_basic_simd();
@@ -60,6 +61,7 @@ inline void register_all_benchmarks() {
   register_quadric_simd();
   register_solver_scalar();
   register_solver_simd();
+  register_wide_node();
 }
 
 }  // namespace rb::bench

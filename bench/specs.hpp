@@ -112,7 +112,7 @@ struct BoxSpec : PlainSoaSpec<Box> {
   static RB_INLINE Hit<F> run(const Ray<F>& r, const Box<F>& b, const Soa&, std::size_t) { return intersect_box(r, b); }
 };
 
-// Every benchmarked (kernel, method) of the basic family (issue 2's first kernels). Other
+// Every benchmarked (kernel, method) of the basic family (plane, triangle, sphere, box). Other
 // families list theirs in bench/specs_<family>.hpp.
 template <class V>
 void for_each_spec(V&& v) {

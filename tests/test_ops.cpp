@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <regex>
+#include <tuple>
 
 namespace rb {
 namespace {
@@ -50,6 +52,47 @@ TEST(OpsTable, EveryDifferenceFromTheSlideHasANote) {
       EXPECT_FALSE(r.note.empty()) << r.kernel << "/" << r.method << "/" << r.kase;
     }
   }
+}
+
+// The counts a note writes (3+-, 9*, 1/, 1 sqrt, 1 cmp, 2 min/max, 1 select), summed per kind; an
+// FMA is one + and one *, as in the table. "1/pi" or "x^2 + y" are not counts: a count is a number
+// right before its unit, and "/" counts only when no name or number follows it.
+struct Stated {
+  long add = 0, mul = 0, div = 0, sqrt = 0, cmp = 0, minmax = 0, select = 0;
+  bool operator==(const Stated&) const = default;
+};
+std::ostream& operator<<(std::ostream& o, const Stated& s) {
+  return o << s.add << "+- " << s.mul << "* " << s.div << "/ " << s.sqrt << " sqrt " << s.cmp << " cmp " << s.minmax << " min/max "
+           << s.select << " select";
+}
+Stated stated_sum(const std::string& note) {
+  static const std::regex term(R"((^|[^\w^.])(\d+) ?(\+-|\*|/(?![\w(])|sqrt\b|cmp\b|min/max\b|select\b))");
+  Stated s;
+  for (auto it = std::sregex_iterator(note.begin(), note.end(), term); it != std::sregex_iterator(); ++it) {
+    const long n = std::stol((*it)[2]);
+    const std::string u = (*it)[3];
+    (u == "+-" ? s.add : u == "*" ? s.mul : u == "/" ? s.div : u == "sqrt" ? s.sqrt : u == "cmp" ? s.cmp : u == "min/max" ? s.minmax : s.select) += n;
+  }
+  return s;
+}
+Stated measured_sum(const OpCounts& m) {
+  return {long(m.add + m.fma), long(m.mul + m.fma), long(m.div), long(m.sqrt), long(m.cmp), long(m.minmax), long(m.select)};
+}
+
+TEST(OpsTable, StatedSumParserReadsCountsOnly) {
+  EXPECT_EQ(stated_sum("f 3+-; a 2+- 3*, 1/pi and 1/2pi 2*; x^2 + y^2 1 sqrt (N.E)/sin 1/; 2 clamps = 4 min/max; 1 cmp 1 select"),
+            (Stated{5, 5, 1, 1, 1, 4, 1}));
+}
+
+// Where a note lists the parts of its row (kNoteSums), the parts add up to the measured float row.
+TEST(OpsTable, NotesThatStateTheirPartsAddUpToTheMeasuredRow) {
+  int checked = 0;
+  for (const auto& r : ops_rows()) {
+    if (!r.note_sums || r.number != "float") continue;
+    ++checked;
+    EXPECT_EQ(stated_sum(r.note), measured_sum(r.measured)) << r.kernel << "/" << r.method << "/" << r.kase << ": " << r.note;
+  }
+  EXPECT_GE(checked, 5);
 }
 
 TEST(OpsTable, JsonHasTheDocumentedKeys) {

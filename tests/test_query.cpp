@@ -121,5 +121,19 @@ TEST(Query, MalformedLinesNameTheLineAndTheProblem) {
   EXPECT_FALSE(out[5].contains("error"));  // the lines after a bad one still run
 }
 
+// The subcommand convention: a failed line is also one line on stderr naming it, and the status is 1.
+TEST(Query, FailedLinesAreNamedOnStderrAndSetTheStatus) {
+  std::istringstream in(std::string("not json\n") + R"({"primitive": {"type":"sphere","center":[0,0,5],"radius":1}, )" +
+                        R"("ray": {"origin":[0,0,0],"direction":[0,0,1]}})" + "\n");
+  std::ostringstream out, err;
+  EXPECT_EQ(run_query(in, out, err, false), 1);
+  EXPECT_EQ(err.str().rfind("raybench query: stdin line 1: malformed JSON", 0), 0u) << err.str();
+  EXPECT_EQ(err.str().find("line 2"), std::string::npos) << err.str();
+  std::istringstream good(R"({"primitive": {"type":"sphere","center":[0,0,5],"radius":1}, "ray": {"origin":[0,0,0],"direction":[0,0,1]}})");
+  std::ostringstream out2, err2;
+  EXPECT_EQ(run_query(good, out2, err2, false), 0);
+  EXPECT_TRUE(err2.str().empty());
+}
+
 }  // namespace
 }  // namespace rb::app
