@@ -99,7 +99,9 @@ RaySoA make_rays(const scene::Scene& s, const bvh::Accel& accel, RaySet set, std
     inf.camera = "stated";
     angle = 45;
     const Vec3d dir = unit(Vec3d{0.3, 0.4, -1.0});
-    f.from = centre + dir * (R / std::sin(angle * M_PI / 360.0));
+    // The bounding box's largest half extent h fills the view: distance h / tan(angle / 2) + h.
+    const double h = 0.5 * std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+    f.from = centre + dir * (h / std::tan(angle * M_PI / 360.0) + h);
     f.w = dir * -1.0;
     f.u = unit(cross(f.w, Vec3d{0, 1, 0}));
     f.v = cross(f.u, f.w);

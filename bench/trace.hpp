@@ -5,7 +5,8 @@
 //   primary  camera rays through jittered pixel centres, in 4x4 pixel tiles (a 16-ray packet is
 //            a tile, an 8-ray packet half a tile); the scene's camera (NFF `v`), or for files
 //            without one a stated camera: looking at the bounds' centre from the direction
-//            (0.3, 0.4, -1), 45 degrees, far enough that the bounding sphere fills the view
+//            (0.3, 0.4, -1), 45 degrees, at the distance h / tan(22.5 deg) + h from it (h the
+//            largest half extent of the bounds), so the bounds about fill the view
 //   shadow   from each primary hit point to the scene's first light (or, for scenes without
 //            lights, a stated light at centre + 2 R (0.5, 1, -0.7)/|...|, R the bounds' radius),
 //            segment [1e-4 R, 0.9999 |L - P|]: any-hit queries

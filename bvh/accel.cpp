@@ -11,6 +11,22 @@ namespace rb::bvh {
 
 using scene::Kind;
 
+namespace {
+// A batch of `slots` never-hit slots (count = slots: every leaf group is already padded).
+template <template <class> class P>
+void fill_never(PrimSoA<P>& b, std::size_t slots) {
+  P<float> nv = P<float>::never();
+  auto t = nv.fields();
+  [&]<std::size_t... I>(std::index_sequence<I...>) { ((b.f[I].assign(slots, std::get<I>(t))), ...); }(std::make_index_sequence<PrimSoA<P>::kFields>{});
+  b.count = slots;
+}
+template <template <class> class P>
+void set_slot(PrimSoA<P>& b, std::size_t i, P<float> p) {
+  auto t = p.fields();
+  [&]<std::size_t... I>(std::index_sequence<I...>) { ((b.f[I][i] = std::get<I>(t)), ...); }(std::make_index_sequence<PrimSoA<P>::kFields>{});
+}
+}  // namespace
+
 Accel Accel::build(const scene::Scene& s, const BuildOptions& opt) {
   const auto t0 = std::chrono::steady_clock::now();
   Accel a;
@@ -37,35 +53,50 @@ Accel Accel::build(const scene::Scene& s, const BuildOptions& opt) {
     boxes(0, refs.size());
   a.bin = build_sah(lo, hi, kind, opt);
 
-  // Reorder: every leaf becomes one 8-slot group of its kind's batch.
+  // Reorder: every leaf becomes one 8-slot group of its kind's batch. Groups are assigned in
+  // node order, then the slots are written in parallel.
   const auto t1 = std::chrono::steady_clock::now();
-  std::vector<std::vector<Vec3f>> polys;
-  for (auto& n : a.bin.nodes) {
+  std::vector<std::uint32_t> leaves, leaf_first;  // binary leaf node, its first position in `order`
+  std::size_t groups[scene::kKinds] = {};
+  for (std::uint32_t i = 0; i < a.bin.nodes.size(); ++i) {
+    BNode& n = a.bin.nodes[i];
     if (!n.leaf()) continue;
-    const Kind k = Kind(n.kind);
-    auto& ids = a.id[int(k)];
-    const auto group = std::uint32_t(ids.size() / 8);  // ids are kept padded to whole groups
-    for (std::uint32_t j = n.first; j < n.first + n.count; ++j) {
-      const scene::PrimRef r = refs[a.bin.order[j]];
-      switch (k) {
-        case Kind::triangle: a.tri.push(scene::tri_verts(s, r.index)); break;
-        case Kind::sphere: a.sph.push(scene::sphere_prim(s, r.index)); break;
-        case Kind::cylinder: a.cyl.push(scene::cylinder_prim(s, r.index)); break;
-        case Kind::cone: a.cone.push(scene::cone_prim(s, r.index)); break;
-        case Kind::polygon: polys.push_back(scene::polygon_vertices(s, r.index)); break;
-      }
-      ids.push_back(r.index);
-    }
-    switch (k) {
-      case Kind::triangle: a.tri.seal(); break;
-      case Kind::sphere: a.sph.seal(); break;
-      case Kind::cylinder: a.cyl.seal(); break;
-      case Kind::cone: a.cone.seal(); break;
-      case Kind::polygon: break;
-    }
-    ids.resize(round_up(ids.size(), 8), UINT32_MAX);
-    n.first = group;
+    leaves.push_back(i);
+    const std::uint32_t first = n.first;
+    n.first = std::uint32_t(groups[n.kind]++);
+    n.pad_ = 0;
+    leaf_first.push_back(first);
   }
+  fill_never(a.tri, groups[0] * 8);
+  fill_never(a.sph, groups[1] * 8);
+  fill_never(a.cyl, groups[2] * 8);
+  fill_never(a.cone, groups[3] * 8);
+  for (int k = 0; k < scene::kKinds; ++k) a.id[k].assign(groups[k] * 8, UINT32_MAX);
+  auto write = [&](std::size_t lb, std::size_t le) {
+    for (std::size_t l = lb; l < le; ++l) {
+      const BNode& n = a.bin.nodes[leaves[l]];
+      const Kind k = Kind(n.kind);
+      const std::size_t base = std::size_t(n.first) * 8;
+      for (std::uint32_t j = 0; j < n.count; ++j) {
+        const scene::PrimRef r = refs[a.bin.order[leaf_first[l] + j]];
+        switch (k) {
+          case Kind::triangle: set_slot(a.tri, base + j, scene::tri_verts(s, r.index)); break;
+          case Kind::sphere: set_slot(a.sph, base + j, scene::sphere_prim(s, r.index)); break;
+          case Kind::cylinder: set_slot(a.cyl, base + j, scene::cylinder_prim(s, r.index)); break;
+          case Kind::cone: set_slot(a.cone, base + j, scene::cone_prim(s, r.index)); break;
+          case Kind::polygon: break;
+        }
+        a.id[int(k)][base + j] = r.index;
+      }
+    }
+  };
+  if (opt.parallel)
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 256), [&](const auto& r) { write(r.begin(), r.end()); });
+  else
+    write(0, leaves.size());
+  std::vector<std::vector<Vec3f>> polys;
+  for (std::uint32_t p : a.id[4])
+    if (p != UINT32_MAX) polys.push_back(scene::polygon_vertices(s, p));
   // Polygons: one PolygonSoA over the leaf-ordered polygons; each leaf lane keeps its slot.
   if (!polys.empty()) {
     a.poly = PolygonSoA::build(polys);

@@ -7,6 +7,8 @@
 #include <tbb/parallel_reduce.h>
 #include <tbb/task_group.h>
 
+#include <immintrin.h>
+
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -23,18 +25,19 @@ constexpr std::size_t kParallelNode = 16384;  // primitives above which a node b
 constexpr std::size_t kTaskNode = 4096;       // primitives above which a child subtree is a task
 constexpr int kMaxBins = 64;
 
+// Boxes as two SSE registers (x, y, z, unused): binning grows 3 bins per primitive with 2
+// min/max instructions each.
 struct Box {
-  float lo[3] = {kInfF, kInfF, kInfF}, hi[3] = {-kInfF, -kInfF, -kInfF};
-  void grow(const Box& b) {
-    for (int k = 0; k < 3; ++k) { lo[k] = std::min(lo[k], b.lo[k]); hi[k] = std::max(hi[k], b.hi[k]); }
-  }
-  void grow(const float* p) {
-    for (int k = 0; k < 3; ++k) { lo[k] = std::min(lo[k], p[k]); hi[k] = std::max(hi[k], p[k]); }
-  }
+  __m128 lo = _mm_set1_ps(kInfF), hi = _mm_set1_ps(-kInfF);
+  void grow(const Box& b) { lo = _mm_min_ps(lo, b.lo); hi = _mm_max_ps(hi, b.hi); }
+  void grow(__m128 p) { lo = _mm_min_ps(lo, p); hi = _mm_max_ps(hi, p); }
+  float l(int k) const { alignas(16) float v[4]; _mm_store_ps(v, lo); return v[k]; }
+  float h(int k) const { alignas(16) float v[4]; _mm_store_ps(v, hi); return v[k]; }
   float area() const {
-    const float dx = hi[0] - lo[0], dy = hi[1] - lo[1], dz = hi[2] - lo[2];
-    if (!(dx >= 0)) return 0.f;
-    return 2.f * (dx * dy + dy * dz + dz * dx);
+    alignas(16) float d[4];
+    _mm_store_ps(d, _mm_sub_ps(hi, lo));
+    if (!(d[0] >= 0)) return 0.f;
+    return 2.f * (d[0] * d[1] + d[1] * d[2] + d[2] * d[0]);
   }
 };
 
@@ -50,27 +53,26 @@ struct Bins {
   }
 };
 
+struct Centre {
+  __m128 v;
+};
+
 struct Builder {
   const BuildOptions& opt;
-  const float* plo;
-  const float* phi;
+  std::vector<Box> pbox;    // per primitive
+  std::vector<Centre> cen;  // per primitive: box centre
   const std::uint8_t* kind;
-  std::vector<float> cen;  // 3 per primitive
   std::vector<std::uint32_t>& idx;
   std::vector<BNode>& nodes;
   std::atomic<std::uint32_t> next{1};
 
-  Box prim_box(std::uint32_t p) const {
-    Box b;
-    for (int k = 0; k < 3; ++k) { b.lo[k] = plo[3 * p + k]; b.hi[k] = phi[3 * p + k]; }
-    return b;
-  }
+  float cen_of(std::uint32_t p, int axis) const { return reinterpret_cast<const float*>(&cen[p].v)[axis]; }
   // Box and centroid box of idx[begin, end).
   std::pair<Box, Box> bounds(std::size_t begin, std::size_t end) const {
     auto body = [&](std::size_t b, std::size_t e, std::pair<Box, Box> acc) {
       for (std::size_t i = b; i < e; ++i) {
-        acc.first.grow(prim_box(idx[i]));
-        acc.second.grow(&cen[3 * std::size_t(idx[i])]);
+        acc.first.grow(pbox[idx[i]]);
+        acc.second.grow(cen[idx[i]].v);
       }
       return acc;
     };
@@ -92,7 +94,7 @@ struct Builder {
     return float((n + b - 1) / b);
   }
   int bin_of(std::uint32_t p, int axis, float clo, float scale, int nb) const {
-    const int b = int((cen[3 * std::size_t(p) + std::size_t(axis)] - clo) * scale);
+    const int b = int((cen_of(p, axis) - clo) * scale);
     return std::clamp(b, 0, nb - 1);
   }
 
@@ -106,17 +108,22 @@ struct Builder {
   void build(std::uint32_t ni, std::size_t begin, std::size_t end, const Box& box, const Box& cbox, int depth) {
     const std::size_t n = end - begin;
     BNode& node = nodes[ni];
-    for (int k = 0; k < 3; ++k) { node.lo[k] = box.lo[k]; node.hi[k] = box.hi[k]; }
+    for (int k = 0; k < 3; ++k) { node.lo[k] = box.l(k); node.hi[k] = box.h(k); }
     bool mixed = false;
     for (std::size_t i = begin + 1; i < end && !mixed; ++i) mixed = kind[idx[i]] != kind[idx[begin]];
     const std::size_t max_leaf = std::size_t(std::max(1, std::min(opt.max_leaf, 8)));
-    if (n == 1 || (n <= max_leaf && !mixed && n <= 2)) { make_leaf(node, begin, end); return; }
+    // With a visit cost at least one leaf call, a split of at most one lane group never beats a
+    // leaf (split cost Ct + Ci (AL + AR) / A > Ci): no binning needed.
+    const bool small = n <= max_leaf && n <= std::size_t(std::max(1, opt.leaf_block)) && opt.traversal_cost >= opt.intersection_cost;
+    if (n == 1 || (small && !mixed)) { make_leaf(node, begin, end); return; }
 
     std::size_t mid = begin;
+    std::pair<Box, Box> lb, rb;  // children's boxes and centroid boxes when the partition made them
+    bool have_bounds = false;
     const int nb = std::clamp(opt.bins, 2, kMaxBins);
     float ext[3];
     int axis = 0;
-    for (int k = 0; k < 3; ++k) ext[k] = cbox.hi[k] - cbox.lo[k];
+    for (int k = 0; k < 3; ++k) ext[k] = cbox.h(k) - cbox.l(k);
     if (ext[1] > ext[axis]) axis = 1;
     if (ext[2] > ext[axis]) axis = 2;
     const bool flat = !(ext[axis] > 0);
@@ -126,12 +133,18 @@ struct Builder {
       Bins bins;
       float scale[3];
       for (int k = 0; k < 3; ++k) scale[k] = ext[k] > 0 ? float(nb) * (1.f - 1e-6f) / ext[k] : 0.f;
+      const __m128 vclo = cbox.lo;
+      const __m128 vscale = _mm_setr_ps(scale[0], scale[1], scale[2], 0.f);
+      const __m128i vmax = _mm_set1_epi32(nb - 1), vzero = _mm_setzero_si128();
       auto body = [&](std::size_t b, std::size_t e, Bins& acc) {
         for (std::size_t i = b; i < e; ++i) {
           const std::uint32_t p = idx[i];
-          const Box pb = prim_box(p);
+          const Box& pb = pbox[p];
+          const __m128i bi = _mm_min_epi32(_mm_max_epi32(_mm_cvttps_epi32(_mm_mul_ps(_mm_sub_ps(cen[p].v, vclo), vscale)), vzero), vmax);
+          alignas(16) int b3[4];
+          _mm_store_si128(reinterpret_cast<__m128i*>(b3), bi);
           for (int k = 0; k < 3; ++k) {
-            Bin& bin = acc.b[k][bin_of(p, k, cbox.lo[k], scale[k], nb)];
+            Bin& bin = acc.b[k][b3[k]];
             bin.box.grow(pb);
             ++bin.n;
           }
@@ -172,10 +185,17 @@ struct Builder {
 
     if (best_axis >= 0 && !(n <= max_leaf && mixed)) {
       const float scale = float(nb) * (1.f - 1e-6f) / ext[best_axis];
-      const float clo = cbox.lo[best_axis];
-      mid = std::size_t(std::partition(idx.begin() + std::ptrdiff_t(begin), idx.begin() + std::ptrdiff_t(end),
-                                       [&](std::uint32_t p) { return bin_of(p, best_axis, clo, scale, nb) <= best_bin; }) -
-                        idx.begin());
+      const float clo = cbox.l(best_axis);
+      // Partition and bound both sides in the same pass.
+      std::size_t i = begin, j = end;
+      for (;;) {
+        while (i < j && bin_of(idx[i], best_axis, clo, scale, nb) <= best_bin) { lb.first.grow(pbox[idx[i]]); lb.second.grow(cen[idx[i]].v); ++i; }
+        while (i < j && bin_of(idx[j - 1], best_axis, clo, scale, nb) > best_bin) { rb.first.grow(pbox[idx[j - 1]]); rb.second.grow(cen[idx[j - 1]].v); --j; }
+        if (i >= j) break;
+        std::swap(idx[i], idx[j - 1]);
+      }
+      mid = i;
+      have_bounds = true;
     } else if (mixed) {
       // Split off the first primitive's kind (a leaf holds one kind).
       const std::uint8_t k0 = kind[idx[begin]];
@@ -186,22 +206,21 @@ struct Builder {
     if (mid <= begin || mid >= end) {
       // No usable split (coincident centroids, or too deep): the object median on the widest axis.
       mid = begin + n / 2;
+      have_bounds = false;
       if (!flat)
         std::nth_element(idx.begin() + std::ptrdiff_t(begin), idx.begin() + std::ptrdiff_t(mid), idx.begin() + std::ptrdiff_t(end),
-                         [&](std::uint32_t a, std::uint32_t b) { return cen[3 * std::size_t(a) + std::size_t(axis)] < cen[3 * std::size_t(b) + std::size_t(axis)]; });
+                         [&](std::uint32_t a, std::uint32_t b) { return cen_of(a, axis) < cen_of(b, axis); });
     }
     const std::uint32_t c = next.fetch_add(2);
     node.first = c;
     node.count = 0;
     node.kind = 0;
-    auto left = [&, c, begin, mid, depth] {
-      const auto [b, cb] = bounds(begin, mid);
-      build(c, begin, mid, b, cb, depth + 1);
-    };
-    auto right = [&, c, mid, end, depth] {
-      const auto [b, cb] = bounds(mid, end);
-      build(c + 1, mid, end, b, cb, depth + 1);
-    };
+    if (!have_bounds) {
+      lb = bounds(begin, mid);
+      rb = bounds(mid, end);
+    }
+    auto left = [&, c, begin, mid, depth, lb] { build(c, begin, mid, lb.first, lb.second, depth + 1); };
+    auto right = [&, c, mid, end, depth, rb] { build(c + 1, mid, end, rb.first, rb.second, depth + 1); };
     if (opt.parallel && n >= kTaskNode) {
       tbb::task_group g;
       g.run(left);
@@ -234,9 +253,12 @@ Bvh2 build_sah(const std::vector<float>& lo, const std::vector<float>& hi, const
     return out;
   }
   out.nodes.resize(2 * idx.size());
-  Builder b{opt, lo.data(), hi.data(), kind.data(), std::vector<float>(3 * n), idx, out.nodes};
-  for (std::size_t i : idx)
-    for (int k = 0; k < 3; ++k) b.cen[3 * i + std::size_t(k)] = 0.5f * lo[3 * i + std::size_t(k)] + 0.5f * hi[3 * i + std::size_t(k)];
+  Builder b{opt, std::vector<Box>(n), std::vector<Centre>(n), kind.data(), idx, out.nodes};
+  for (std::size_t i : idx) {
+    b.pbox[i].lo = _mm_setr_ps(lo[3 * i], lo[3 * i + 1], lo[3 * i + 2], 0.f);
+    b.pbox[i].hi = _mm_setr_ps(hi[3 * i], hi[3 * i + 1], hi[3 * i + 2], 0.f);
+    b.cen[i].v = _mm_mul_ps(_mm_add_ps(b.pbox[i].lo, b.pbox[i].hi), _mm_set1_ps(0.5f));
+  }
   const auto [box, cbox] = b.bounds(0, idx.size());
   b.build(0, 0, idx.size(), box, cbox, 0);
   out.nodes.resize(b.next.load());

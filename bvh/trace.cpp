@@ -75,9 +75,26 @@ RB_INLINE Hit<f8> cone_hit(const Ray<f8>& r, const X& x) {
 // ---- one ray against one 8-slot group (primitives in lanes) ------------------------------------
 // B is Accel or BruteForce (same member names). Returns true on a hit closer than h.t; updates h
 // and rb.tmax (closest) or only h (any).
+// The ray broadcast to 8 lanes and its Woop precompute, made at the first leaf a ray reaches
+// (most rays of a sparse view never reach one).
+struct LeafRay {
+  Ray<f8> rb{};
+  WoopRay<f8> w{};
+  bool ready = false;
+  RB_INLINE void prepare(const Ray<float>& r, float tmax) {
+    if (ready) return;
+    rb = Ray<f8>::broadcast(r);
+    rb.tmax = f8(tmax);
+    w = make_woop_ray(rb);
+    ready = true;
+  }
+};
+
 template <bool Count, class B>
-RB_INLINE bool group1(const B& a, int kind, std::size_t base, const Ray<float>& r, Ray<f8>& rb, const WoopRay<f8>& w, HitRec& h,
-                      TraceCounters& c) {
+RB_INLINE bool group1(const B& a, int kind, std::size_t base, const Ray<float>& r, LeafRay& lr, HitRec& h, TraceCounters& c) {
+  lr.prepare(r, h.t);
+  Ray<f8>& rb = lr.rb;
+  const WoopRay<f8>& w = lr.w;
   Hit<f8> hit;
   const auto& ids = a.id[kind];
   if constexpr (Count)
@@ -124,8 +141,7 @@ HitRec trace1_wide(const Accel& a, const Ray<float>& r, TraceCounters& c) {
   HitRec h{r.tmax, kNoPrim};
   if (!(r.tmin <= r.tmax) || a.wide.nodes.empty()) return {kInfF, kNoPrim};
   const SlabRay sr = SlabRay::make(r);
-  Ray<f8> rb = Ray<f8>::broadcast(r);
-  const WoopRay<f8> w = make_woop_ray(rb);
+  LeafRay lr;
   Entry stack[kStack];
   int sp = 0;
   std::uint32_t ref = 0;
@@ -157,7 +173,7 @@ HitRec trace1_wide(const Accel& a, const Ray<float>& r, TraceCounters& c) {
       ref = e[ne - 1].ref;
       continue;
     }
-    if (group1<Count>(a, leaf_kind(ref), std::size_t(leaf_group(ref)) * 8, r, rb, w, h, c) && Any) return h;
+    if (group1<Count>(a, leaf_kind(ref), std::size_t(leaf_group(ref)) * 8, r, lr, h, c) && Any) return h;
   pop:
     do {
       if (sp == 0) {
@@ -204,8 +220,7 @@ HitRec trace1_binary(const Accel& a, const Ray<float>& r, TraceCounters& c) {
   if (!(r.tmin <= r.tmax) || a.bin.nodes.empty()) return {kInfF, kNoPrim};
   const Vec3f rd{safe_rcp(r.d.x), safe_rcp(r.d.y), safe_rcp(r.d.z)};
   const Vec3f ord{r.o.x * rd.x, r.o.y * rd.y, r.o.z * rd.z};
-  Ray<f8> rb = Ray<f8>::broadcast(r);
-  const WoopRay<f8> w = make_woop_ray(rb);
+  LeafRay lr;
   Entry stack[kStack];
   int sp = 0;
   const BNode* nodes = a.bin.nodes.data();
@@ -226,7 +241,7 @@ HitRec trace1_binary(const Accel& a, const Ray<float>& r, TraceCounters& c) {
       }
       if (h0) { ni = n.first; continue; }
       if (h1) { ni = n.first + 1; continue; }
-    } else if (group1<Count>(a, n.kind, std::size_t(n.first) * 8, r, rb, w, h, c) && Any) {
+    } else if (group1<Count>(a, n.kind, std::size_t(n.first) * 8, r, lr, h, c) && Any) {
       return h;
     }
     do {
@@ -427,13 +442,12 @@ void Accel::trace_counted(const RaySoA& rays, std::size_t begin, std::size_t end
 HitRec BruteForce::trace(const Ray<float>& r, bool any) const {
   HitRec h{r.tmax, kNoPrim};
   if (!(r.tmin <= r.tmax)) return {kInfF, kNoPrim};
-  Ray<f8> rb = Ray<f8>::broadcast(r);
-  const WoopRay<f8> w = make_woop_ray(rb);
+  LeafRay lr;
   TraceCounters c;
   const std::size_t sizes[scene::kKinds] = {tri.size(), sph.size(), cyl.size(), cone.size(), poly.size()};
   for (int k = 0; k < scene::kKinds; ++k)
     for (std::size_t g = 0; g < sizes[k]; g += 8)
-      if (group1<false>(*this, k, g, r, rb, w, h, c) && any) return h;
+      if (group1<false>(*this, k, g, r, lr, h, c) && any) return h;
   if (h.prim == kNoPrim) h.t = kInfF;
   return h;
 }
