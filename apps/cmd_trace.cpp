@@ -10,7 +10,7 @@
 
 namespace rb::app {
 
-void add_trace_command(CLI::App& app) {
+Command add_trace_command(CLI::App& app) {
   auto o = std::make_shared<TraceRunOptions>();
   auto json_out = std::make_shared<std::string>();
   auto* cmd = app.add_subcommand("trace", "Trace a whole scene through the BVH (binary or 8-wide, single rays or packets, TBB threads) "
@@ -32,7 +32,7 @@ void add_trace_command(CLI::App& app) {
   cmd->add_flag("!--no-embree", o->embree, "Skip Embree");
   cmd->add_option("--json", *json_out, "Write the result as JSON to this file (no argument or '-': stdout) instead of the table")
       ->expected(0, 1);
-  cmd->final_callback([o, json_out, cmd] {
+  return {cmd, [o, json_out, cmd]() -> int {
     try {
       const nlohmann::json j = run_trace(*o, true);
       if (cmd->count("--json") == 0) {
@@ -44,11 +44,12 @@ void add_trace_command(CLI::App& app) {
         f << j.dump(2) << "\n";
         if (!f) throw std::runtime_error(*json_out + ": cannot write");
       }
+      return 0;
     } catch (const std::exception& e) {
       std::cerr << "raybench trace: " << o->scene << ": " << e.what() << "\n";
-      throw CLI::RuntimeError(1);
+      return 1;
     }
-  });
+  }};
 }
 
 }  // namespace rb::app
