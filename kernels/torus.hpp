@@ -211,15 +211,13 @@ template <class F>
 RB_INLINE Roots<F, 4> torus_roots_robust(const Ray<F>& r, const Torus<F>& T, IterCount* ic = nullptr) {
   const detail::TorusLocal<F> L = detail::torus_local_roots(r, T, ic);
   if (none_of<F>(L.m)) return Roots<F, 4>::none();
-  Roots<F, 4> out;
+  F t[4];
   for (int i = 0; i < 4; ++i) {
-    out.valid[i] = L.s[i] < F(kInf<F>);
-    const F s = detail::torus_polish(L.q0, r.d, T, vselect(out.valid[i], L.s[i], F(0)));
-    const F t = L.t0 + s;
-    out.valid[i] = out.valid[i] & (t >= r.tmin) & (t <= r.tmax);
-    out.t[i] = vselect(out.valid[i], t, F(kInf<F>));
+    const mask_t<F> found = L.s[i] < F(kInf<F>);
+    t[i] = L.t0 + detail::torus_polish(L.q0, r.d, T, vselect(found, L.s[i], F(0)));
+    t[i] = vselect(found & (t[i] >= r.tmin) & (t[i] <= r.tmax), t[i], F(kInf<F>));
   }
-  return out;
+  return Roots<F, 4>::canonical(t);  // polishing may swap two close roots: sorted again
 }
 
 template <class F>
