@@ -187,7 +187,7 @@ RB_INLINE Hit<F> intersect_sphere_compensated(const Ray<F>& r, const Sphere<F>& 
   const mask_t<F> m = disc >= F(0);                                           // 1 cmp
   if (none_of<F>(m)) return miss_hit<F>();
   const F b = s2 + bl, c = u3 + cl;                                           // 2+-
-  return first_root_hit(r, m, stable_roots(a, b, c, disc));
+  return first_hit(r, stable_roots(a, b, c, disc, m));
 }
 
 // All roots of the (closed) sphere: one entry/exit interval [t[0], t[1]] on the whole line
