@@ -98,7 +98,7 @@ int run_benchmarks(const BenchOptions& o) {
   }
   if (std::ofstream f(o.json_out); !f) {  // Google Benchmark would exit() on an unwritable file
     std::cerr << "raybench: cannot write " << o.json_out << "\n";
-    return 2;
+    return 1;
   }
   const Machine m = machine();
   benchmark::AddCustomContext("raybench_cpu", m.cpu);

@@ -29,8 +29,8 @@ struct BenchOptions {
 };
 
 // Runs the benchmarks in this process with a progress bar on stderr, writing every figure as
-// Google Benchmark JSON to `json_out`. 0 on success, 2 when the filter selects nothing or the
-// file cannot be written, 1 when a benchmark reported an error.
+// Google Benchmark JSON to `json_out`. 0 on success, 2 when the filter selects nothing, 1 when the
+// file cannot be written or a benchmark reported an error.
 int run_benchmarks(const BenchOptions& o);
 
 }  // namespace rb::app

@@ -2,9 +2,13 @@
 // of the ops table: every difference from a slide has a note; the JSON has the documented keys.
 #include "bench/ops_table.hpp"
 #include "kernel_test_util.hpp"
+#include "bench/specs_planar.hpp"
+#include "bench/specs_quadric.hpp"
+#include "bench/specs_solver.hpp"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <map>
 #include <regex>
 #include <tuple>
@@ -93,6 +97,23 @@ TEST(OpsTable, NotesThatStateTheirPartsAddUpToTheMeasuredRow) {
     EXPECT_EQ(stated_sum(r.note), measured_sum(r.measured)) << r.kernel << "/" << r.method << "/" << r.kase << ": " << r.note;
   }
   EXPECT_GE(checked, 5);
+}
+
+// Every benchmarked spec has its ops per test in rb_ops (a family that forgets to add its specs to
+// the table would report NaN in every benchmark). The miss case: cheap, every lane exits early.
+TEST(OpsTable, EveryBenchmarkedSpecHasItsOpsPerTest) {
+  int n = 0;
+  auto check = [&n]<class Spec>() {
+    ++n;
+    const double x = bench::ops_per_test(Spec::kernel, Spec::method, bench::Case::miss, bench::Variant::scalar);
+    EXPECT_TRUE(std::isfinite(x) && x > 0) << Spec::kernel << "/" << Spec::method << ": " << x;
+  };
+  bench::for_each_spec(check);
+  bench::for_each_spec_planar(check);
+  bench::for_each_spec_quadric(check);
+  bench::for_each_spec_solver(check);
+  EXPECT_GE(n, 30);
+  EXPECT_TRUE(std::isnan(bench::ops_per_test("no_such", "kernel", bench::Case::hit, bench::Variant::scalar)));
 }
 
 TEST(OpsTable, JsonHasTheDocumentedKeys) {
