@@ -410,10 +410,32 @@ void trace_range(const Accel& a, const RaySoA& rays, std::size_t begin, std::siz
     return;
   }
   if (o.layout != Layout::wide) throw std::invalid_argument("packets traverse the wide layout only");
+  // A packet whose valid rays do not share one direction octant is incoherent: its rays would
+  // part ways at the first nodes, so they traverse one by one (as Embree does for incoherent
+  // packets). Coherent packets (camera tiles, rays towards one light) traverse together.
+  auto coherent = [&](std::size_t i, std::size_t n) {
+    int oct = -1;
+    for (std::size_t k = i; k < i + n; ++k) {
+      if (!(rays.tmin[k] <= rays.tmax[k])) continue;
+      const int q = (rays.dx[k] < 0) | (rays.dy[k] < 0) << 1 | (rays.dz[k] < 0) << 2;
+      if (oct >= 0 && q != oct) return false;
+      oct = q;
+    }
+    return true;
+  };
+  auto singles = [&](std::size_t i, std::size_t n) {
+    for (std::size_t k = i; k < i + n; ++k) out[k] = trace1_wide<Robust, Any, Count>(a, rays.get(k), c);
+  };
   std::size_t i = begin;
   if (o.packet == 16)
-    for (; i + 16 <= end; i += 16) trace_packet<Robust, Any, Count, 2>(a, rays, i, out, c);
-  for (; i < end; i += 8) trace_packet<Robust, Any, Count, 1>(a, rays, i, out, c);  // rays are padded to 8
+    for (; i + 16 <= end; i += 16) {
+      if (coherent(i, 16)) trace_packet<Robust, Any, Count, 2>(a, rays, i, out, c);
+      else singles(i, 16);
+    }
+  for (; i < end; i += 8) {  // rays are padded to 8
+    if (coherent(i, 8)) trace_packet<Robust, Any, Count, 1>(a, rays, i, out, c);
+    else singles(i, 8);
+  }
 }
 
 template <bool Count>

@@ -55,10 +55,10 @@ def trace_scaling(out, summary):
     rows = sorted(rows, key=lambda r: r["primitives"])
     fig, ax = plt.subplots(figsize=(7, 4.5))
     x = [r["primitives"] for r in rows]
-    ax.loglog(x, [r["ns_per_ray"] for r in rows], "o-", label="raybench (8-wide BVH, single rays)")
+    ax.loglog(x, [r["ns_per_ray"] for r in rows], "o", label="raybench (8-wide BVH, single rays)")
     e = [(r["primitives"], r["embree_ns_per_ray"]) for r in rows if r.get("embree_ns_per_ray") is not None]
     if e:
-        ax.loglog([p[0] for p in e], [p[1] for p in e], "s--", label="Embree 3 (rtcIntersect1)")
+        ax.loglog([p[0] for p in e], [p[1] for p in e], "s", mfc="none", label="Embree 3 (rtcIntersect1)")
     for r in rows:
         ax.annotate(r["scene"], (r["primitives"], r["ns_per_ray"]), fontsize=6, xytext=(3, 3), textcoords="offset points")
     ax.set_xlabel("primitives")
