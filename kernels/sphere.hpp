@@ -81,7 +81,7 @@ RB_INLINE Hit<F> intersect_sphere_algebraic(const Ray<F>& r, const Sphere<F>& s)
 template <class F>
 RB_INLINE Vec3<F> sphere_normal(const Sphere<F>& s, const Vec3<F>& p) { return (p - s.c) * s.inv_r; }
 
-// ---- issue 3 (quadric family): stable algebraic, Hearn-Baker, [u,v], all roots -----------------
+// ---- the quadric family: stable algebraic, Hearn-Baker, [u,v], all roots -----------------
 //   stable (Press et al., Numerical Recipes 5.6; Haines et al., Ray Tracing Gems ch. 7):
 //     f = P0 - C, a = d . d, b = f . d (half b), c = f . f - R^2, disc = b^2 - a c,
 //     q = -(b + sign(b) sqrt(disc)), t0 = q / a, t1 = c / q (kernels/quadratic.hpp).

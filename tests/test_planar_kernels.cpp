@@ -1,4 +1,4 @@
-// The planar kernel family (issue 3): plane with [u,v], parallelogram, triangle by Cramer's rule
+// The planar kernel family: plane with [u,v], parallelogram, triangle by Cramer's rule
 // and by Woop-Benthin-Wald, general polygon (crossing test), parallel planes, convex polyhedron
 // (halfspaces, slabs).
 //   - hand-worked hit / miss / t / [u,v] cases, typed over every number type;

@@ -1,4 +1,4 @@
-// The quadric kernel family (issue 3): sphere stable / Hearn-Baker / [u,v] / roots, the general
+// The quadric kernel family: sphere stable / Hearn-Baker / [u,v] / roots, the general
 // quadric (matrix and ten-coefficient methods) with every named quadric of seed 004, the quadric
 // of revolution, cylinder and cone (open and capped), and transformed instances.
 //   - hand-worked hits, misses, t, normals, [u,v], typed over every number type;

@@ -1,4 +1,4 @@
-// Root-solver kernels (issue 3): torus (ferrari, robust), algebraic surfaces (derivative
+// Root-solver kernels: torus (ferrari, robust), algebraic surfaces (derivative
 // isolation), implicit surfaces (sphere tracing, illinois), surfaces of revolution.
 // Typed tests run hand-worked cases on every number type; reference comparisons are scalar.
 #include "kernels/algebraic.hpp"
