@@ -185,8 +185,9 @@ std::string num_or_dash(const json& v, const char* f) { return v.is_null() ? "-"
 std::string trace_text(const json& j) {
   std::string o;
   o += fmt::format("scene      {} ({} primitives)\n", j["scene"].get<std::string>(), j["primitives"].get<std::size_t>());
-  o += fmt::format("rays       {} {} (seed {}, camera {}, light {}), {:.1f}% hit\n", j["rays"].get<std::size_t>(), j["ray_set"].get<std::string>(),
-                   j["seed"].get<std::uint64_t>(), j["camera"].get<std::string>(), j["light"].get<std::string>(),
+  const std::string light = j["light"].get<std::string>();
+  o += fmt::format("rays       {} {} (seed {}, camera {}{}), {:.1f}% hit\n", j["rays"].get<std::size_t>(), j["ray_set"].get<std::string>(),
+                   j["seed"].get<std::uint64_t>(), j["camera"].get<std::string>(), light.empty() ? "" : ", light " + light,
                    100 * j["hit_fraction"].get<double>());
   std::string hist;
   for (const auto& h : j["leaf_size_histogram"]) hist += fmt::format("{}{}", hist.empty() ? "" : " ", h.get<std::size_t>());
