@@ -61,10 +61,10 @@ def traces(folder):
 
 
 def trace_reps(j):
-    for k in ("mrays_per_s_runs", "mrays_per_s_reps", "runs"):
-        v = j.get(k)
-        if isinstance(v, list) and v and all(isinstance(x, (int, float)) for x in v):
-            return v
+    """Mrays/s of every timed run (`raybench trace --json` keeps each run's seconds)."""
+    secs, rays = j.get("seconds"), j.get("rays")
+    if isinstance(secs, list) and rays and all(isinstance(x, (int, float)) and x > 0 for x in secs):
+        return [rays / x / 1e6 for x in secs]
     return [j["mrays_per_s"]] if j.get("mrays_per_s") else []
 
 
