@@ -77,6 +77,7 @@ pgo_traces() {  # binary, out dir, seed, count, repetitions, scenes...
 pgo_train() {  # name of the profile: honest | tuned
   local name=$1 gen=build/pgo-gen/apps/raybench prof=build/pgo-profiles
   rm -rf "$prof/raw" "$prof/$name"
+  mkdir -p "$prof"
   echo "[pgo] training the $name profile"
   if [ "$name" = honest ]; then
     "$gen" bench --seed 7 --repetitions 1 --min-time 0.01 --out "$prof/train-bench.json" >/dev/null
