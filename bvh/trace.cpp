@@ -135,6 +135,25 @@ RB_INLINE bool group1(const B& a, int kind, std::size_t base, const Ray<float>& 
   return true;
 }
 
+// ---- the traversal stack, shared by the single-ray traversals ---------------------------------
+// Pops entries until one is not beyond the current hit (NaN distances are kept, as `d > t` is
+// false for them); false when the stack runs empty.
+RB_INLINE bool pop_nearer(const Entry* stack, int& sp, float t, std::uint32_t& ref) {
+  while (sp > 0) {
+    --sp;
+    if (!(stack[sp].d > t)) {
+      ref = stack[sp].ref;
+      return true;
+    }
+  }
+  return false;
+}
+// The finished hit: t = +inf when nothing was hit (the contract of Hit).
+RB_INLINE HitRec finished(HitRec h) {
+  if (h.prim == kNoPrim) h.t = kInfF;
+  return h;
+}
+
 // ---- single ray, 8-wide ------------------------------------------------------------------------
 template <bool Robust, bool Any, bool Count>
 HitRec trace1_wide(const Accel& a, const Ray<float>& r, TraceCounters& c) {
@@ -175,14 +194,7 @@ HitRec trace1_wide(const Accel& a, const Ray<float>& r, TraceCounters& c) {
     }
     if (group1<Count>(a, leaf_kind(ref), std::size_t(leaf_group(ref)) * 8, r, lr, h, c) && Any) return h;
   pop:
-    do {
-      if (sp == 0) {
-        if (h.prim == kNoPrim) h.t = kInfF;
-        return h;
-      }
-      --sp;
-    } while (stack[sp].d > h.t);
-    ref = stack[sp].ref;
+    if (!pop_nearer(stack, sp, h.t, ref)) return finished(h);
   }
 }
 
@@ -244,14 +256,7 @@ HitRec trace1_binary(const Accel& a, const Ray<float>& r, TraceCounters& c) {
     } else if (group1<Count>(a, n.kind, std::size_t(n.first) * 8, r, lr, h, c) && Any) {
       return h;
     }
-    do {
-      if (sp == 0) {
-        if (h.prim == kNoPrim) h.t = kInfF;
-        return h;
-      }
-      --sp;
-    } while (stack[sp].d > h.t);
-    ni = stack[sp].ref;
+    if (!pop_nearer(stack, sp, h.t, ni)) return finished(h);
   }
 }
 
@@ -470,8 +475,7 @@ HitRec BruteForce::trace(const Ray<float>& r, bool any) const {
   for (int k = 0; k < scene::kKinds; ++k)
     for (std::size_t g = 0; g < sizes[k]; g += 8)
       if (group1<false>(*this, k, g, r, lr, h, c) && any) return h;
-  if (h.prim == kNoPrim) h.t = kInfF;
-  return h;
+  return finished(h);
 }
 
 }  // namespace rb::bvh
