@@ -89,7 +89,8 @@ inline std::int64_t ulp_distance(float a, float b) {
 }
 
 // SIMD lanes against the scalar float result of the same ray and primitive. t is compared in ulps
-// of t; u, v (in [0, 1]) in ulps of 1.0, so values near 0 are not over-weighted. A lane whose
+// of t; u, v in ulps of max(1, |u|), so values near 0 are not over-weighted (u, v of barycentric
+// forms lie in [0, 1]; a plane's u, v are unbounded). A lane whose
 // distance exceeds `tol` (0 in the exact build) or a miss whose t is not +inf counts as bad.
 struct Tally {
   std::int64_t tol = 0;  // allowed distance in contracted builds
@@ -102,7 +103,8 @@ struct Tally {
     if (!s.mask) { bad += tv != std::numeric_limits<float>::infinity(); return; }
     const double eps1 = std::ldexp(1.0, -23);
     const auto uvd = [&](float x, float y) {
-      return x == y ? std::int64_t(0) : std::int64_t(std::ceil(std::fabs(double(x) - double(y)) / eps1));
+      const double scale = std::max({1.0, std::fabs(double(x)), std::fabs(double(y))});
+      return x == y ? std::int64_t(0) : std::int64_t(std::ceil(std::fabs(double(x) - double(y)) / (eps1 * scale)));
     };
     const std::int64_t d = std::max({ulp_distance(s.t, tv), uvd(s.u, uv), uvd(s.v, vv)});
     max_ulp = std::max(max_ulp, d);

@@ -765,13 +765,18 @@ void check_lanes(const char* what, K k, const std::vector<P<float>>& prims, cons
     EXPECT_TRUE(same_bits(s.t, lane(v.t, l))) << what << " " << map << " " << i << " lane " << l << ": " << s.t << " vs " << lane(v.t, l);
 #else
     // Contracted builds: the scalar and SIMD code may fuse differently: 64 ulps of |t| bound.
-    EXPECT_LE(std::fabs(s.t - lane(v.t, l)), 64 * std::numeric_limits<float>::epsilon() * std::fabs(s.t)) << what;
+    // (Equal values first: two misses both hold +inf, and inf - inf is NaN.)
+    EXPECT_TRUE(s.t == lane(v.t, l) || std::fabs(s.t - lane(v.t, l)) <= 64 * std::numeric_limits<float>::epsilon() * std::fabs(s.t))
+        << what << " " << map << " " << i << " lane " << l << ": " << s.t << " vs " << lane(v.t, l);
 #endif
     if (uv_exact) {
       EXPECT_TRUE(same_bits(s.u, lane(v.u, l)) && same_bits(s.v, lane(v.v, l))) << what;
-    } else {  // xsimd's acos is not libm's: a few ulps of [0, 1]
-      EXPECT_NEAR(s.u, lane(v.u, l), 4e-7) << what;
-      EXPECT_NEAR(s.v, lane(v.v, l), 4e-7) << what;
+    } else {
+      // xsimd's acos is not libm's: a few ulps of [0, 1]. Contracted builds add the t difference
+      // above, which acos and atan2 amplify near the poles (up to 2e-4 measured).
+      const double tol = kExact ? 4e-7 : 1e-3;
+      EXPECT_NEAR(s.u, lane(v.u, l), tol) << what;
+      EXPECT_NEAR(s.v, lane(v.v, l), tol) << what;
     }
   };
   RaySoA rs;
