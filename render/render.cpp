@@ -164,7 +164,7 @@ void Renderer::render_tile(std::size_t t, float* samples, RenderStats& st) const
   for (int y = y0; y < y1; ++y)
     for (int x = x0; x < x1; ++x) {
       const Vec3d d = w_ + u_ * (x0_ + double(x)) + v_ * (y0_ + double(y));
-      rays.push_back(make_ray(to_float(from_), to_float(d), float(std::max(0.0f, s_.camera.hither))));
+      rays.push_back(make_ray(to_float(from_), to_float(d)));  // NFF's hither plane is for scan converters: not used
       path.push_back({std::uint32_t(y * gw_ + x), 1, Vec3f{1, 1, 1}});
     }
   st.eye += rays.size();
