@@ -153,11 +153,27 @@ void Renderer::render_tile(std::size_t t, float* samples, RenderStats& st) const
   const int x0 = tx * o_.tile, y0 = ty * o_.tile;
   const int x1 = std::min(gw_, x0 + o_.tile), y1 = std::min(gh_, y0 + o_.tile);
 
-  std::vector<Ray<float>> rays, srays;
-  std::vector<PathRay> path, next_path;
-  std::vector<ShadowRay> shadow;
-  std::vector<bvh::HitRec> hits;
-  RaySoA soa;
+  // Per-thread scratch arrays, reused from tile to tile (allocation churn cost more than shading).
+  struct Scratch {
+    std::vector<Ray<float>> rays, next_rays, srays, more;
+    std::vector<PathRay> path, next_path;
+    std::vector<ShadowRay> shadow;
+    std::vector<bvh::HitRec> hits;
+    std::vector<float> pass;
+    std::vector<std::uint32_t> live, more_live;
+    RaySoA soa;
+  };
+  thread_local Scratch sc;
+  auto& rays = sc.rays;
+  auto& next_rays = sc.next_rays;
+  auto& srays = sc.srays;
+  auto& path = sc.path;
+  auto& next_path = sc.next_path;
+  auto& shadow = sc.shadow;
+  auto& hits = sc.hits;
+  auto& soa = sc.soa;
+  rays.clear();
+  path.clear();
   rays.reserve(std::size_t(x1 - x0) * std::size_t(y1 - y0));
 
   // Eye rays, row-major in the tile: 8 neighbours on a row form a packet.
@@ -184,7 +200,7 @@ void Renderer::render_tile(std::size_t t, float* samples, RenderStats& st) const
     hits.resize(soa.size());
     a_.trace_counted(soa, 0, soa.size(), hits.data(), closest, st.cost);
     next_path.clear();
-    std::vector<Ray<float>> next_rays;
+    next_rays.clear();
     shadow.clear();
     srays.clear();
     for (std::size_t i = 0; i < rays.size(); ++i) {
@@ -256,16 +272,20 @@ void Renderer::render_tile(std::size_t t, float* samples, RenderStats& st) const
     // Shadow rays: any hit blocks, unless the scene has transmitting materials: then the closest
     // occluder is found, a transmitting one scales the light by its T and the ray goes on.
     st.shadow += srays.size();
-    std::vector<float> pass(srays.size(), 1.0f);
-    std::vector<std::uint32_t> live(srays.size());
+    auto& pass = sc.pass;
+    auto& live = sc.live;
+    auto& cur = srays;
+    auto& more = sc.more;
+    auto& more_live = sc.more_live;
+    pass.assign(srays.size(), 1.0f);
+    live.resize(srays.size());
     for (std::size_t i = 0; i < srays.size(); ++i) live[i] = std::uint32_t(i);
-    std::vector<Ray<float>> cur = srays;
     for (int round = 0; !cur.empty(); ++round) {
       fill(soa, cur);
       hits.resize(soa.size());
       a_.trace_counted(soa, 0, soa.size(), hits.data(), transparent_ ? closest : any, st.cost);
-      std::vector<Ray<float>> more;
-      std::vector<std::uint32_t> more_live;
+      more.clear();
+      more_live.clear();
       for (std::size_t k = 0; k < cur.size(); ++k) {
         const std::uint32_t j = live[k];
         if (hits[k].prim == bvh::kNoPrim) continue;
