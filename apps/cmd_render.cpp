@@ -28,6 +28,11 @@ Command add_render_command(CLI::App& app) {
   cmd->add_flag("--spd", o->spd,
                 "Haines' SPD protocol: rays through the 513 x 513 pixel corners of a 512 x 512 image averaged, depth 5, every ray "
                 "hitting a reflector or transmitter spawns a reflection ray, one-sided opaque surfaces except the teapot");
+  cmd->add_flag("!--no-counts", o->count_tests,
+                "Skip counting box and primitive tests (the plain traversal, as `raybench trace` times it); rays are still counted");
+  cmd->add_option("--secondary-packet", o->secondary_packet,
+                  "Reflection, refraction and shadow rays: 1 one by one, 8 sorted by direction octant and traced as 8-ray packets")
+      ->check(CLI::IsMember({1, 8}))->capture_default_str();
   cmd->add_option("--json", *json_out, "Write the result as JSON to this file (no argument or '-': stdout) instead of the summary")
       ->expected(0, 1);
   return {cmd, [o, json_out, cmd]() -> int {

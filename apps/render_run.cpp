@@ -60,6 +60,8 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
   render::RenderOptions ro;
   if (o.spd) ro = render::spd_options(s, w, h, o.depth);
   else ro.width = w, ro.height = h, ro.depth = o.depth;
+  ro.count_tests = o.count_tests;
+  ro.secondary_packet = o.secondary_packet;
   render::Renderer r(s, accel, ro);
 
   int rank = 0, ranks = 1;
@@ -106,6 +108,8 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
          {"refract_rays", st.refract},
          {"shadow_rays", st.shadow},
          {"total_rays", st.rays()},
+         {"tests_counted", ro.count_tests},
+         {"secondary_packet", ro.secondary_packet},
          {"node_visits", st.cost.nodes},
          {"box_tests", st.cost.boxes},
          {"prim_tests", prim},
@@ -148,10 +152,12 @@ std::string render_text(const json& j) {
   row("refraction", "refract_rays");
   row("shadow", "shadow_rays");
   row("all", "total_rays");
-  t += "intersection tests\n";
-  t += fmt::format("  {:<16} {:>14}{}\n", "boxes", j["box_tests"].get<std::uint64_t>(),
+  if (!j["tests_counted"].get<bool>()) t += "intersection tests: not counted (--no-counts)\n";
+  else t += "intersection tests\n";
+  if (j["tests_counted"].get<bool>()) t += fmt::format("  {:<16} {:>14}{}\n", "boxes", j["box_tests"].get<std::uint64_t>(),
                    hh && j["haines"].contains("box_tests") ? fmt::format("   Haines {:>12.0f}", j["haines"]["box_tests"].get<double>()) : "");
   for (const auto& [k, v] : j["prim_tests"].items()) {
+    if (!j["tests_counted"].get<bool>()) break;
     if (v.get<std::uint64_t>() == 0) continue;
     std::string ref;
     if (hh && (k == "sphere") && j["haines"].contains("sphere_tests"))

@@ -25,6 +25,8 @@ struct RenderRunOptions {
   int threads = 1;
   bool spd = false;
   bool progress = true;
+  bool count_tests = true;
+  int secondary_packet = 1;
 };
 
 // Haines' published figures for a classical ray tracer on an SPD scene at its default size (eye

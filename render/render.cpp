@@ -68,6 +68,27 @@ struct ShadowRay {
 
 Vec3f mul(const Vec3f& a, const Vec3f& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
 
+// Reorders rays (and their payload, in step) by direction octant, stably: the BVH traces 8
+// consecutive rays as one packet only when they share an octant, and a generation interleaves
+// reflection with refraction rays and each hit's shadow rays towards different lights.
+template <class P>
+void sort_by_octant(std::vector<Ray<float>>& rays, std::vector<P>& payload, std::vector<Ray<float>>& tmp_r, std::vector<P>& tmp_p) {
+  std::size_t count[9] = {};
+  auto oct = [](const Ray<float>& r) { return std::size_t((r.d.x < 0) | (r.d.y < 0) << 1 | (r.d.z < 0) << 2); };
+  for (const auto& r : rays) ++count[oct(r) + 1];
+  if (std::count(count + 1, count + 9, rays.size()) == 1) return;  // one octant: nothing to do
+  for (int k = 1; k < 9; ++k) count[k] += count[k - 1];
+  tmp_r.resize(rays.size());
+  tmp_p.resize(rays.size());
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const std::size_t at = count[oct(rays[i])]++;
+    tmp_r[at] = rays[i];
+    tmp_p[at] = payload[i];
+  }
+  rays.swap(tmp_r);
+  payload.swap(tmp_p);
+}
+
 }  // namespace
 
 RenderOptions spd_options(const scene::Scene& s, int width, int height, int depth) {
@@ -161,6 +182,9 @@ void Renderer::render_tile(std::size_t t, float* samples, RenderStats& st) const
     std::vector<bvh::HitRec> hits;
     std::vector<float> pass;
     std::vector<std::uint32_t> live, more_live;
+    std::vector<Ray<float>> tmp_r;
+    std::vector<PathRay> tmp_path;
+    std::vector<ShadowRay> tmp_shadow;
     RaySoA soa;
   };
   thread_local Scratch sc;
@@ -187,9 +211,16 @@ void Renderer::render_tile(std::size_t t, float* samples, RenderStats& st) const
 
   bvh::TraceOptions closest;
   closest.packet = 8;
-  bvh::TraceOptions any = closest;
+  bvh::TraceOptions second = closest;
+  second.packet = o_.secondary_packet == 8 ? 8 : 1;
+  const bool sort = second.packet == 8;
+  bvh::TraceOptions any = second;
   any.any = true;
 
+  auto trace = [&](const RaySoA& batch, std::vector<bvh::HitRec>& out, const bvh::TraceOptions& to, RenderStats& s) {
+    if (o_.count_tests) a_.trace_counted(batch, 0, batch.size(), out.data(), to, s.cost);
+    else a_.trace(batch, 0, batch.size(), out.data(), to);
+  };
   auto add = [&](std::uint32_t sample, const Vec3f& c) {
     float* px = samples + 3 * std::size_t(sample);
     px[0] += c.x; px[1] += c.y; px[2] += c.z;
@@ -198,7 +229,7 @@ void Renderer::render_tile(std::size_t t, float* samples, RenderStats& st) const
   while (!rays.empty()) {
     fill(soa, rays);
     hits.resize(soa.size());
-    a_.trace_counted(soa, 0, soa.size(), hits.data(), closest, st.cost);
+    trace(soa, hits, path.empty() || path[0].depth == 1 ? closest : second, st);
     next_path.clear();
     next_rays.clear();
     shadow.clear();
@@ -272,6 +303,7 @@ void Renderer::render_tile(std::size_t t, float* samples, RenderStats& st) const
     // Shadow rays: any hit blocks, unless the scene has transmitting materials: then the closest
     // occluder is found, a transmitting one scales the light by its T and the ray goes on.
     st.shadow += srays.size();
+    if (sort) sort_by_octant(srays, shadow, sc.tmp_r, sc.tmp_shadow);
     auto& pass = sc.pass;
     auto& live = sc.live;
     auto& cur = srays;
@@ -283,7 +315,7 @@ void Renderer::render_tile(std::size_t t, float* samples, RenderStats& st) const
     for (int round = 0; !cur.empty(); ++round) {
       fill(soa, cur);
       hits.resize(soa.size());
-      a_.trace_counted(soa, 0, soa.size(), hits.data(), transparent_ ? closest : any, st.cost);
+      trace(soa, hits, transparent_ ? second : any, st);
       more.clear();
       more_live.clear();
       for (std::size_t k = 0; k < cur.size(); ++k) {
@@ -310,6 +342,7 @@ void Renderer::render_tile(std::size_t t, float* samples, RenderStats& st) const
 
     rays.swap(next_rays);
     path.swap(next_path);
+    if (sort) sort_by_octant(rays, path, sc.tmp_r, sc.tmp_path);
   }
 }
 

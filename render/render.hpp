@@ -38,6 +38,12 @@ struct RenderOptions {
   bool two_sided = true;
   int tile = 16;        // tile side in samples
   float ambient = 0.1f; // ambient light: the ambient term is ambient * Kd * surface colour
+  // Count box and primitive tests (the counting traversal; off: the plain one, which is what
+  // `raybench trace` times). Ray counts are always kept.
+  bool count_tests = true;
+  // Reflection, refraction and shadow rays: 1 traces them one by one; 8 sorts each batch by
+  // direction octant and traces 8 rays of one octant as a packet (eye rays are always packets).
+  int secondary_packet = 1;
 };
 
 // Ray and test counts. Box and primitive tests are those of every traversal (eye, reflection,
