@@ -175,6 +175,28 @@ TEST(RenderInput, EmptySceneIsBackground) {
   for (std::size_t i = 0; i < samples.size(); i += 3) expect_vec({samples[i], samples[i + 1], samples[i + 2]}, s.background, 0);
 }
 
+TEST(RenderDepth, DepthLimitStopsTheRayTree) {
+  const scene::Scene s = scene::lecture_scene("glass_sphere");
+  const bvh::Accel a = bvh::Accel::build(s);
+  auto run = [&](int depth) {
+    RenderOptions o;
+    o.width = o.height = 24;
+    o.depth = depth;
+    const Renderer r(s, a, o);
+    std::vector<float> samples;
+    return render_tiles(r, samples, 1);
+  };
+  const RenderStats d1 = run(1), d2 = run(2), d5 = run(5);
+  EXPECT_EQ(d1.reflect + d1.refract, 0u);
+  EXPECT_GT(d2.refract, 0u);
+  // Depth 2: one reflection and one refraction ray at most per eye hit on the glass.
+  EXPECT_LE(d2.reflect, d2.eye_hit);
+  EXPECT_LE(d2.refract, d2.eye_hit);
+  EXPECT_GT(d5.refract, d2.refract);  // rays inside the sphere refract out again
+  EXPECT_EQ(d1.eye, d5.eye);
+  EXPECT_EQ(d1.eye_hit, d5.eye_hit);
+}
+
 // ---- golden images -----------------------------------------------------------------------------
 // tests/data/render/*.png were rendered once by `raybench render SCENE --width 48 -o FILE`
 // (release build) and checked by eye; the test renders the same scene with the same options and
@@ -260,6 +282,10 @@ void expect_spd(const SpdRow& row, int res) {
     if (ref == 0) EXPECT_EQ(got, 0.0) << row.scene << " " << what;
     else EXPECT_NEAR(got * k / ref, 1.0, 0.10) << row.scene << " " << what << ": " << got * k << " vs " << ref;
   };
+  std::uint64_t by_kind = 0;
+  for (const auto n : st.cost.kind_prims) by_kind += n;
+  EXPECT_EQ(by_kind, st.cost.prims) << "primitive tests by kind add up to the total";
+  EXPECT_GT(st.cost.boxes, st.eye);
   near("eye hits", double(st.eye_hit), row.eye_hit);
   near("reflection rays", double(st.reflect), row.reflect);
   near("refraction rays", double(st.refract), row.refract);
