@@ -14,7 +14,8 @@ PACKAGES=(g++ cmake ninja-build git pkg-config
           libxsimd-dev xtl-dev libtbb-dev libbenchmark-dev libbenchmark-tools
           googletest libgtest-dev libcli11-dev nlohmann-json3-dev libfmt-dev
           libtinyobjloader-dev libgmp-dev libmpfr-dev libembree-dev
-          python3-matplotlib python3-scipy)
+          python3-matplotlib python3-scipy
+          libstb-dev openmpi-bin libopenmpi-dev)
 
 setup() {
   local missing=()

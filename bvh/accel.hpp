@@ -36,10 +36,15 @@ struct TraceOptions {
   bool robust = false;  // Ize's conservative slab test
   bool any = false;     // any hit (shadow rays): stop at the first hit
 };
-// Traversal cost, summed over rays: nodes visited, box tests, primitive tests (real slots).
+// Traversal cost, summed over rays: nodes visited, box tests, primitive tests (real slots), and
+// the primitive tests split by kind (scene::Kind).
 struct TraceCounters {
   std::uint64_t nodes = 0, boxes = 0, prims = 0;
-  void add(const TraceCounters& o) { nodes += o.nodes; boxes += o.boxes; prims += o.prims; }
+  std::uint64_t kind_prims[scene::kKinds] = {};
+  void add(const TraceCounters& o) {
+    nodes += o.nodes; boxes += o.boxes; prims += o.prims;
+    for (int k = 0; k < scene::kKinds; ++k) kind_prims[k] += o.kind_prims[k];
+  }
 };
 
 struct Accel {

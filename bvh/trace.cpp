@@ -97,8 +97,12 @@ RB_INLINE bool group1(const B& a, int kind, std::size_t base, const Ray<float>& 
   const WoopRay<f8>& w = lr.w;
   Hit<f8> hit;
   const auto& ids = a.id[kind];
-  if constexpr (Count)
-    for (std::size_t j = 0; j < 8; ++j) c.prims += ids[base + j] != UINT32_MAX;
+  if constexpr (Count) {
+    std::uint64_t n = 0;
+    for (std::size_t j = 0; j < 8; ++j) n += ids[base + j] != UINT32_MAX;
+    c.prims += n;
+    c.kind_prims[kind] += n;
+  }
   switch (Kind(kind)) {
     case Kind::triangle: hit = intersect_triangle_woop(w, rb, a.tri.template load<f8>(base)); break;
     case Kind::sphere: hit = intersect_sphere_geometric(rb, a.sph.template load<f8>(base)); break;
@@ -287,7 +291,11 @@ RB_INLINE void group_packet(const Accel& a, int kind, std::size_t base, Packet<H
     const std::size_t s = base + j;
     for (int k = 0; k < H; ++k) {
       if (none_of<f8>(p.active[k])) continue;
-      if constexpr (Count) c.prims += std::uint64_t(count_true<f8>(p.active[k]));
+      if constexpr (Count) {
+        const auto n = std::uint64_t(count_true<f8>(p.active[k]));
+        c.prims += n;
+        c.kind_prims[kind] += n;
+      }
       Ray<f8> rr = p.r[k];
       rr.tmax = p.tbest[k];
       Hit<f8> hit;

@@ -1,0 +1,176 @@
+#include "apps/render_run.hpp"
+
+#include "bench/trace.hpp"
+#include "scene/sources.hpp"
+#ifdef RB_HAVE_MPI
+#include "render/mpi.hpp"
+#endif
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+
+namespace rb::app {
+
+using json = nlohmann::json;
+
+namespace {
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+// "spd:balls:3" -> "balls"; "" for other sources.
+std::string spd_name(const std::string& source) {
+  if (source.rfind("spd:", 0) != 0) return "";
+  const std::string rest = source.substr(4);
+  return rest.substr(0, rest.find(':'));
+}
+}  // namespace
+
+std::optional<HainesFigures> haines_figures(const std::string& name) {
+  // Haines, "Standard Procedural Databases", ray tracing statistics (512 x 512 corner rays,
+  // depth 5) and his own hierarchy's test counts where the README of the SPD gives them.
+  static const HainesFigures kTable[] = {
+      {"balls", 263169, 175095, 0, 954368, 822e3, 6197e3, 51.7e6},
+      {"teapot", 161120, 225248, 0, 407656, -1, -1, -1},
+      {"tetra", 49788, 0, 0, 46112, 965e3, -1, 7.64e6},
+      {"tree", 169836, 0, 0, 1097419, -1, -1, -1},
+  };
+  for (const auto& f : kTable)
+    if (name == f.scene) return f;
+  return std::nullopt;
+}
+
+json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
+  const auto t0 = std::chrono::steady_clock::now();
+  scene::Scene s = scene::load_scene(o.scene);
+  const double load_ms = ms_since(t0);
+
+  bvh::Accel accel;
+  {
+    trace::ThreadScope ts(o.threads);
+    ts.run([&] { accel = bvh::Accel::build(s); });
+  }
+  const double build_ms = accel.build_ms;
+
+  int w = o.width, h = o.height;
+  if (!o.spd && w == 0 && h == 0 && s.camera.width > 0 && s.camera.height > 0) w = s.camera.width, h = s.camera.height;
+  if (w == 0) w = h > 0 ? h : 512;
+  if (h == 0) h = w;
+  render::RenderOptions ro;
+  if (o.spd) ro = render::spd_options(s, w, h, o.depth);
+  else ro.width = w, ro.height = h, ro.depth = o.depth;
+  ro.count_tests = o.count_tests;
+  ro.secondary_packet = o.secondary_packet;
+  render::Renderer r(s, accel, ro);
+
+  int rank = 0, ranks = 1;
+#ifdef RB_HAVE_MPI
+  if (mpi) rank = mpi->rank(), ranks = mpi->size();
+  if (mpi) mpi->barrier();
+#endif
+  trace::Progress bar(fmt::format("render {}", o.scene));
+  const bool show = o.progress && rank == 0;
+  auto progress = [&](std::size_t done, std::size_t total) { if (show) bar.update(double(done) / double(std::max<std::size_t>(1, total))); };
+  std::vector<float> samples;
+  const auto t1 = std::chrono::steady_clock::now();
+  render::RenderStats st;
+#ifdef RB_HAVE_MPI
+  if (mpi) st = render::render_tiles_mpi(*mpi, r, samples, o.threads, progress);
+  else st = render::render_tiles(r, samples, o.threads, 0, 1, progress);
+#else
+  (void)mpi;
+  st = render::render_tiles(r, samples, o.threads, 0, 1, progress);
+#endif
+  const double trace_ms = ms_since(t1);
+  if (show) bar.done();
+  if (rank != 0) return json();
+
+  const std::vector<float> img = r.resolve(samples);
+  if (!o.out.empty()) render::write_png(o.out, w, h, img);
+
+  json prim = json::object();
+  for (int k = 0; k < scene::kKinds; ++k) prim[scene::kind_name(scene::Kind(k))] = st.cost.kind_prims[k];
+  const double rays = double(st.rays());
+  json j{{"scene", o.scene},
+         {"scene_name", s.name},
+         {"width", w},
+         {"height", h},
+         {"depth", ro.depth},
+         {"spd", o.spd},
+         {"two_sided", ro.two_sided},
+         {"threads", o.threads},
+         {"ranks", ranks},
+         {"primitives", s.primitive_count()},
+         {"eye_rays", st.eye},
+         {"eye_hit_rays", st.eye_hit},
+         {"reflect_rays", st.reflect},
+         {"refract_rays", st.refract},
+         {"shadow_rays", st.shadow},
+         {"total_rays", st.rays()},
+         {"tests_counted", ro.count_tests},
+         {"secondary_packet", ro.secondary_packet},
+         {"node_visits", st.cost.nodes},
+         {"box_tests", st.cost.boxes},
+         {"prim_tests", prim},
+         {"load_ms", load_ms},
+         {"build_ms", build_ms},
+         {"preprocess_ms", load_ms + build_ms},
+         {"trace_ms", trace_ms},
+         {"mrays_per_s", trace_ms > 0 ? rays / (trace_ms * 1e3) : 0.0}};
+  if (!o.out.empty()) j["image"] = o.out;
+  if (const auto f = haines_figures(spd_name(o.scene))) {
+    j["haines"] = {{"eye_hit_rays", f->eye_hit}, {"reflect_rays", f->reflect}, {"refract_rays", f->refract},
+                   {"shadow_rays", f->shadow}};
+    if (f->poly_tests >= 0) j["haines"]["polygon_tests"] = f->poly_tests;
+    if (f->sphere_tests >= 0) j["haines"]["sphere_tests"] = f->sphere_tests;
+    if (f->box_tests >= 0) j["haines"]["box_tests"] = f->box_tests;
+  }
+  return j;
+}
+
+std::string render_text(const json& j) {
+  std::string t;
+  t += fmt::format("{} ({}): {} x {}, depth {}{}, {} thread(s){}\n", j["scene"].get<std::string>(), j["scene_name"].get<std::string>(),
+                   j["width"].get<int>(), j["height"].get<int>(), j["depth"].get<int>(), j["spd"].get<bool>() ? ", SPD protocol" : "",
+                   j["threads"].get<int>(), j["ranks"].get<int>() > 1 ? fmt::format(", {} MPI ranks", j["ranks"].get<int>()) : "");
+  const bool hh = j.contains("haines");
+  auto row = [&](const char* label, const char* key) {
+    const auto v = j[key].get<std::uint64_t>();
+    if (hh && j["haines"].contains(key)) {
+      const double ref = j["haines"][key].get<double>();
+      const std::string dev = ref > 0 ? fmt::format("{:+.1f} %", 100.0 * (double(v) - ref) / ref) : (v == 0 ? "equal" : "-");
+      t += fmt::format("  {:<16} {:>14}   Haines {:>12.0f}   {}\n", label, v, ref, dev);
+    } else {
+      t += fmt::format("  {:<16} {:>14}\n", label, v);
+    }
+  };
+  t += "rays\n";
+  row("eye", "eye_rays");
+  row("eye hits", "eye_hit_rays");
+  row("reflection", "reflect_rays");
+  row("refraction", "refract_rays");
+  row("shadow", "shadow_rays");
+  row("all", "total_rays");
+  if (!j["tests_counted"].get<bool>()) t += "intersection tests: not counted (--no-counts)\n";
+  else t += "intersection tests\n";
+  if (j["tests_counted"].get<bool>()) t += fmt::format("  {:<16} {:>14}{}\n", "boxes", j["box_tests"].get<std::uint64_t>(),
+                   hh && j["haines"].contains("box_tests") ? fmt::format("   Haines {:>12.0f}", j["haines"]["box_tests"].get<double>()) : "");
+  for (const auto& [k, v] : j["prim_tests"].items()) {
+    if (!j["tests_counted"].get<bool>()) break;
+    if (v.get<std::uint64_t>() == 0) continue;
+    std::string ref;
+    if (hh && (k == "sphere") && j["haines"].contains("sphere_tests"))
+      ref = fmt::format("   Haines {:>12.0f}", j["haines"]["sphere_tests"].get<double>());
+    if (hh && (k == "polygon" || k == "triangle") && j["haines"].contains("polygon_tests"))
+      ref = fmt::format("   Haines {:>12.0f} (polygons)", j["haines"]["polygon_tests"].get<double>());
+    t += fmt::format("  {:<16} {:>14}{}\n", k, v.get<std::uint64_t>(), ref);
+  }
+  t += fmt::format("time: preprocess {:.1f} ms (load {:.1f}, BVH {:.1f}), trace {:.1f} ms, {:.2f} Mrays/s\n",
+                   j["preprocess_ms"].get<double>(), j["load_ms"].get<double>(), j["build_ms"].get<double>(), j["trace_ms"].get<double>(),
+                   j["mrays_per_s"].get<double>());
+  if (j.contains("image")) t += fmt::format("wrote {}\n", j["image"].get<std::string>());
+  return t;
+}
+
+}  // namespace rb::app

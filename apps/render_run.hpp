@@ -1,0 +1,45 @@
+// One `raybench render` run (also used by the report's Rendering section): load the scene, build
+// the BVH, render it recursively (one process, or this rank's tiles under MPI), and describe the
+// result as JSON and as a summary with Haines' published SPD statistics beside ours.
+#pragma once
+
+#include "render/render.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace rb::render {
+class MpiSession;
+}
+
+namespace rb::app {
+
+struct RenderRunOptions {
+  std::string scene;
+  std::string out;              // PNG path ("" : no image)
+  int width = 0, height = 0;    // 0: 512 (or the scene's NFF resolution without --spd)
+  int depth = 5;
+  int threads = 1;
+  bool spd = false;
+  bool progress = true;
+  bool count_tests = true;
+  int secondary_packet = 1;
+};
+
+// Haines' published figures for a classical ray tracer on an SPD scene at its default size (eye
+// hits, reflection, refraction and shadow rays; his hierarchy's test counts where given).
+struct HainesFigures {
+  const char* scene;
+  double eye_hit, reflect, refract, shadow;
+  double poly_tests, sphere_tests, box_tests;  // < 0: not published
+};
+std::optional<HainesFigures> haines_figures(const std::string& spd_name);
+
+// Renders; on MPI rank 0 (or without MPI) returns the result and writes the PNG. `mpi` may be null.
+nlohmann::json run_render(const RenderRunOptions& o, const render::MpiSession* mpi = nullptr);
+std::string render_text(const nlohmann::json& j);
+
+}  // namespace rb::app

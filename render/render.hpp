@@ -1,0 +1,105 @@
+// The lecture's recursive ray tracer (RT_trace / RT_shade) over the BVH, with Haines' SPD
+// statistics.
+//
+// RT_trace: the closest hit through the BVH; the background colour on a miss. RT_shade: an ambient
+// term; per light a shadow ray, not spawned when the normal faces away from the light, whose
+// opaque occluders block the light and whose transmitting occluders scale it by their T (once per
+// surface crossed); Lambert diffuse and Phong specular; below the depth limit a reflection ray
+// for reflective surfaces (Ks > 0) and a refraction ray by Snell's law for transmitting ones
+// (T > 0), with the reflection ray taking the transmitted share on total internal reflection.
+//
+// The image is a grid of samples cut into square tiles; a tile is traced generation by
+// generation (eye rays, then all their reflection and refraction rays, ...), each generation as
+// one SoA ray batch through the BVH in 8-ray packets (an incoherent packet falls back to single
+// rays), its shadow rays as another batch. Every ray carries the weight its colour has in the
+// pixel (the product of Ks and T along its path), so the sum equals the recursion's result. A
+// tile's result depends on nothing but the tile, which makes the image the same for any thread
+// count or any split of the tiles between processes.
+#pragma once
+
+#include "bvh/accel.hpp"
+#include "scene/scene.hpp"
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace rb::render {
+
+struct RenderOptions {
+  int width = 512, height = 512;
+  int depth = 5;        // maximum ray tree depth, the eye ray being depth 1
+  // Haines' protocol: rays through the (width+1) x (height+1) pixel corners, each pixel the mean
+  // of its four corners; every ray hitting a reflector or a transmitter spawns a reflection ray.
+  bool spd = false;
+  // Two-sided opaque surfaces (the normal turned towards the incoming ray before the light test).
+  // SPD protocol: one-sided except the teapot. Otherwise two-sided.
+  bool two_sided = true;
+  int tile = 16;        // tile side in samples
+  float ambient = 0.1f; // ambient light: the ambient term is ambient * Kd * surface colour
+  // Count box and primitive tests (the counting traversal; off: the plain one, which is what
+  // `raybench trace` times). Ray counts are always kept.
+  bool count_tests = true;
+  // Reflection, refraction and shadow rays: 1 traces them one by one; 8 sorts each batch by
+  // direction octant and traces 8 rays of one octant as a packet (eye rays are always packets).
+  int secondary_packet = 1;
+};
+
+// Ray and test counts. Box and primitive tests are those of every traversal (eye, reflection,
+// refraction, shadow and its continuations through transmitting occluders).
+struct RenderStats {
+  std::uint64_t eye = 0, eye_hit = 0, reflect = 0, refract = 0, shadow = 0;
+  bvh::TraceCounters cost;
+  std::uint64_t rays() const { return eye + reflect + refract + shadow; }
+  void add(const RenderStats& o) {
+    eye += o.eye; eye_hit += o.eye_hit; reflect += o.reflect; refract += o.refract; shadow += o.shadow;
+    cost.add(o.cost);
+  }
+};
+
+// Options for a scene under Haines' protocol (512 x 512 unless given, depth 5, one-sided opaque
+// primitives except for the teapot).
+RenderOptions spd_options(const scene::Scene& s, int width = 512, int height = 512, int depth = 5);
+
+class Renderer {
+ public:
+  // Throws std::invalid_argument on absurd sizes (width/height outside [1, 16384], depth < 1).
+  Renderer(const scene::Scene& s, const bvh::Accel& a, const RenderOptions& o);
+
+  int grid_w() const { return gw_; }  // sample grid (SPD: pixel corners)
+  int grid_h() const { return gh_; }
+  std::size_t tiles() const { return std::size_t(tx_) * std::size_t(ty_); }
+  std::size_t samples() const { return std::size_t(gw_) * std::size_t(gh_); }
+
+  // Traces tile `t` into samples[3 * (y * grid_w + x) ...] (linear RGB) and adds its counts.
+  void render_tile(std::size_t t, float* samples, RenderStats& st) const;
+  // The image (width x height x 3, linear RGB) from the sample grid.
+  std::vector<float> resolve(const std::vector<float>& samples) const;
+
+  const RenderOptions& options() const { return o_; }
+
+ private:
+  const scene::Scene& s_;
+  const bvh::Accel& a_;
+  RenderOptions o_;
+  int gw_, gh_, tx_, ty_;
+  Vec3d from_, u_, v_, w_;  // camera frame: u, v scaled to one sample step on the image plane
+  double x0_, y0_;          // image-plane coordinate of sample (0, 0)
+  float eps_;               // offset of secondary ray origins from the surface
+  bool transparent_;        // the scene has a transmitting material (shadow rays see through)
+  std::vector<scene::Material> mats_;
+  std::vector<Vec3f> light_pos_, light_col_;
+};
+
+// Renders the tiles t with t % parts == part (all tiles: part 0 of 1) on `threads` TBB threads
+// into `samples` (grid size x 3, zero where another part's tiles are) and returns their counts.
+// `progress(done, total)` is called from the calling thread's tiles now and then.
+RenderStats render_tiles(const Renderer& r, std::vector<float>& samples, int threads, int part = 0, int parts = 1,
+                         const std::function<void(std::size_t, std::size_t)>& progress = {});
+
+// 8-bit sRGB-less PNG (values clamped to [0, 1], x 255, rounded). Throws on a write failure.
+void write_png(const std::string& path, int width, int height, const std::vector<float>& rgb);
+std::vector<std::uint8_t> to_rgb8(const std::vector<float>& rgb);
+
+}  // namespace rb::render

@@ -1,0 +1,304 @@
+// The recursive ray tracer (render/): Snell's law and total internal reflection against
+// hand-computed directions, shadows (full shadow = ambient only, a transmitting occluder scales
+// the light), golden images per feature, and Haines' SPD ray statistics at a reduced resolution.
+#include "render/optics.hpp"
+#include "render/render.hpp"
+#include "render/surface.hpp"
+#include "scene/loaders.hpp"
+#include "scene/sources.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#define STB_IMAGE_IMPLEMENTATION
+#define STBI_ONLY_PNG
+#include <stb/stb_image.h>
+
+namespace {
+
+using namespace rb;
+using namespace rb::render;
+
+// ---- directions --------------------------------------------------------------------------------
+
+void expect_vec(const Vec3f& a, const Vec3f& b, float tol = 2e-6f) {
+  EXPECT_NEAR(a.x, b.x, tol);
+  EXPECT_NEAR(a.y, b.y, tol);
+  EXPECT_NEAR(a.z, b.z, tol);
+}
+
+TEST(RenderOptics, ReflectMirrorsAboutTheNormal) {
+  const float s = std::sqrt(0.5f);
+  expect_vec(reflect({s, -s, 0}, {0, 1, 0}), {s, s, 0});
+  expect_vec(reflect({0, 0, 1}, {0, 0, -1}), {0, 0, -1});  // head-on: straight back
+}
+
+TEST(RenderOptics, SnellIntoGlassAt45Degrees) {
+  // sin t = sin 45 / 1.5 = 0.47140452, cos t = sqrt(1 - 2/9) = 0.88191710
+  const float s = std::sqrt(0.5f);
+  const auto t = refract({s, -s, 0}, {0, 1, 0}, 1.0f, 1.5f);
+  ASSERT_TRUE(t.has_value());
+  expect_vec(*t, {0.47140452f, -0.88191710f, 0.0f});
+}
+
+TEST(RenderOptics, SnellOutOfGlassAt30Degrees) {
+  // sin t = 1.5 sin 30 = 0.75, cos t = sqrt(1 - 0.5625) = 0.66143783
+  const auto t = refract({0.5f, -0.8660254f, 0}, {0, 1, 0}, 1.5f, 1.0f);
+  ASSERT_TRUE(t.has_value());
+  expect_vec(*t, {0.75f, -0.66143783f, 0.0f});
+}
+
+TEST(RenderOptics, HeadOnPassesStraight) {
+  const auto t = refract({0, 0, -1}, {0, 0, 1}, 1.0f, 1.33f);
+  ASSERT_TRUE(t.has_value());
+  expect_vec(*t, {0, 0, -1});
+}
+
+TEST(RenderOptics, TotalInternalReflectionBeyondTheCriticalAngle) {
+  // Critical angle glass -> air: asin(1 / 1.5) = 41.81 degrees.
+  const double below = 41.7 * M_PI / 180, above = 41.9 * M_PI / 180;
+  const Vec3f d_below{float(std::sin(below)), float(-std::cos(below)), 0}, d_above{float(std::sin(above)), float(-std::cos(above)), 0};
+  const auto t = refract(d_below, {0, 1, 0}, 1.5f, 1.0f);
+  ASSERT_TRUE(t.has_value());
+  EXPECT_GT(t->x, 0.99f);  // nearly grazing just below the critical angle: sin t = 1.5 sin 41.7 = 0.9978
+  EXPECT_FALSE(refract(d_above, {0, 1, 0}, 1.5f, 1.0f).has_value());
+  const float s = std::sqrt(0.5f);
+  EXPECT_FALSE(refract({s, -s, 0}, {0, 1, 0}, 1.5f, 1.0f).has_value());  // 45 degrees
+  EXPECT_TRUE(refract({s, -s, 0}, {0, 1, 0}, 1.0f, 1.5f).has_value());   // never into the denser medium
+}
+
+// ---- shadows -----------------------------------------------------------------------------------
+
+// A grey floor (y = 0, normal +y, Kd 0.8), one light straight above the origin, and an eye ray
+// (a 1 x 1 image) that hits the floor at the origin from the side. `occluder_t` < 0: no
+// occluder; else a sphere at (0, 5, 0) radius 1 with transmittance occluder_t.
+scene::Scene shadow_scene(float occluder_t) {
+  scene::Scene s;
+  s.name = "shadow test";
+  s.background = {0, 0, 0};
+  s.camera.from = {4, 1, 0};
+  s.camera.at = {0, 0, 0};
+  s.camera.angle = 10;
+  s.lights.push_back({{0, 10, 0}, {1, 1, 1}});
+  scene::Material floor;
+  floor.color = {0.5f, 0.6f, 0.7f};
+  floor.kd = 0.8f;
+  s.materials.push_back(floor);
+  s.poly_verts = {{-10, 0, -10}, {-10, 0, 10}, {10, 0, 10}, {10, 0, -10}};
+  s.polygons.push_back({0, 4, 0});
+  if (occluder_t >= 0) {
+    scene::Material occ;
+    occ.kd = 0.5f;
+    occ.t = occluder_t;
+    occ.ior = 1.0f;
+    s.materials.push_back(occ);
+    s.spheres.push_back({{0, 5, 0}, 1.0f, 1});
+  }
+  return s;
+}
+
+Vec3f render_pixel(const scene::Scene& s, RenderStats* st = nullptr) {
+  const bvh::Accel a = bvh::Accel::build(s);
+  RenderOptions o;
+  o.width = o.height = 1;
+  o.depth = 1;
+  const Renderer r(s, a, o);
+  std::vector<float> samples;
+  const RenderStats got = render_tiles(r, samples, 1);
+  if (st) *st = got;
+  const std::vector<float> img = r.resolve(samples);
+  return {img[0], img[1], img[2]};
+}
+
+TEST(RenderShadow, LitPointGetsAmbientPlusLambert) {
+  RenderStats st;
+  const Vec3f c = render_pixel(shadow_scene(-1), &st);
+  // ambient 0.1 * Kd * colour + Kd * (n . L = 1) * colour * light (one light: intensity 1)
+  const float k = 0.1f * 0.8f + 0.8f;
+  expect_vec(c, {0.5f * k, 0.6f * k, 0.7f * k}, 1e-5f);
+  EXPECT_EQ(st.eye, 1u);
+  EXPECT_EQ(st.eye_hit, 1u);
+  EXPECT_EQ(st.shadow, 1u);
+}
+
+TEST(RenderShadow, FullShadowGivesAmbientOnly) {
+  const Vec3f c = render_pixel(shadow_scene(0.0f));
+  const float k = 0.1f * 0.8f;
+  expect_vec(c, {0.5f * k, 0.6f * k, 0.7f * k}, 1e-6f);
+}
+
+TEST(RenderShadow, TransmittingOccluderScalesTheLight) {
+  // The shadow ray crosses the sphere's surface twice: the light is scaled by T^2.
+  const float T = 0.5f;
+  const Vec3f c = render_pixel(shadow_scene(T));
+  const float k = 0.1f * 0.8f + 0.8f * T * T;
+  expect_vec(c, {0.5f * k, 0.6f * k, 0.7f * k}, 1e-5f);
+}
+
+TEST(RenderShadow, NoShadowRayWhenTheNormalFacesAway) {
+  scene::Scene s = shadow_scene(-1);
+  s.lights[0].pos = {0, -10, 0};  // below the floor
+  RenderStats st;
+  const Vec3f c = render_pixel(s, &st);
+  EXPECT_EQ(st.shadow, 0u);
+  const float k = 0.1f * 0.8f;
+  expect_vec(c, {0.5f * k, 0.6f * k, 0.7f * k}, 1e-6f);
+}
+
+TEST(RenderInput, AbsurdSizesAreRejected) {
+  const scene::Scene s = shadow_scene(-1);
+  const bvh::Accel a = bvh::Accel::build(s);
+  RenderOptions o;
+  o.width = 0;
+  EXPECT_THROW(Renderer(s, a, o), std::invalid_argument);
+  o.width = 100000;
+  EXPECT_THROW(Renderer(s, a, o), std::invalid_argument);
+  o.width = 8;
+  o.depth = 0;
+  EXPECT_THROW(Renderer(s, a, o), std::invalid_argument);
+}
+
+TEST(RenderInput, EmptySceneIsBackground) {
+  scene::Scene s;
+  s.background = {0.25f, 0.5f, 0.75f};
+  const bvh::Accel a = bvh::Accel::build(s);
+  RenderOptions o;
+  o.width = o.height = 4;
+  const Renderer r(s, a, o);
+  std::vector<float> samples;
+  const RenderStats st = render_tiles(r, samples, 1);
+  EXPECT_EQ(st.eye, 16u);
+  EXPECT_EQ(st.eye_hit, 0u);
+  for (std::size_t i = 0; i < samples.size(); i += 3) expect_vec({samples[i], samples[i + 1], samples[i + 2]}, s.background, 0);
+}
+
+TEST(RenderDepth, DepthLimitStopsTheRayTree) {
+  const scene::Scene s = scene::lecture_scene("glass_sphere");
+  const bvh::Accel a = bvh::Accel::build(s);
+  auto run = [&](int depth) {
+    RenderOptions o;
+    o.width = o.height = 24;
+    o.depth = depth;
+    const Renderer r(s, a, o);
+    std::vector<float> samples;
+    return render_tiles(r, samples, 1);
+  };
+  const RenderStats d1 = run(1), d2 = run(2), d5 = run(5);
+  EXPECT_EQ(d1.reflect + d1.refract, 0u);
+  EXPECT_GT(d2.refract, 0u);
+  // Depth 2: one reflection and one refraction ray at most per eye hit on the glass.
+  EXPECT_LE(d2.reflect, d2.eye_hit);
+  EXPECT_LE(d2.refract, d2.eye_hit);
+  EXPECT_GT(d5.refract, d2.refract);  // rays inside the sphere refract out again
+  EXPECT_EQ(d1.eye, d5.eye);
+  EXPECT_EQ(d1.eye_hit, d5.eye_hit);
+}
+
+// ---- golden images -----------------------------------------------------------------------------
+// tests/data/render/*.png were rendered once by `raybench render SCENE --width 48 -o FILE`
+// (release build) and checked by eye; the test renders the same scene with the same options and
+// compares. Tolerance: builds differ in FMA contraction, which moves a ray that grazes an edge or
+// a shadow boundary to the other side, so at most 1 % of the pixels may differ by more than
+// 4/255 in a channel, and the mean absolute difference must stay below 0.5/255.
+
+struct Golden {
+  const char* file;
+  const char* scene;
+};
+
+void compare_golden(const Golden& g) {
+  const std::string path = std::string(RB_TEST_DATA) + "/render/" + g.file;
+  int w = 0, h = 0, n = 0;
+  unsigned char* px = stbi_load(path.c_str(), &w, &h, &n, 3);
+  ASSERT_NE(px, nullptr) << path;
+  const std::vector<unsigned char> ref(px, px + std::size_t(w) * std::size_t(h) * 3);
+  stbi_image_free(px);
+  const scene::Scene s = scene::load_scene(g.scene);
+  const bvh::Accel a = bvh::Accel::build(s);
+  RenderOptions o;
+  o.width = w;
+  o.height = h;
+  const Renderer r(s, a, o);
+  std::vector<float> samples;
+  render_tiles(r, samples, 2);
+  const std::vector<std::uint8_t> got = to_rgb8(r.resolve(samples));
+  ASSERT_EQ(got.size(), ref.size());
+  std::size_t bad = 0;
+  double sum = 0;
+  for (std::size_t p = 0; p < got.size() / 3; ++p) {
+    int worst = 0;
+    for (int c = 0; c < 3; ++c) {
+      const int d = std::abs(int(got[3 * p + std::size_t(c)]) - int(ref[3 * p + std::size_t(c)]));
+      worst = std::max(worst, d);
+      sum += d;
+    }
+    bad += worst > 4;
+  }
+  EXPECT_LE(double(bad), 0.01 * double(got.size() / 3)) << g.file;
+  EXPECT_LT(sum / double(got.size()), 0.5) << g.file;
+}
+
+TEST(RenderGolden, Shadows) { compare_golden({"shadows.png", RB_TEST_DATA "/render/shadows.nff"}); }
+TEST(RenderGolden, Reflection) { compare_golden({"reflection.png", "lecture:nine_red_balls"}); }
+TEST(RenderGolden, Refraction) { compare_golden({"refraction.png", "lecture:glass_sphere"}); }
+TEST(RenderGolden, Checkerboard) { compare_golden({"checkerboard.png", "lecture:checkerboard"}); }
+
+// The goldens are not trivially flat: a test that compares two flat images cannot fail.
+TEST(RenderGolden, ImagesHaveStructure) {
+  for (const char* f : {"shadows.png", "reflection.png", "refraction.png", "checkerboard.png"}) {
+    const std::string path = std::string(RB_TEST_DATA) + "/render/" + f;
+    int w = 0, h = 0, n = 0;
+    unsigned char* px = stbi_load(path.c_str(), &w, &h, &n, 3);
+    ASSERT_NE(px, nullptr) << path;
+    int lo = 255, hi = 0;
+    for (int i = 0; i < w * h * 3; ++i) lo = std::min(lo, int(px[i])), hi = std::max(hi, int(px[i]));
+    stbi_image_free(px);
+    EXPECT_GT(hi - lo, 100) << f;
+  }
+}
+
+// ---- Haines' SPD statistics ----------------------------------------------------------------------
+// Haines' figures are for 513 x 513 corner rays. At R x R pixels ((R+1)^2 corner rays) every
+// count scales with the number of eye rays (the image samples the same view more coarsely), so
+// the counts are scaled by 513^2 / (R+1)^2 before the 10 % comparison.
+
+struct SpdRow {
+  const char* scene;
+  double eye_hit, reflect, refract, shadow;
+};
+
+void expect_spd(const SpdRow& row, int res) {
+  const scene::Scene s = scene::load_scene(std::string("spd:") + row.scene);
+  const bvh::Accel a = bvh::Accel::build(s);
+  const Renderer r(s, a, spd_options(s, res, res, 5));
+  std::vector<float> samples;
+  const RenderStats st = render_tiles(r, samples, 2);
+  EXPECT_EQ(st.eye, std::uint64_t(res + 1) * std::uint64_t(res + 1));
+  const double k = 513.0 * 513.0 / double(st.eye);
+  auto near = [&](const char* what, double got, double ref) {
+    if (ref == 0) EXPECT_EQ(got, 0.0) << row.scene << " " << what;
+    else EXPECT_NEAR(got * k / ref, 1.0, 0.10) << row.scene << " " << what << ": " << got * k << " vs " << ref;
+  };
+  std::uint64_t by_kind = 0;
+  for (const auto n : st.cost.kind_prims) by_kind += n;
+  EXPECT_EQ(by_kind, st.cost.prims) << "primitive tests by kind add up to the total";
+  EXPECT_GT(st.cost.boxes, st.eye);
+  near("eye hits", double(st.eye_hit), row.eye_hit);
+  near("reflection rays", double(st.reflect), row.reflect);
+  near("refraction rays", double(st.refract), row.refract);
+  near("shadow rays", double(st.shadow), row.shadow);
+}
+
+// 96 x 96 pixels (97^2 = 9,409 eye rays, 3.6 % of Haines'): small enough for the sanitizer build,
+// large enough that the smallest figure (tetra, 49,788 eye hits: about 1,780 here) is not
+// dominated by sampling (at 48 x 48 tetra's shadow count came out 10.4 % low).
+constexpr int kSpdRes = 96;
+TEST(RenderSpd, BallsWithinTenPercentOfHaines) { expect_spd({"balls", 263169, 175095, 0, 954368}, kSpdRes); }
+TEST(RenderSpd, TeapotWithinTenPercentOfHaines) { expect_spd({"teapot", 161120, 225248, 0, 407656}, kSpdRes); }
+TEST(RenderSpd, TetraWithinTenPercentOfHaines) { expect_spd({"tetra", 49788, 0, 0, 46112}, kSpdRes); }
+TEST(RenderSpd, TreeWithinTenPercentOfHaines) { expect_spd({"tree", 169836, 0, 0, 1097419}, kSpdRes); }
+
+}  // namespace
