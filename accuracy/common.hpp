@@ -53,6 +53,14 @@ struct Ctx {
   std::size_t rays;  // rays per case
   std::mt19937_64 rng;
   std::vector<Row>* rows;
+  std::size_t cases_total = 1, cases_started = 0;
+  std::string last_case;
+  // Progress: called when a method starts on a case (a new case counts one step).
+  void tick(const std::string& family, const std::string& name) {
+    const std::string k = family + "/" + name;
+    if (k != last_case) ++cases_started, last_case = k;
+    if (o->progress) o->progress(double(cases_started - 1) / double(std::max<std::size_t>(cases_total, 1)), k);
+  }
   bool selected(const std::string& family, const std::string& name) const {
     return o->filter.empty() || (family + "/" + name).find(o->filter) != std::string::npos;
   }
@@ -150,6 +158,7 @@ Row tally(const std::string& family, const std::string& method, const std::strin
 template <template <class> class P, class K>
 void measure(Ctx& x, const Case<P>& c, const std::string& method, const K& kern, bool wrong_roots = false,
              bool with_iterations = false) {
+  x.tick(c.family, c.name);
   auto one = [&]<class F>(F*) {
     std::vector<Out> out(c.tests());
     IterCount ic;

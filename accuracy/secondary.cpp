@@ -33,6 +33,7 @@ template <template <class> class P, class K>
 void secondary_rows(Ctx& x, const std::string& family, const std::string& method, const std::vector<P<float>>& prims,
                     const std::vector<Spawn>& sp, const K& kern) {
   for (int offset = 0; offset < 2; ++offset) {
+    x.tick(family, offset ? "secondary_wb_offset" : "secondary_no_offset");
     auto pass = [&](std::size_t* self) {
       double sink = 0;
       for (std::size_t i = 0; i < sp.size(); ++i) {

@@ -358,6 +358,9 @@ int run_report(const ReportOptions& o) {
   std::cerr << "[report] tracing whole scenes (raybench BVH beside Embree)\n";
   md += report_section_tracing(o, out, summary);
 
+  std::cerr << "[report] accuracy lab\n";
+  md += report_section_accuracy(o, out, summary);
+
   md += pgo_section(out);
 
   std::cerr << "[report] charts\n";
