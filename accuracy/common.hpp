@@ -49,10 +49,10 @@ struct Case {
 };
 
 struct Ctx {
-  const Options* o;
-  std::size_t rays;  // rays per case
+  const Options* o = nullptr;
+  std::size_t rays = 0;  // rays per case
   std::mt19937_64 rng;
-  std::vector<Row>* rows;
+  std::vector<Row>* rows = nullptr;
   std::size_t cases_total = 1, cases_started = 0;
   std::string last_case;
   // Progress: called when a method starts on a case (a new case counts one step).

@@ -13,7 +13,10 @@ std::vector<CaseInfo> case_list() {
 
 std::vector<Row> run_lab(const Options& o) {
   std::vector<Row> rows;
-  Ctx x{&o, o.rays ? o.rays : (o.full ? 20000 : 2000), std::mt19937_64(o.seed), &rows};
+  Ctx x;
+  x.o = &o;
+  x.rays = o.rays ? o.rays : (o.full ? 20000 : 2000);
+  x.rows = &rows;
   x.cases_total = 0;
   for (const CaseInfo& c : case_list()) x.cases_total += x.selected(c.family, c.name);
   struct Fam {

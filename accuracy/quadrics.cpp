@@ -56,7 +56,8 @@ std::vector<CaseInfo> quadric_cases() {
       {"quadric", "cyl_tangent", "rays across the axis passing it at r (1 +- 10^-k), k = 1..7"},
       {"quadric", "cyl_far_camera", "the cylinder seen from 1e4 away, rays at random points of it"},
       {"quadric", "cone_generator_parallel", "rays parallel to a generator of the 45-degree cone (exactly and tilted by 10^-k)"},
-      {"quadric", "cone_apex", "steep rays exactly through the apex (integer directions) and passing it at 1e-7..1e-4"},
+      {"quadric", "cone_apex", "steep rays exactly through the apex (integer directions, origin = apex - 2^k d)"},
+      {"quadric", "cone_near_apex", "the same rays moved off the apex by 1e-7..1e-4 (the two nappes' roots within rounding of each other)"},
       {"quadric", "cone_far_camera", "the cone seen from 1e4 away"},
   };
 }
@@ -101,11 +102,11 @@ void run_quadrics(Ctx& x) {
           if (i % 2) d = tilt(d * (1 / std::sqrt(2.0)), std::pow(10.0, -std::floor(urand(g, 2, 9))), g);
           const Vec3d P = Vec3d{urand(g, -1, 1), urand(g, -1, 1), urand(g, 0.2, 1.8)};
           add_cone(c, make_ray(P - d * 4.0, d));
-        } else if (ci.name == "cone_apex") {
+        } else if (ci.name == "cone_apex" || ci.name == "cone_near_apex") {
           Vec3d d{std::floor(urand(g, -3, 4)), std::floor(urand(g, -3, 4)), std::floor(urand(g, 4, 9))};
           if (i % 2) d.z = -d.z;
           Vec3d O = kApex - d * std::ldexp(1.0, int(urand(g, 0, 3)));
-          if (i % 4 >= 2) O = O + unit_rand(g) * lurand(g, 1e-7, 1e-4);  // near, not through
+          if (ci.name == "cone_near_apex") O = O + unit_rand(g) * lurand(g, 1e-7, 1e-4);  // near, not through
           add_cone(c, make_ray(O, d));
         } else {
           const Vec3d target{urand(g, -1, 1), urand(g, -1, 1), urand(g, 0, 2)};
