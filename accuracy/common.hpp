@@ -57,9 +57,10 @@ struct Ctx {
   std::string last_case;
   // Progress: called when a method starts on a case (a new case counts one step).
   void tick(const std::string& family, const std::string& name) {
-    const std::string k = family + "/" + name;
-    if (k != last_case) ++cases_started, last_case = k;
-    if (o->progress) o->progress(double(cases_started - 1) / double(std::max<std::size_t>(cases_total, 1)), k);
+    // The BVH rows of a mesh case follow it under the same name: one step.
+    if (name != last_case) ++cases_started, last_case = name;
+    const double f = double(std::min(cases_started, cases_total) - 1) / double(std::max<std::size_t>(cases_total, 1));
+    if (o->progress) o->progress(std::max(f, 0.0), family + "/" + name);
   }
   bool selected(const std::string& family, const std::string& name) const {
     return o->filter.empty() || (family + "/" + name).find(o->filter) != std::string::npos;

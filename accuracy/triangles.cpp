@@ -3,6 +3,7 @@
 // watertightness test does), the mesh far from the origin and the camera far from the mesh,
 // grazing rays, needle and tiny triangles.
 #include "accuracy/exact.hpp"
+#include "bvh/accel.hpp"
 #include "kernels/triangle.hpp"
 #include "kernels/triangle_cramer.hpp"
 #include "kernels/triangle_woop.hpp"
@@ -213,6 +214,61 @@ void measure_all(Ctx& x, const TriCase& c) {
   measure(x, c.woop, "woop", [](const auto& r, const auto& p, IterCount*) { return intersect_triangle_woop(r, p); });
 }
 
+// The closed-mesh cases through the whole tracer: one BVH over the mesh, single rays (8-wide
+// nodes, "float") and 8-ray packets ("simd8"), with the fast and the robust slab test. Rows of
+// family "bvh": per ray, the exact first crossing against the traced hit; leaks as above.
+void bvh_rows(Ctx& x, const TriCase& c, const Mesh& m) {
+  if (c.woop.must_hit.empty()) return;
+  scene::Scene s;
+  s.name = c.woop.name;
+  s.verts = m.v;
+  for (const auto& f : m.f) s.triangles.push_back({{std::uint32_t(f[0]), std::uint32_t(f[1]), std::uint32_t(f[2])}, 0});
+  const bvh::Accel a = bvh::Accel::build(s);
+  const std::size_t nr = c.woop.nrays(), np = c.woop.nprims();
+  std::vector<Ref> ref(nr);
+  for (std::size_t i = 0; i < nr; ++i) {
+    Ref& f = ref[i];
+    for (std::size_t j = 0; j < np; ++j) {
+      const Ref& t = c.woop.ref[j * nr + i];
+      f.scale = t.scale;
+      if (t.cls == Cls::hit) f.cls = Cls::hit;
+      if (t.cls == Cls::either && f.cls == Cls::miss) f.cls = Cls::either;
+      if (t.has_t && (!f.has_t || t.t < f.t)) f.t = t.t, f.has_t = true;
+    }
+  }
+  for (int robust = 0; robust < 2; ++robust)
+    for (int packet : {1, 8}) {
+      bvh::TraceOptions opt;
+      opt.robust = robust != 0;
+      opt.packet = packet;
+      x.tick("bvh", c.woop.name);
+      std::vector<bvh::HitRec> hits(c.woop.rays.size());
+      a.trace(c.woop.rays, 0, c.woop.rays.size(), hits.data(), opt);
+      std::vector<Out> out(nr);
+      for (std::size_t i = 0; i < nr; ++i) out[i] = {hits[i].prim != bvh::kNoPrim, double(hits[i].t)};
+      Row r = tally("bvh", robust ? "woop_robust_slabs" : "woop_fast_slabs", packet == 1 ? "float" : "simd8", c.woop.name,
+                    c.woop.what + " (traced through an 8-wide BVH)", nr, ref, out, double(std::numeric_limits<float>::epsilon()), true,
+                    {}, false);
+      std::size_t leaks = 0, crossing = 0;
+      for (std::size_t i = 0; i < nr; ++i)
+        if (c.woop.must_hit[i]) ++crossing, leaks += !out[i].hit;
+      r.leaks = leaks;
+      r.leak_ppm = 1e6 * double(leaks) / double(std::max<std::size_t>(crossing, 1));
+      r.iterations = std::numeric_limits<double>::quiet_NaN();
+      r.ns_per_test = std::numeric_limits<double>::quiet_NaN();
+      if (x.o->timing) {
+        double best = 1e300;
+        for (int k = 0; k < 10; ++k) {
+          const auto t0 = std::chrono::steady_clock::now();
+          a.trace(c.woop.rays, 0, c.woop.rays.size(), hits.data(), opt);
+          best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        }
+        r.ns_per_test = best * 1e9 / double(nr);
+      }
+      x.rows->push_back(r);
+    }
+}
+
 }  // namespace
 
 std::vector<CaseInfo> triangle_cases() {
@@ -236,7 +292,9 @@ void run_triangles(Ctx& x) {
   const std::size_t n = x.rays;
   auto sel = [&](const char* name) { return x.selected("triangle", name); };
   auto mesh_case = [&](const char* name, const char* what, const Mesh& m, const std::vector<Ray<float>>& rays) {
-    measure_all<void>(x, build(name, what, m.tris(), rays, 1));
+    const TriCase c = build(name, what, m.tris(), rays, 1);
+    measure_all<void>(x, c);
+    bvh_rows(x, c, m);
   };
   const auto infos = triangle_cases();
   auto what = [&](const char* name) {
@@ -270,18 +328,24 @@ void run_triangles(Ctx& x) {
       const Vec3d O = P + u * 3.0;
       rays.push_back(make_ray(O, P - O));
     }
-    measure_all<void>(x, build("fan_square", what("fan_square").c_str(), m.tris(), rays, 2));
+    const TriCase c = build("fan_square", what("fan_square").c_str(), m.tris(), rays, 2);
+    measure_all<void>(x, c);
+    bvh_rows(x, c, m);
   }
   for (double off : {1e3, 1e6}) {
     const std::string name = off < 1e4 ? "far_mesh_1e3" : "far_mesh_1e6";
     if (!sel(name.c_str())) continue;
-    const Vec3d c = unit_rand(g) * off;
-    const Mesh m = octahedron(c, 2.0, 0.1, g);
-    measure_all<void>(x, build(name, what(name.c_str()), m.tris(), aimed_rays(m, false, n, 8.0, g), 1));
+    const Vec3d ctr = unit_rand(g) * off;
+    const Mesh m = octahedron(ctr, 2.0, 0.1, g);
+    const TriCase c = build(name, what(name.c_str()), m.tris(), aimed_rays(m, false, n, 8.0, g), 1);
+    measure_all<void>(x, c);
+    bvh_rows(x, c, m);
   }
   if (sel("far_camera_1e4")) {
     const Mesh m = octahedron({0.5, -0.25, 0.125}, 2.0, 0.1, g);
-    measure_all<void>(x, build("far_camera_1e4", what("far_camera_1e4"), m.tris(), aimed_rays(m, false, n, 2e4, g), 1));
+    const TriCase c = build("far_camera_1e4", what("far_camera_1e4"), m.tris(), aimed_rays(m, false, n, 2e4, g), 1);
+    measure_all<void>(x, c);
+    bvh_rows(x, c, m);
   }
   if (sel("grazing")) {
     const Tri t{Vec3f{-1.f, -1.f, 0.25f}, Vec3f{1.5f, -0.75f, -0.125f}, Vec3f{0.125f, 1.25f, 0.5f}};
