@@ -284,6 +284,8 @@ std::vector<CaseInfo> triangle_cases() {
       {"triangle", "far_camera_1e4", "octahedron edges seen from 1e4 mesh sizes away"},
       {"triangle", "grazing", "in-plane direction + delta n (delta 1e-1..1e-12) at random points of one triangle"},
       {"triangle", "needle", "needle triangles (aspect 1e3..1e7) and tiny ones (size 1e-6), rays at random points near them"},
+      {"triangle", "pbrt_bad_triangle", "pbrt-v4's known bad case (a zero-area triangle at x = -1113.45, its ray with tmax 0.9999 |d|), "
+                                        "and the ray moved by up to 1e-3"},
   };
 }
 
@@ -364,6 +366,28 @@ void run_triangles(Ctx& x) {
       rays.push_back(make_ray(P - d * 3.0, d));
     }
     measure_all<void>(x, build("grazing", what("grazing"), {t}, rays, 0));
+  }
+  if (sel("pbrt_bad_triangle")) {
+    // The vertices share x and z: the triangle is a segment. No method may report a hit.
+    const Tri t{Vec3f{-1113.45459f, -79.049614f, -56.2431908f}, Vec3f{-1113.45459f, -87.0922699f, -56.2431908f},
+                Vec3f{-1113.45459f, -79.2090149f, -56.2431908f}};
+    TriCase c;
+    c.woop.family = c.mt.family = "triangle";
+    c.woop.name = c.mt.name = "pbrt_bad_triangle";
+    c.woop.what = c.mt.what = what("pbrt_bad_triangle");
+    const Vec3d O0{-1081.47925, 99.9999542, 87.7701111}, D{-32.1072998, -183.355865, -144.607635};
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3d O = i == 0 ? O0 : O0 + unit_rand(g) * lurand(g, 1e-7, 1e-3);
+      const Ray<float> r = make_ray(O, D, 0.0, 0.9999);
+      c.woop.prims.push(make_tri_verts(t[0], t[1], t[2]));
+      c.mt.prims.push(make_triangle(t[0], t[1], t[2]));
+      c.woop.rays.push(r);
+      c.mt.rays.push(r);
+      const Ray<float> q = c.woop.rays.get(i);
+      c.woop.ref.push_back(triangle_ref(q.o, q.d, q.tmin, q.tmax, t[0], t[1], t[2]));
+    }
+    c.mt.ref = c.woop.ref;
+    measure_all<void>(x, c);
   }
   if (sel("needle")) {
     // One-to-one: each ray its own needle or tiny triangle.

@@ -97,6 +97,21 @@ TEST(AccuracyTriangle, WatertightNoLeaksOnEdgeAndVertexSets) {
     EXPECT_EQ(r.leaks, 0u) << r.case_name << " " << r.precision;
   }
   EXPECT_GE(closed, 8 * 3);  // every closed-mesh case in float, double and simd8
+  // The same rays through the whole tracer: an 8-wide BVH with the robust slab test, single
+  // rays and 8-ray packets.
+  int traced = 0;
+  for (const Row& r : rows) {
+    if (r.family != "bvh" || r.method != "woop_robust_slabs") continue;
+    ++traced;
+    EXPECT_EQ(r.leaks, 0u) << r.case_name << " " << r.precision;
+  }
+  EXPECT_GE(traced, 8 * 2);
+}
+
+TEST(AccuracyTriangle, PbrtBadCaseNeverHits) {
+  const auto rows = lab("triangle/pbrt_bad_triangle", 64);
+  ASSERT_EQ(rows.size(), 9u);
+  for (const Row& r : rows) EXPECT_EQ(r.false_hits, 0u) << r.method << " " << r.precision;
 }
 
 TEST(AccuracyTriangle, NaiveMethodsLeakWhereKnown) {
