@@ -15,7 +15,7 @@ std::vector<Row> run_lab(const Options& o) {
   std::vector<Row> rows;
   Ctx x;
   x.o = &o;
-  x.rays = o.rays ? o.rays : (o.full ? 20000 : 2000);
+  x.rays = o.rays ? o.rays : (o.full ? 100000 : 10000);
   x.rows = &rows;
   x.cases_total = 0;
   for (const CaseInfo& c : case_list()) x.cases_total += x.selected(c.family, c.name);

@@ -24,7 +24,7 @@ namespace rb::acc {
 struct Options {
   bool full = false;              // larger ray counts and every case variant
   std::uint32_t seed = 1;         // seed of every generator
-  std::size_t rays = 0;           // rays per case (0: 2000 quick, 20000 full)
+  std::size_t rays = 0;           // rays per case (0: 10000 quick, 100000 full)
   std::string filter;             // substring of "family/case" (empty: all)
   bool timing = true;             // measure ns per test (off: every ns figure is NaN)
   std::function<void(double, const std::string&)> progress;  // fraction done, what

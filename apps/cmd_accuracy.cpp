@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -64,7 +65,15 @@ nlohmann::json accuracy_json(const acc::Options& o, const std::vector<acc::Row>&
   return j;
 }
 
-std::string accuracy_text(const std::vector<acc::Row>& rows) {
+std::string accuracy_text(const std::vector<acc::Row>& all) {
+  // Grouped by family, in the order the families first appear (the BVH rows follow each mesh case).
+  std::vector<std::string> fams;
+  for (const auto& r : all)
+    if (std::find(fams.begin(), fams.end(), r.family) == fams.end()) fams.push_back(r.family);
+  std::vector<acc::Row> rows;
+  for (const auto& f : fams)
+    for (const auto& r : all)
+      if (r.family == f) rows.push_back(r);
   std::string s;
   std::string fam;
   for (const auto& r : rows) {
@@ -97,7 +106,7 @@ Command add_accuracy_command(CLI::App& app) {
                                  "The accuracy lab: adversarial seeded rays per primitive family (edges and vertices of closed meshes, "
                                  "far and grazing rays, planets, apexes, tangents, slab planes, spawned rays) against exact references "
                                  "from the same float inputs; false hits/misses, leaks, t error in ulps, self-hits, ns per test");
-  cmd->add_flag("--full", o->full, "Every case with 20000 rays (default: 2000 rays per case, under a minute)");
+  cmd->add_flag("--full", o->full, "Every case with 100000 rays (default: 10000 rays per case, about ten seconds)");
   cmd->add_option("--seed", o->seed, "Seed of every case generator")->capture_default_str();
   cmd->add_option("--rays", o->rays, "Rays per case (overrides the mode's count)")->check(CLI::Range(std::size_t(8), std::size_t(1) << 24));
   cmd->add_option("--filter", o->filter, "Only cases whose family/case contains this text (e.g. triangle/octa, torus/)");

@@ -195,7 +195,7 @@ std::string report_section_accuracy(const ReportOptions& o, const fs::path& out,
       "leaks + self-hits + NaN t + wrong roots, per million tests (leaks per million rays through a closed mesh; a hit exactly on an "
       "edge or a tangent point is neither). ns per test is timed in the same run, on the case's own rays. Raw rows: "
       "[accuracy.json](accuracy.json).\n\n",
-      ao.rays ? ao.rays : (ao.full ? 20000 : 2000), ao.seed, secs);
+      ao.rays ? ao.rays : (ao.full ? 100000 : 10000), ao.seed, secs);
   md += "### Targets\n\n| target | this run | met |\n|---|---|---|\n";
   json tj = json::array();
   for (const Target& t : targets(rows)) {
