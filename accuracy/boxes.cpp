@@ -22,6 +22,7 @@ void run_boxes(Ctx& x) {
   const std::size_t n = x.rays;
   for (const auto& ci : box_cases()) {
     if (!x.selected(ci.family, ci.name)) continue;
+    x.reseed(ci.family, ci.name);
     Case<Box> c;
     c.family = "box", c.name = ci.name, c.what = ci.what;
     for (std::size_t i = 0; i < n; ++i) {

@@ -55,6 +55,13 @@ struct Ctx {
   std::vector<Row>* rows = nullptr;
   std::size_t cases_total = 1, cases_started = 0;
   std::string last_case;
+  // Each case draws from its own stream (seed, family, case name): its rays do not depend on
+  // which other cases ran before it (--filter).
+  void reseed(const std::string& family, const std::string& name) {
+    std::uint64_t h = 1469598103934665603ULL ^ std::uint64_t(o->seed);
+    for (char ch : family + "/" + name) h = (h ^ std::uint64_t(static_cast<unsigned char>(ch))) * 1099511628211ULL;
+    rng.seed(h);
+  }
   // Progress: called when a method starts on a case (a new case counts one step).
   void tick(const std::string& family, const std::string& name) {
     // The BVH rows of a mesh case follow it under the same name: one step.

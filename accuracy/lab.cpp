@@ -26,8 +26,7 @@ std::vector<Row> run_lab(const Options& o) {
   const Fam fams[] = {{"triangle", run_triangles}, {"sphere", run_spheres}, {"quadric", run_quadrics},
                       {"torus", run_torus},       {"box", run_boxes},       {"secondary", run_secondary}};
   for (const Fam& f : fams) {
-    // Each family draws from its own stream: a case's rays do not depend on which families ran.
-    x.rng.seed(std::uint64_t(o.seed) * 1000003ULL + std::uint64_t(f.name[0]) * 7919ULL + std::uint64_t(f.name[1]));
+    x.reseed(f.name, "");  // each case reseeds too (Ctx::reseed)
     f.run(x);
   }
   if (o.progress) o.progress(1.0, "done");

@@ -40,8 +40,8 @@ struct Row {
   double self_hit_ppm = 0, iterations = 0, ns_per_test = 0;
   std::size_t false_hits = 0, false_misses = 0, leaks = 0, self_hits = 0, nans = 0, wrong_roots = 0;
   nlohmann::json json() const;
-  // The failure figure of the "where each method fails" table: the misclassified share in ppm
-  // (false hits + false misses + leaks + self-hits + NaN + wrong roots).
+  // The failure figure of the "where each method fails" table, in ppm: false hits + false misses
+  // + self-hits + NaN + wrong roots; on closed meshes leaks + NaN + wrong (farther) hits.
   double failure_ppm() const;
 };
 

@@ -23,16 +23,17 @@ void add_cyl(Pair<Cylinder>& c, const Ray<float>& r0) {
   c.open.ref.push_back(quadric_ref(Quad::cylinder, false, r.o, r.d, r.tmin, r.tmax, cy.cx, cy.cy, cy.r2, cy.z0, cy.z1));
   c.solid.ref.push_back(quadric_ref(Quad::cylinder, true, r.o, r.d, r.tmin, r.tmax, cy.cx, cy.cy, cy.r2, cy.z0, cy.z1));
 }
-// The cone x^2 + y^2 = z^2 about the apex, 0 <= z <= 2 (one nappe; capped: the closed frustum).
+// The cone x^2 + y^2 = z^2 about the apex: open, both nappes, -2 <= z <= 2 (the apex inside the
+// height range, not on a rim); capped, one nappe 0 <= z <= 2 (the closed frustum with its tip).
 const Vec3d kApex{0.0, 0.0, 0.0};
 void add_cone(Pair<Cone>& c, const Ray<float>& r0) {
-  const Cone<float> co = make_capped_cone(kApex, 0.0, 2.0);
-  c.open.prims.push(co), c.solid.prims.push(co);
+  const Cone<float> open = make_cone(kApex, -2.0, 2.0), solid = make_capped_cone(kApex, 0.0, 2.0);
+  c.open.prims.push(open), c.solid.prims.push(solid);
   c.open.rays.push(r0), c.solid.rays.push(r0);
   const Ray<float> r = c.open.rays.get(c.open.rays.count - 1);
   // The reference works in the apex frame (the apex is the origin here, exactly).
-  c.open.ref.push_back(quadric_ref(Quad::cone, false, r.o, r.d, r.tmin, r.tmax, 0, 0, 0, co.z0, co.z1));
-  c.solid.ref.push_back(quadric_ref(Quad::cone, true, r.o, r.d, r.tmin, r.tmax, 0, 0, 0, co.z0, co.z1));
+  c.open.ref.push_back(quadric_ref(Quad::cone, false, r.o, r.d, r.tmin, r.tmax, 0, 0, 0, open.z0, open.z1));
+  c.solid.ref.push_back(quadric_ref(Quad::cone, true, r.o, r.d, r.tmin, r.tmax, 0, 0, 0, solid.z0, solid.z1));
 }
 
 template <template <class> class P>
@@ -67,6 +68,7 @@ void run_quadrics(Ctx& x) {
   const std::size_t n = x.rays;
   for (const auto& ci : quadric_cases()) {
     if (!x.selected(ci.family, ci.name)) continue;
+    x.reseed(ci.family, ci.name);
     if (ci.name.rfind("cyl", 0) == 0) {
       Pair<Cylinder> c;
       name(c, ci);

@@ -94,6 +94,7 @@ void run_secondary(Ctx& x) {
   auto& g = x.rng;
   const std::size_t n = x.rays;
   if (x.selected("sphere", "secondary_no_offset") || x.selected("sphere", "secondary_wb_offset")) {
+    x.reseed("sphere", "secondary");
     auto run = [&](const char* method, auto kern) {
       std::vector<Sphere<float>> prims;
       std::vector<Spawn> sp;
@@ -119,6 +120,7 @@ void run_secondary(Ctx& x) {
     run("compensated", [](const Ray<float>& r, const Sphere<float>& s) { return intersect_sphere_compensated(r, s); });
   }
   if (x.selected("triangle", "secondary_no_offset") || x.selected("triangle", "secondary_wb_offset")) {
+    x.reseed("triangle", "secondary");
     auto run = [&](const char* method, auto make, auto kern) {
       using P = decltype(make(Vec3f{}, Vec3f{}, Vec3f{}));
       std::vector<P> prims;

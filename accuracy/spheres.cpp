@@ -60,6 +60,7 @@ void run_spheres(Ctx& x) {
   const auto infos = sphere_cases();
   for (const auto& ci : infos) {
     if (!x.selected(ci.family, ci.name)) continue;
+    x.reseed(ci.family, ci.name);
     Case<Sphere> c = new_case(ci.name, ci.what);
     if (ci.name.rfind("far_small", 0) == 0) {
       const double D = ci.name == "far_small_1e1" ? 1e1 : ci.name == "far_small_1e3" ? 1e3 : 1e5;

@@ -55,6 +55,7 @@ void run_torus(Ctx& x) {
   const std::size_t n = x.rays;
   for (const auto& ci : torus_cases()) {
     if (!x.selected(ci.family, ci.name)) continue;
+    x.reseed(ci.family, ci.name);
     Case<Torus> c;
     c.family = "torus", c.name = ci.name, c.what = ci.what;
     for (std::size_t i = 0; i < n; ++i) {
