@@ -194,11 +194,13 @@ void run_quadrics(Ctx& x);
 void run_torus(Ctx& x);
 void run_boxes(Ctx& x);
 void run_secondary(Ctx& x);
+void run_quartics(Ctx& x);
 std::vector<CaseInfo> triangle_cases();
 std::vector<CaseInfo> sphere_cases();
 std::vector<CaseInfo> quadric_cases();
 std::vector<CaseInfo> torus_cases();
 std::vector<CaseInfo> box_cases();
 std::vector<CaseInfo> secondary_cases();
+std::vector<CaseInfo> quartic_cases();
 
 }  // namespace rb::acc

@@ -176,6 +176,15 @@ TEST(AccuracyTorus, RootAtTheBoundingSphereEntry) {
   EXPECT_NEAR(double(lane(h8.t, 3)), double(ref[0]), 1e-3);
 }
 
+// The solver-only set: widely spread roots are found in double; a cluster of four roots within
+// 1e-5 is beyond float (its roots move by ~eps^(1/4)): the set detects that.
+TEST(AccuracyQuartic, SpreadInDoubleClusterBeyondFloat) {
+  const auto rows = lab("quartic/");
+  EXPECT_EQ(misclassified(row(rows, "spread", "isolation_newton", "double")), 0.0);
+  EXPECT_GT(misclassified(row(rows, "clustered", "isolation_newton", "float")), 1e4);
+  EXPECT_GT(row(rows, "spread", "isolation_newton", "float").iterations, 0.0);
+}
+
 // ---- cylinder, cone ----------------------------------------------------------------------------
 TEST(AccuracyQuadric, NoNaNAndApexInDouble) {
   const auto rows = lab("quadric/");
