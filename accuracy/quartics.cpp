@@ -85,7 +85,9 @@ void run_quartics(Ctx& x) {
       // as floats, it becomes two close simple roots or none, and both sides see the same.
       c.ref.push_back(f);
     }
-    measure(x, c, "isolation_newton", [](const auto& r, const auto& q, IterCount* ic) { return first_root(r, q, ic); }, true, true);
+    // No "wrong root" figure: the solver's tolerance is absolute (4 eps x the interval), so the t
+    // error of small roots is large by design; it is in the ulp columns.
+    measure(x, c, "isolation_newton", [](const auto& r, const auto& q, IterCount* ic) { return first_root(r, q, ic); }, false, true);
   }
 }
 

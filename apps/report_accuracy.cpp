@@ -37,12 +37,16 @@ std::string ppm(double x) {
 std::string g3(double x) { return std::isfinite(x) ? fmt::format("{:.3g}", x) : "-"; }
 
 // Cases that at least one method passes (failure 0): the chart's worst case is taken over these
-// (a case no method passes is ill-conditioned by construction; the table shows it).
+// (a case no method passes is ill-conditioned by construction; the table shows it). A family
+// none of whose cases is passed: all its cases.
 std::set<std::string> passable_cases(const std::vector<Row>& rows, const std::string& fam) {
-  std::set<std::string> s;
+  std::set<std::string> s, all;
   for (const Row& r : rows)
-    if (r.family == fam && !is_secondary(r) && r.failure_ppm() == 0) s.insert(r.case_name);
-  return s;
+    if (r.family == fam && !is_secondary(r)) {
+      all.insert(r.case_name);
+      if (r.failure_ppm() == 0) s.insert(r.case_name);
+    }
+  return s.empty() ? all : s;  // no case passed by any method: the worst over all of them
 }
 
 struct Point {
@@ -249,7 +253,7 @@ std::string report_section_accuracy(const ReportOptions& o, const fs::path& out,
         passing += r->failure_ppm() == 0;
         md += fmt::format(" {} ({}) |", ppm(r->failure_ppm()), g3(r->t_err_ulp_p99));
       }
-      md += passing ? fmt::format(" {} |\n", passing) : std::string(" none: ill-conditioned (tangent or grazing below the precision's resolution) |\n");
+      md += passing ? fmt::format(" {} |\n", passing) : std::string(" none: ill-conditioned below every precision's resolution (tangent, grazing or clustered roots) |\n");
     }
     md += "\n";
     // Secondary rays.
