@@ -47,6 +47,7 @@ int main(int argc, char** argv) {
   const rb::app::Command query = rb::app::add_query_command(app);
   const rb::app::Command trace = rb::app::add_trace_command(app);
   const rb::app::Command render = rb::app::add_render_command(app);
+  const rb::app::Command accuracy = rb::app::add_accuracy_command(app);
 
   auto* mach = app.add_subcommand("machine", "Print the machine and build description recorded with every result (JSON)");
 
@@ -76,6 +77,7 @@ int main(int argc, char** argv) {
     if (*query.cli) return query.run();
     if (*trace.cli) return trace.run();
     if (*render.cli) return render.run();
+    if (*accuracy.cli) return accuracy.run();
     if (*mach) { std::cout << rb::app::machine().json().dump(2) << "\n"; return 0; }
   } catch (const std::exception& e) {
     std::cerr << "raybench: " << e.what() << "\n";

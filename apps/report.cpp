@@ -359,6 +359,9 @@ int run_report(const ReportOptions& o) {
   md += report_section_tracing(o, out, summary);
   md += report_section_render(o, out, summary);
 
+  std::cerr << "[report] accuracy lab\n";
+  md += report_section_accuracy(o, out, summary);
+
   md += pgo_section(out);
 
   std::cerr << "[report] charts\n";

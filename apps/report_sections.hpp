@@ -13,4 +13,5 @@ struct ReportOptions;
 std::string report_section_tracing(const ReportOptions& o, const std::filesystem::path& out, nlohmann::json& summary);  // report_trace.cpp
 std::string report_section_scenes(const ReportOptions& o, const std::filesystem::path& out, nlohmann::json& summary);  // report_scenes.cpp
 std::string report_section_render(const ReportOptions& o, const std::filesystem::path& out, nlohmann::json& summary);  // report_render.cpp
+std::string report_section_accuracy(const ReportOptions& o, const std::filesystem::path& out, nlohmann::json& summary);  // report_accuracy.cpp
 }  // namespace rb::app

@@ -21,6 +21,11 @@ const Entry kEntries[] = {
      kNoteSums},
     {"sphere", "hearn_baker", "hit", std::nullopt,
      "c = f.f - R^2 3+- 3*, q 1+- 1 sqrt, t1 = c/q 1/ (t0 = q since a = 1), 2 min/max; 3 cmp 2 select as the stable form"},
+    {"sphere", "compensated", "miss", std::nullopt,
+     "f = P0 - C as fh + fl (3 two-sums), b = f.d and c = f.f - R^2 as if summed exactly and rounded once (two-products "
+     "by FMA, two-sums, the error terms collected), a = d.d likewise, disc = b^2 - a c from the unrounded pairs; 1 cmp. "
+     "about five times the stable form's operations: the price of a right answer for grazing rays on a planet in float"},
+    {"sphere", "compensated", "hit", std::nullopt, "b and c rounded once 2+-, then the stable roots and the root choice"},
     {"sphere", "uv", "miss", std::nullopt, "the stable sphere's negative case (the [u,v] mapping runs only on hits)"},
     {"sphere", "uv", "hit", std::nullopt,
      "stable hit + N = (P0 + t d - C)/R 6+- 6* + the uv_map row + 2 select (u = v = 0 on missing lanes); "

@@ -29,6 +29,14 @@ struct SphereHearnBakerSpec : SphereGeometricSpec {
   static RB_INLINE Hit<F> run(const Ray<F>& r, const Sphere<F>& s, const Soa&, std::size_t) { return intersect_sphere_hearn_baker(r, s); }
 };
 
+// Compensated (error-free transformations; exact to about double precision on the discriminant):
+// the float method for grazing rays on a planet. Its speed beside stable is the price of that.
+struct SphereCompensatedSpec : SphereGeometricSpec {
+  static constexpr const char* method = "compensated";
+  template <class F>
+  static RB_INLINE Hit<F> run(const Ray<F>& r, const Sphere<F>& s, const Soa&, std::size_t) { return intersect_sphere_compensated(r, s); }
+};
+
 // Stable intersection plus the lecture's [u,v] (pole and equator vary per sphere).
 struct SphereUVSpec : PlainSoaSpec<SphereUV> {
   static constexpr const char* kernel = "sphere";
@@ -174,6 +182,7 @@ template <class V>
 void for_each_spec_quadric(V&& v) {
   v.template operator()<SphereStableSpec>();
   v.template operator()<SphereHearnBakerSpec>();
+  v.template operator()<SphereCompensatedSpec>();
   v.template operator()<SphereUVSpec>();
   v.template operator()<QuadricMatrixSpec>();
   v.template operator()<QuadricCoeffs10Spec>();

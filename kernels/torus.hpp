@@ -177,9 +177,15 @@ RB_INLINE TorusLocal<F> torus_local_roots(const Ray<F>& r, const Torus<F>& T, It
   const Roots<F, 2> clip = bounding_sphere_span(r, q, T.bs2);
   L.m = clip.valid[0];
   if (none_of<F>(L.m)) return L;
-  L.t0 = clip.lo();
+  // The search starts a little before the bounding-sphere entry: the torus touches its sphere
+  // all along the outer equator, so a ray entering there has a root within rounding of s = 0,
+  // and q0 carries an error of ~eps |t0|; when p(0) then rounded to the root's far side, the
+  // first root was lost and the next one returned (found by the accuracy lab at 500x the torus
+  // size). A root found before the entry is still checked against tmin below. 2+- 1* 1 min/max.
+  const F pad = cst<F>(8 * double(std::numeric_limits<scalar_t<F>>::epsilon())) * (vabs(clip.lo()) + T.R + T.r);
+  L.t0 = clip.lo() - pad;
   L.q0 = q + r.d * L.t0;
-  const F W = vmax(clip.hi() - clip.lo(), F(0));
+  const F W = vmax(clip.hi() - L.t0, F(0)) + pad;
   F c[5];
   torus_quartic(L.q0, r.d, T, c);
   const F tol = F(4 * std::numeric_limits<scalar_t<F>>::epsilon()) * (W + T.r);

@@ -1,0 +1,37 @@
+#include "accuracy/common.hpp"
+
+namespace rb::acc {
+
+std::vector<CaseInfo> case_list() {
+  std::vector<CaseInfo> all;
+  for (auto f : {triangle_cases, sphere_cases, quadric_cases, torus_cases, quartic_cases, box_cases, secondary_cases}) {
+    auto v = f();
+    all.insert(all.end(), v.begin(), v.end());
+  }
+  return all;
+}
+
+std::vector<Row> run_lab(const Options& o) {
+  std::vector<Row> rows;
+  Ctx x;
+  x.o = &o;
+  x.rays = o.rays ? o.rays : (o.full ? 100000 : 10000);
+  x.rows = &rows;
+  x.cases_total = 0;
+  for (const CaseInfo& c : case_list()) x.cases_total += x.selected(c.family, c.name);
+  struct Fam {
+    const char* name;
+    void (*run)(Ctx&);
+  };
+  const Fam fams[] = {{"triangle", run_triangles}, {"sphere", run_spheres}, {"quadric", run_quadrics},
+                      {"torus", run_torus},       {"quartic", run_quartics}, {"box", run_boxes},
+                      {"secondary", run_secondary}};
+  for (const Fam& f : fams) {
+    x.reseed(f.name, "");  // each case reseeds too (Ctx::reseed)
+    f.run(x);
+  }
+  if (o.progress) o.progress(1.0, "done");
+  return rows;
+}
+
+}  // namespace rb::acc

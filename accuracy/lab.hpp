@@ -1,0 +1,56 @@
+// The accuracy lab: named, seeded adversarial cases per primitive family, exact references
+// computed from the same float inputs, and per method x precision x case failure figures.
+//
+// A case is a set of (ray, primitive) tests built only from float inputs (the rays as stored by
+// make_ray, the primitives as stored by their builders). Its reference is computed from exactly
+// those floats: GMP rationals decide hit or miss where a ray meets a triangle's edge or a box's
+// slab plane, MPFR (512 bits) gives the roots of the quadrics, a long double isolation of the
+// torus quartic (re-centred at the closest approach) gives the torus roots. The methods run as
+// scalar float, scalar double (the same floats, widened) and 8-lane float SIMD (rays in lanes).
+//
+// The lab's translation units are compiled with FMA contraction on in every preset, so the
+// figures are those of the release build (accuracy/CMakeLists.txt).
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace rb::acc {
+
+struct Options {
+  bool full = false;              // larger ray counts and every case variant
+  std::uint32_t seed = 1;         // seed of every generator
+  std::size_t rays = 0;           // rays per case (0: 10000 quick, 100000 full)
+  std::string filter;             // substring of "family/case" (empty: all)
+  bool timing = true;             // measure ns per test (off: every ns figure is NaN)
+  std::function<void(double, const std::string&)> progress;  // fraction done, what
+};
+
+// One method in one precision on one case. Rates are per million tests (rays for leak_ppm).
+// NaN where a figure does not apply (no t to compare, no closed mesh, no spawned rays).
+struct Row {
+  std::string family, method, precision, case_name, what;
+  std::size_t rays = 0, tests = 0;
+  double false_hit_ppm = 0, false_miss_ppm = 0, leak_ppm = 0, multi_hit_ppm = 0, nan_ppm = 0, wrong_root_ppm = 0;
+  double t_err_ulp_p50 = 0, t_err_ulp_p99 = 0, t_err_ulp_max = 0, scaled_err_p99 = 0;
+  double self_hit_ppm = 0, iterations = 0, ns_per_test = 0;
+  std::size_t false_hits = 0, false_misses = 0, leaks = 0, self_hits = 0, nans = 0, wrong_roots = 0;
+  nlohmann::json json() const;
+  // The failure figure of the "where each method fails" table, in ppm: false hits + false misses
+  // + self-hits + NaN + wrong roots; on closed meshes leaks + NaN + wrong (farther) hits.
+  double failure_ppm() const;
+};
+
+// A family's case list: name and one-line description, for --list and the report.
+struct CaseInfo {
+  std::string family, name, what;
+};
+std::vector<CaseInfo> case_list();
+
+// Runs every selected case of every family. Rows come out in a stable order.
+std::vector<Row> run_lab(const Options& o);
+}  // namespace rb::acc

@@ -1,0 +1,125 @@
+// Cylinder and cone cases (in their own frame: axis z): rays parallel to the cylinder's axis or
+// to a cone generator (also tilted by 10^-k), rays exactly through and near the cone's apex,
+// distant cameras, near-tangent rays. Open surfaces and capped solids each have their reference.
+#include "accuracy/exact.hpp"
+#include "kernels/cylinder_cone.hpp"
+
+#include <cmath>
+
+namespace rb::acc {
+
+namespace {
+
+template <template <class> class P>
+struct Pair {
+  Case<P> open, solid;  // the same rays; one primitive each (open surface, capped solid)
+};
+
+void add_cyl(Pair<Cylinder>& c, const Ray<float>& r0) {
+  const Cylinder<float> cy = make_cylinder(0.25, -0.125, 1.0, 0.0, 2.0);
+  c.open.prims.push(cy), c.solid.prims.push(cy);
+  c.open.rays.push(r0), c.solid.rays.push(r0);
+  const Ray<float> r = c.open.rays.get(c.open.rays.count - 1);
+  c.open.ref.push_back(quadric_ref(Quad::cylinder, false, r.o, r.d, r.tmin, r.tmax, cy.cx, cy.cy, cy.r2, cy.z0, cy.z1));
+  c.solid.ref.push_back(quadric_ref(Quad::cylinder, true, r.o, r.d, r.tmin, r.tmax, cy.cx, cy.cy, cy.r2, cy.z0, cy.z1));
+}
+// The cone x^2 + y^2 = z^2 about the apex: open, both nappes, -2 <= z <= 2 (the apex inside the
+// height range, not on a rim); capped, one nappe 0 <= z <= 2 (the closed frustum with its tip).
+const Vec3d kApex{0.0, 0.0, 0.0};
+void add_cone(Pair<Cone>& c, const Ray<float>& r0) {
+  const Cone<float> open = make_cone(kApex, -2.0, 2.0), solid = make_capped_cone(kApex, 0.0, 2.0);
+  c.open.prims.push(open), c.solid.prims.push(solid);
+  c.open.rays.push(r0), c.solid.rays.push(r0);
+  const Ray<float> r = c.open.rays.get(c.open.rays.count - 1);
+  // The reference works in the apex frame (the apex is the origin here, exactly).
+  c.open.ref.push_back(quadric_ref(Quad::cone, false, r.o, r.d, r.tmin, r.tmax, 0, 0, 0, open.z0, open.z1));
+  c.solid.ref.push_back(quadric_ref(Quad::cone, true, r.o, r.d, r.tmin, r.tmax, 0, 0, 0, solid.z0, solid.z1));
+}
+
+template <template <class> class P>
+void name(Pair<P>& c, const CaseInfo& ci) {
+  c.open.family = c.solid.family = "quadric";
+  c.open.name = c.solid.name = ci.name;
+  c.open.what = c.solid.what = ci.what;
+}
+
+Vec3d tilt(const Vec3d& d, double k, std::mt19937_64& g) {
+  Vec3d p = unit_rand(g);
+  p = p - d * dot(p, d);
+  return d + p * (k / norm(p));
+}
+
+}  // namespace
+
+std::vector<CaseInfo> quadric_cases() {
+  return {
+      {"quadric", "cyl_parallel_axis", "radius-1 cylinder, 0 <= z <= 2: rays along +-z exactly or tilted by 10^-3..10^-9, inside and outside"},
+      {"quadric", "cyl_tangent", "rays across the axis passing it at r (1 +- 10^-k), k = 1..7"},
+      {"quadric", "cyl_far_camera", "the cylinder seen from 1e4 away, rays at random points of it"},
+      {"quadric", "cone_generator_parallel", "rays parallel to a generator of the 45-degree cone (exactly and tilted by 10^-k)"},
+      {"quadric", "cone_apex", "steep rays exactly through the apex (integer directions, origin = apex - 2^k d)"},
+      {"quadric", "cone_near_apex", "the same rays moved off the apex by 1e-7..1e-4 (the two nappes' roots within rounding of each other)"},
+      {"quadric", "cone_far_camera", "the cone seen from 1e4 away"},
+  };
+}
+
+void run_quadrics(Ctx& x) {
+  auto& g = x.rng;
+  const std::size_t n = x.rays;
+  for (const auto& ci : quadric_cases()) {
+    if (!x.selected(ci.family, ci.name)) continue;
+    x.reseed(ci.family, ci.name);
+    if (ci.name.rfind("cyl", 0) == 0) {
+      Pair<Cylinder> c;
+      name(c, ci);
+      const Vec3d axis{0.25, -0.125, 0};
+      for (std::size_t i = 0; i < n; ++i) {
+        if (ci.name == "cyl_parallel_axis") {
+          const double ph = urand(g, 0, 2 * M_PI), rho = urand(g, 0, 1.3);
+          const Vec3d P = axis + Vec3d{std::cos(ph), std::sin(ph), 0} * rho + Vec3d{0, 0, urand(g, -3, 5)};
+          Vec3d d{0, 0, i % 2 ? 1.0 : -1.0};
+          if (i % 3) d = tilt(d, std::pow(10.0, -std::floor(urand(g, 3, 10))), g);
+          add_cyl(c, make_ray(P, d));
+        } else if (ci.name == "cyl_tangent") {
+          const double ph = urand(g, 0, 2 * M_PI);
+          const Vec3d rad{std::cos(ph), std::sin(ph), 0}, tan{-std::sin(ph), std::cos(ph), 0};
+          const double b = 1 + (i % 2 ? 1 : -1) * std::pow(10.0, -std::floor(urand(g, 1, 8)));
+          const Vec3d P = axis + rad * b + Vec3d{0, 0, urand(g, 0.1, 1.9)};
+          add_cyl(c, make_ray(P - tan * 3.0, tan));
+        } else {
+          const Vec3d target = axis + Vec3d{urand(g, -1, 1), urand(g, -1, 1), urand(g, 0, 2)};
+          const Vec3d eye = axis + Vec3d{0, 0, 1} + unit_rand(g) * 1e4;
+          add_cyl(c, make_ray(eye, target - eye));
+        }
+      }
+      measure(x, c.open, "cylinder", [](const auto& r, const auto& p, IterCount*) { return intersect_cylinder(r, p); });
+      measure(x, c.solid, "cylinder_capped", [](const auto& r, const auto& p, IterCount*) { return intersect_cylinder_capped(r, p); });
+    } else {
+      Pair<Cone> c;
+      name(c, ci);
+      for (std::size_t i = 0; i < n; ++i) {
+        if (ci.name == "cone_generator_parallel") {
+          const double ph = urand(g, 0, 2 * M_PI);
+          Vec3d d{std::cos(ph), std::sin(ph), 1.0};
+          if (i % 2) d = tilt(d * (1 / std::sqrt(2.0)), std::pow(10.0, -std::floor(urand(g, 2, 9))), g);
+          const Vec3d P = Vec3d{urand(g, -1, 1), urand(g, -1, 1), urand(g, 0.2, 1.8)};
+          add_cone(c, make_ray(P - d * 4.0, d));
+        } else if (ci.name == "cone_apex" || ci.name == "cone_near_apex") {
+          Vec3d d{std::floor(urand(g, -3, 4)), std::floor(urand(g, -3, 4)), std::floor(urand(g, 4, 9))};
+          if (i % 2) d.z = -d.z;
+          Vec3d O = kApex - d * std::ldexp(1.0, int(urand(g, 0, 3)));
+          if (ci.name == "cone_near_apex") O = O + unit_rand(g) * lurand(g, 1e-7, 1e-4);  // near, not through
+          add_cone(c, make_ray(O, d));
+        } else {
+          const Vec3d target{urand(g, -1, 1), urand(g, -1, 1), urand(g, 0, 2)};
+          const Vec3d eye = Vec3d{0, 0, 1} + unit_rand(g) * 1e4;
+          add_cone(c, make_ray(eye, target - eye));
+        }
+      }
+      measure(x, c.open, "cone", [](const auto& r, const auto& p, IterCount*) { return intersect_cone(r, p); });
+      measure(x, c.solid, "cone_capped", [](const auto& r, const auto& p, IterCount*) { return intersect_cone_capped(r, p); });
+    }
+  }
+}
+
+}  // namespace rb::acc
