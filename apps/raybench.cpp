@@ -46,6 +46,7 @@ int main(int argc, char** argv) {
   const rb::app::Command info = rb::app::add_info_command(app);
   const rb::app::Command query = rb::app::add_query_command(app);
   const rb::app::Command trace = rb::app::add_trace_command(app);
+  const rb::app::Command csg = rb::app::add_csg_command(app);
 
   auto* mach = app.add_subcommand("machine", "Print the machine and build description recorded with every result (JSON)");
 
@@ -74,6 +75,7 @@ int main(int argc, char** argv) {
     if (*info.cli) return info.run();
     if (*query.cli) return query.run();
     if (*trace.cli) return trace.run();
+    if (*csg.cli) return csg.run();
     if (*mach) { std::cout << rb::app::machine().json().dump(2) << "\n"; return 0; }
   } catch (const std::exception& e) {
     std::cerr << "raybench: " << e.what() << "\n";

@@ -358,6 +358,8 @@ int run_report(const ReportOptions& o) {
   std::cerr << "[report] tracing whole scenes (raybench BVH beside Embree)\n";
   md += report_section_tracing(o, out, summary);
 
+  md += report_section_csg(o, out, summary);
+
   md += pgo_section(out);
 
   std::cerr << "[report] charts\n";

@@ -12,4 +12,5 @@ namespace rb::app {
 struct ReportOptions;
 std::string report_section_tracing(const ReportOptions& o, const std::filesystem::path& out, nlohmann::json& summary);  // report_trace.cpp
 std::string report_section_scenes(const ReportOptions& o, const std::filesystem::path& out, nlohmann::json& summary);  // report_scenes.cpp
+std::string report_section_csg(const ReportOptions& o, const std::filesystem::path& out, nlohmann::json& summary);  // report_csg.cpp
 }  // namespace rb::app

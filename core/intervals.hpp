@@ -15,7 +15,7 @@
 //   entry) fuse into one, zero-length intervals (a tangent double root, two solids touching at a
 //   point) and zero-length gaps vanish, and a coincident surface is reported once. Comparisons
 //   are exact: boundaries that differ by one ulp are two boundaries (CSG of solids sharing a face
-//   through different float arithmetic may leave a sliver there; docs/DESIGN.md section 13).
+//   through different float arithmetic may leave a sliver there).
 // The tag of a kept boundary is the first list's when that list has a boundary at t, else the
 // second's (flipped for a difference).
 //
