@@ -7,6 +7,8 @@
 
 #include <fmt/format.h>
 
+#include <map>
+
 namespace rb::opstable {
 
 namespace {
@@ -71,13 +73,15 @@ bool find_ray(const CsgTree& T, bool want_hit, Ray<float>& out) {
 
 std::string leaf_mix(const CsgTree& T) {
   int placed = 0;
-  std::string s;
+  std::map<std::string, int> kinds;
   for (const auto& l : T.leaves) {
     placed += l.placed;
-    s += std::string(s.empty() ? "" : " ") + csg_leaf_name(l.kind);
+    ++kinds[csg_leaf_name(l.kind)];
   }
-  return fmt::format("{} leaves ({}), {} transformed (15+- 18* each: the slide's count for 1 transformation)", T.leaves.size(), s,
-                     placed);
+  std::string s;
+  for (const auto& [k, n] : kinds) s += fmt::format("{}{} {}", s.empty() ? "" : ", ", n, k);
+  return fmt::format("{} leaves ({}), {} transformed: 15+- 18* per transformed leaf the query reaches (the slide's count for "
+                     "1 transformation)", T.leaves.size(), s, placed);
 }
 
 }  // namespace

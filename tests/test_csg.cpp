@@ -1,6 +1,7 @@
 // CSG in 1D ray space: interval-list algebra on hand cases, CSG trees against point membership
 // along seeded rays, normals of subtracted surfaces, transformed CSG against CSG of transformed
 // leaves, SIMD packets against scalar, and the JSON format's errors.
+#include "core/counted.hpp"
 #include "kernels/csg.hpp"
 #include "scene/csg.hpp"
 
@@ -380,4 +381,39 @@ TEST(CsgJson, SceneLoadsWithEverything) {
   }
   EXPECT_GT(white, 50);
   EXPECT_GT(black, 0);
+}
+
+// The target: a CSG query of two spheres costs the two leaf lists, the node boxes and a merge of a
+// few compares per interval end, no arithmetic.
+TEST(CsgOps, TwoSphereQueryIsLeavesBoxesAndAFewComparesPerEnd) {
+  for (const char* name : {"spheres_minus", "lens"}) {
+    const CsgTree& T = *scene::csg_scene(name).csgs[0].tree;
+    const Ray<float> r = make_ray(Vec3f{0.05f, 0.02f, 6}, Vec3f{0, 0, -1});
+    const Ray<cfloat> c = Ray<cfloat>::broadcast(r);
+    OpCounts whole, leaves, box;
+    {
+      const ops::Scope s;
+      cfloat tag;
+      ASSERT_TRUE(csg_closest(T, c, tag).mask) << name;
+      whole = s.elapsed();
+    }
+    {
+      const ops::Scope s;
+      Spans<cfloat> out;
+      csg_leaf_spans(T.leaves[0], 0, c, out);
+      csg_leaf_spans(T.leaves[1], 1, c, out);
+      leaves = s.elapsed();
+    }
+    {
+      const ops::Scope s;
+      (void)detail::csg_box_test(T.nodes[T.root], c, c.tmin, c.tmax);
+      box = s.elapsed();
+    }
+    OpCounts boxes;
+    for (int k = 0; k < 3; ++k) boxes += box;
+    const OpCounts merge = whole - leaves - boxes;
+    EXPECT_EQ(merge.add + merge.mul + merge.div + merge.sqrt + merge.fma + merge.minmax, 0u) << name << ": " << merge.str();
+    EXPECT_LE(merge.cmp, 4u * 4u) << name << ": " << merge.str();  // at most 4 compares per interval end
+    EXPECT_GE(merge.cmp, 4u) << name;                               // the merge did run
+  }
 }
