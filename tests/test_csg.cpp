@@ -387,7 +387,8 @@ TEST(CsgJson, SceneLoadsWithEverything) {
 // few compares per interval end, no arithmetic.
 TEST(CsgOps, TwoSphereQueryIsLeavesBoxesAndAFewComparesPerEnd) {
   for (const char* name : {"spheres_minus", "lens"}) {
-    const CsgTree& T = *scene::csg_scene(name).csgs[0].tree;
+    const scene::Scene sc = scene::csg_scene(name);
+    const CsgTree& T = *sc.csgs[0].tree;
     const Ray<float> r = make_ray(Vec3f{0.05f, 0.02f, 6}, Vec3f{0, 0, -1});
     const Ray<cfloat> c = Ray<cfloat>::broadcast(r);
     OpCounts whole, leaves, box;
