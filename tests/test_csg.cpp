@@ -418,3 +418,31 @@ TEST(CsgOps, TwoSphereQueryIsLeavesBoxesAndAFewComparesPerEnd) {
     EXPECT_GE(merge.cmp, 4u) << name;                               // the merge did run
   }
 }
+
+// The leaves no embedded scene uses: a capped cone and a convex polyhedron (an octahedron), each
+// transformed, in a union minus an intersection, against point membership.
+TEST(CsgTree, ConeAndPolyhedronLeavesAgreeWithPointMembership) {
+  const CsgTree T = scene::csg_from_json_text(R"({"type": "difference",
+    "transform": {"rotate": {"axis": [1, 2, 0], "degrees": 25}, "scale": [1, 0.8, 1.1]},
+    "left": {"type": "union", "children": [
+      {"type": "cone", "apex": [0, 1.5, 0], "axis": [0, -1, 0], "radius": 1, "height": 2},
+      {"type": "polyhedron", "transform": {"translate": [1, 0, 0]}, "planes": [
+        {"normal": [1, 1, 1], "point": [1, 0, 0]}, {"normal": [-1, 1, 1], "point": [-1, 0, 0]},
+        {"normal": [1, -1, 1], "point": [1, 0, 0]}, {"normal": [1, 1, -1], "point": [1, 0, 0]},
+        {"normal": [-1, -1, 1], "point": [-1, 0, 0]}, {"normal": [-1, 1, -1], "point": [-1, 0, 0]},
+        {"normal": [1, -1, -1], "point": [1, 0, 0]}, {"normal": [-1, -1, -1], "point": [-1, 0, 0]}]}]},
+    "right": {"type": "intersection",
+      "left": {"type": "sphere", "center": [0.5, 0, 0.6], "radius": 0.7},
+      "right": {"type": "ellipsoid", "center": [0.5, 0, 0.9], "radii": [1, 0.5, 0.8]}}})",
+                                              "tree");
+  Tally y;
+  check_tree(T, 1600, 5, y);
+  std::printf("cone+polyhedron: %ld samples, %ld disagreements, %ld hits (%ld subtracted), %ld/%ld normals off, %ld SIMD differ\n",
+              y.samples, y.disagreements, y.hits, y.flipped_hits, y.normal_bad, y.normal_checks, y.simd_bad);
+  EXPECT_GT(y.samples, 10000);
+  EXPECT_EQ(y.disagreements, 0);
+  EXPECT_GT(y.hits, 400);
+  EXPECT_GT(y.flipped_hits, 10);
+  EXPECT_LE(double(y.normal_bad), 0.01 * double(y.normal_checks));
+  EXPECT_LE(double(y.simd_bad), 0.002 * double(y.rays));
+}
