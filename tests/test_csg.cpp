@@ -7,7 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <random>
 #include <regex>
 
@@ -445,4 +447,34 @@ TEST(CsgTree, ConeAndPolyhedronLeavesAgreeWithPointMembership) {
   EXPECT_GT(y.flipped_hits, 10);
   EXPECT_LE(double(y.normal_bad), 0.01 * double(y.normal_checks));
   EXPECT_LE(double(y.simd_bad), 0.002 * double(y.rays));
+}
+
+// Invalid rays (NaN, zero direction) are a defined miss; a segment that ends before the surface
+// misses; one that starts inside the solid reports the exit.
+TEST(CsgTree, InvalidRaysAndSegments) {
+  const scene::Scene sc = scene::csg_scene("spheres_minus");
+  const CsgTree& T = *sc.csgs[0].tree;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  float tag = 1;
+  for (const Ray<float>& r : {make_ray(Vec3f{nan, 0, 5}, Vec3f{0, 0, -1}), make_ray(Vec3f{0, 0, 5}, Vec3f{0, 0, 0})}) {
+    const Hit<float> h = csg_hit(T, r, tag);
+    EXPECT_FALSE(h.mask);
+    EXPECT_EQ(h.t, kInf<float>);
+    EXPECT_EQ(tag, 0.0f);
+    Spans<float> L;
+    csg_list(T, r, L);  // defined (whatever the line of the invalid ray meets), never NaN
+    for (int k = 0; k < L.n; ++k) EXPECT_FALSE(std::isnan(L.t[k]));
+  }
+  // Along +z from z = -5: sphere A (radius 1.2 at the origin) is entered at t = 3.8; the bite B
+  // (centre (0.7, 0.5, 0.8), radius 0.9) covers z in [0.8 - sqrt(0.07), 0.8 + sqrt(0.07)].
+  EXPECT_FALSE(csg_hit(T, make_ray(Vec3f{0, 0, -5}, Vec3f{0, 0, 1}, 0.0f, 3.7f), tag).mask);
+  const Hit<float> in = csg_hit(T, make_ray(Vec3f{0, 0, -5}, Vec3f{0, 0, 1}, 4.0f), tag);
+  ASSERT_TRUE(in.mask);
+  const double z = 0.8 - std::sqrt(0.07);
+  EXPECT_NEAR(in.t, 5.0 + z, 1e-5);  // the exit from inside, on B's surface
+  EXPECT_LT(tag, 0.0f);              // a subtracted surface
+  const Vec3f n = csg_normal(T, tag, Vec3f{0, 0, float(z)});
+  EXPECT_NEAR(n.x, 0.7 / 0.9, 1e-5);  // into B: out of the result
+  EXPECT_NEAR(n.y, 0.5 / 0.9, 1e-5);
+  EXPECT_NEAR(n.z, (0.8 - z) / 0.9, 1e-5);
 }
