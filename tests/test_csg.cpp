@@ -3,6 +3,7 @@
 // leaves, SIMD packets against scalar, and the JSON format's errors.
 #include "core/counted.hpp"
 #include "kernels/csg.hpp"
+#include "apps/commands.hpp"
 #include "scene/csg.hpp"
 
 #include <gtest/gtest.h>
@@ -11,6 +12,9 @@
 #include <cstdio>
 #include <limits>
 #include <random>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
 #include <regex>
 
 using namespace rb;
@@ -477,4 +481,28 @@ TEST(CsgTree, InvalidRaysAndSegments) {
   EXPECT_NEAR(n.x, 0.7 / 0.9, 1e-5);  // into B: out of the result
   EXPECT_NEAR(n.y, 0.5 / 0.9, 1e-5);
   EXPECT_NEAR(n.z, (0.8 - z) / 0.9, 1e-5);
+}
+
+// `raybench query` answers a CSG tree with the closest hit, its normal and the whole interval list.
+TEST(CsgJson, QueryAcceptsACsgTree) {
+  std::istringstream in(
+      R"({"primitive":{"type":"difference","left":{"type":"sphere","center":[0,0,5],"radius":1},"right":{"type":"box","min":[-2,-2,3],"max":[2,2,4.5]}},"ray":{"origin":[0,0,0],"direction":[0,0,2]}})"
+      "\n"
+      R"({"primitive":{"type":"union","children":[{"type":"sphere","center":[0,0,5],"radius":-1}]},"ray":{"origin":[0,0,0],"direction":[0,0,1]}})"
+      "\n");
+  std::ostringstream out, err;
+  EXPECT_EQ(rb::app::run_query(in, out, err, false), 1);
+  std::istringstream lines(out.str());
+  std::string a, b;
+  std::getline(lines, a);
+  std::getline(lines, b);
+  const auto ja = nlohmann::json::parse(a), jb = nlohmann::json::parse(b);
+  const auto& r = ja["results"][0];
+  EXPECT_EQ(r["method"], "csg");
+  EXPECT_TRUE(r["hit"].get<bool>());
+  EXPECT_NEAR(r["t"].get<double>(), 2.25, 1e-6);  // 4.5 along a direction of length 2
+  EXPECT_NEAR(r["normal"][2].get<double>(), -1.0, 1e-6);  // the box's far face, flipped: towards the ray
+  ASSERT_EQ(r["intervals"].size(), 1u);
+  EXPECT_NEAR(r["intervals"][0][1].get<double>(), 3.0, 1e-6);
+  EXPECT_EQ(jb["error"], "primitive.children: expected an array of at least two nodes");
 }
