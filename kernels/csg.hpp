@@ -70,7 +70,7 @@ struct CsgTree {
   std::vector<CsgNode> nodes;
   std::vector<CsgLeaf> leaves;
   std::uint32_t root = 0;
-  int depth = 0;
+  int depth = 0;  // levels of nodes from the root to the deepest leaf
   bool empty() const { return nodes.empty() || !(nodes[root].lo[0] <= nodes[root].hi[0]); }
   std::size_t bytes() const { return nodes.size() * sizeof(CsgNode) + leaves.size() * sizeof(CsgLeaf); }
 };

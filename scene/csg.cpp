@@ -232,7 +232,6 @@ struct Builder {
   // Builds `j` under the accumulated transform M; returns its node and depth.
   std::uint32_t node(const json& j, const std::string& path, Affine3d M, std::uint32_t mat, int depth) {
     if (depth > kCsgMaxDepth) fail(path, "the CSG tree is deeper than " + std::to_string(kCsgMaxDepth) + " levels");
-    tree.depth = std::max(tree.depth, depth);
     if (!j.is_object()) fail(path, "expected an object with a \"type\"");
     if (!j.contains("type") || !j["type"].is_string()) fail(key_path(path, "type"), "expected a string");
     const std::string type = j["type"].get<std::string>();
@@ -372,8 +371,14 @@ struct Builder {
                                       "\" (union, intersection, difference, sphere, box, polyhedron, cylinder, cone, torus, ellipsoid, quadric)");
   }
 
+  // The tree's depth in nodes (a balanced union of n children adds log2 n levels to the JSON's).
+  int depth_of(std::uint32_t i) const {
+    const CsgNode& n = tree.nodes[i];
+    return n.op == CsgOp::leaf ? 1 : 1 + std::max(depth_of(n.a), depth_of(n.b));
+  }
   CsgTree finish(std::uint32_t root) {
     tree.root = root;
+    tree.depth = depth_of(root);
     return std::move(tree);
   }
 };
