@@ -1,6 +1,7 @@
 // `raybench info SCENE`: what a scene holds and what it costs in memory.
 #include "apps/commands.hpp"
 #include "apps/scene_info.hpp"
+#include "kernels/csg.hpp"
 #include "scene/batches.hpp"
 #include "scene/sources.hpp"
 
@@ -10,6 +11,7 @@
 #include <fstream>
 #include <iostream>
 #include <malloc.h>
+#include <map>
 
 namespace rb::app {
 
@@ -87,6 +89,26 @@ json scene_info(const rb::scene::Scene& s) {
                                               {{"batch", "PrimSoA<TriVerts> (Woop, watertight)"}, {"bytes", woop.prims.bytes()}},
                                               {{"batch", "TriLectureSoA (lecture, by dropped axis)"}, {"bytes", lec_bytes}}})}});
   }
+  // CSG objects: each a tree (kernels/csg.hpp) of nodes with world boxes and leaves with their
+  // composed inverse transforms; no SoA batch (a tree is queried as a whole).
+  if (!s.csgs.empty()) {
+    std::size_t nodes = 0, leaves = 0, tree_bytes = 0;
+    int depth = 0;
+    std::map<std::string, std::size_t> by_kind;
+    for (const auto& obj : s.csgs) {
+      nodes += obj.tree->nodes.size();
+      leaves += obj.tree->leaves.size();
+      tree_bytes += obj.tree->bytes();
+      depth = std::max(depth, obj.tree->depth);
+      for (const auto& l : obj.tree->leaves) ++by_kind[std::string(csg_leaf_name(l.kind)) + (l.placed ? " (transformed)" : "")];
+    }
+    std::string mix;
+    for (const auto& [k, n] : by_kind) mix += fmt::format("{}{} {}", mix.empty() ? "" : ", ", n, k);
+    kinds.push_back({{"kind", "csg"}, {"count", s.csgs.size()}, {"nodes", nodes}, {"leaves", leaves}, {"depth", depth},
+                     {"leaf_kinds", by_kind}, {"input_bytes", s.csgs.size() * sizeof(rb::scene::CsgIn) + tree_bytes},
+                     {"batches", json::array({{{"batch", fmt::format("CSG trees ({} nodes, depth {}; leaves: {})", nodes, depth, mix)},
+                                               {"bytes", tree_bytes}}})}});
+  }
   j["kinds"] = kinds;
   j["input_bytes"] = s.memory_bytes();
   return j;
@@ -144,7 +166,7 @@ Command add_info_command(CLI::App& app) {
   auto o = std::make_shared<Opts>();
   auto* cmd = app.add_subcommand("info", "Describe a scene: primitive counts per kind, bounds, camera, lights, materials and memory "
                                          "per batch (input form and SoA kernel batch)");
-  cmd->add_option("scene", o->scene, "A .obj/.ply/.nff file, spd:NAME[:SIZE] (balls gears mount rings teapot tetra tree) or lecture:NAME")
+  cmd->add_option("scene", o->scene, "A .obj/.ply/.nff file, a .json scene (CSG trees), spd:NAME[:SIZE] (balls gears mount rings teapot tetra tree), lecture:NAME or csg:NAME (spheres_minus lens die torus_box ellipsoid_minus_cylinder)")
       ->required();
   cmd->add_option("--json", o->json_out, "Write the description as JSON to this file instead of the table (no FILE or '-': stdout)")
       ->expected(0, 1)

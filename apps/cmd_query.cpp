@@ -21,6 +21,7 @@
 #include "kernels/triangle.hpp"
 #include "kernels/triangle_cramer.hpp"
 #include "kernels/triangle_woop.hpp"
+#include "scene/csg.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -45,6 +46,8 @@ struct Result {
   Vec3d p{}, n{};
   double u = 0, v = 0;
   bool has_uv = false;
+  std::vector<double> list;  // CSG: every boundary along the whole line (entry, exit, entry, ...)
+  bool has_list = false;
 };
 using Method = std::function<Result(const Ray<float>&)>;
 struct Named {
@@ -262,9 +265,34 @@ std::vector<Named> methods(const json& pj, std::string& type) {
     auto nrm = [](const auto& p, const auto& x) { return quadric_normal(p, x); };
     add("matrix", [=](const Ray<float>& r) { return eval<F>(r, q, [](auto& x, auto& y) { return intersect_quadric_matrix(x, y); }, nrm); });
     add("coeffs10", [=](const Ray<float>& r) { return eval<F>(r, q, [](auto& x, auto& y) { return intersect_quadric_coeffs10(x, y); }, nrm); });
+  } else if (type == "union" || type == "intersection" || type == "difference") {
+    // A CSG tree (the JSON scene format's node, scene/csg.hpp); float only: the tree is compiled
+    // for float rays and 8-ray packets.
+    std::shared_ptr<const CsgTree> tree;
+    try {
+      tree = std::make_shared<const CsgTree>(scene::csg_from_json_text(pj.dump(), "primitive"));
+    } catch (const scene::SceneError& e) {
+      throw QueryError(e.what());
+    }
+    add("csg", [tree](const Ray<float>& r) {
+      Result o;
+      float tag = 0;
+      const Hit<float> h = csg_hit(*tree, r, tag);
+      Spans<float> L;
+      csg_list(*tree, r, L);
+      o.has_list = true;
+      for (int k = 0; k < L.n; ++k) o.list.push_back(double(L.t[k]));
+      o.hit = h.mask;
+      if (!o.hit) return o;
+      o.t = double(h.t);
+      o.p = to_double(r.at(h.t));
+      o.n = to_double(csg_normal(*tree, tag, r.at(h.t)));
+      return o;
+    });
   } else {
     throw QueryError("unknown primitive type \"" + type +
-                     "\" (sphere, triangle, plane, parallelogram, polygon, box, cylinder, cone, torus, quadric)");
+                     "\" (sphere, triangle, plane, parallelogram, polygon, box, cylinder, cone, torus, quadric, union, intersection, "
+                     "difference)");
   }
   return m;
 }
@@ -297,6 +325,11 @@ json answer(const json& q, bool dbl) {
     if (!only.empty() && m.name != only) continue;
     const Result r = m.run(ray);
     json j = {{"method", m.name}, {"hit", r.hit}};
+    if (r.has_list) {
+      json iv = json::array();
+      for (std::size_t k = 0; k + 1 < r.list.size(); k += 2) iv.push_back({r.list[k] / len, r.list[k + 1] / len});
+      j["intervals"] = iv;
+    }
     if (r.hit) {
       j["t"] = r.t / len;
       j["point"] = {r.p.x, r.p.y, r.p.z};
@@ -349,6 +382,8 @@ Command add_query_command(CLI::App& app) {
       "Types: sphere(center,radius[,pole,equator]) triangle(v0,v1,v2) plane(point,normal[,u,v]) parallelogram(origin,u,v)\n"
       "polygon(vertices) box(min,max) cylinder(base,axis,radius,height[,caps]) cone(apex,axis,angle|radius+height[,caps])\n"
       "torus(center,axis,major,minor) quadric(coefficients: a b c d e f g h j k of seed 004).\n"
+      "CSG trees: union|intersection(children or left,right) difference(left,right) of sphere box polyhedron cylinder cone torus\n"
+      "ellipsoid quadric leaves, each node with an optional transform (the JSON scene format); their answer adds \"intervals\".\n"
       "A malformed line gets {\"line\": N, \"error\": ...} (and a line on stderr); the exit status is 1 if any line failed.");
   auto dbl = std::make_shared<bool>(false);
   q->add_flag("--double", *dbl, "Run the kernels in double precision (on the same float-rounded primitive and ray)");

@@ -15,7 +15,7 @@ Command add_trace_command(CLI::App& app) {
   auto json_out = std::make_shared<std::string>();
   auto* cmd = app.add_subcommand("trace", "Trace a whole scene through the BVH (binary or 8-wide, single rays or packets, TBB threads) "
                                           "beside Embree on the same rays: Mrays/s, build time, memory, traversal cost, mismatch rate");
-  cmd->add_option("scene", o->scene, "A .obj/.ply/.nff file, spd:NAME[:SIZE] or lecture:NAME (as `raybench info`)")->required();
+  cmd->add_option("scene", o->scene, "A .obj/.ply/.nff/.json file, spd:NAME[:SIZE], lecture:NAME or csg:NAME (as `raybench info`)")->required();
   cmd->add_option("--rays", o->ray_set, "Ray set: primary, shadow, diffuse or random")
       ->check(CLI::IsMember({"primary", "shadow", "diffuse", "random"}))->capture_default_str();
   cmd->add_option("--threads", o->threads, "Threads for tracing (TBB) and for both builds")->check(CLI::Range(1, 256))->capture_default_str();

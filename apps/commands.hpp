@@ -21,6 +21,7 @@ Command add_query_command(CLI::App& app);  // cmd_query.cpp: raybench query
 Command add_trace_command(CLI::App& app);  // cmd_trace.cpp: raybench trace SCENE
 Command add_render_command(CLI::App& app); // cmd_render.cpp: raybench render SCENE
 Command add_accuracy_command(CLI::App& app);  // cmd_accuracy.cpp: raybench accuracy
+Command add_csg_command(CLI::App& app);    // report_csg.cpp: raybench csg
 
 // The query loop itself (tests call it): one JSON line out per line in; 1 if any line failed,
 // with one line on `err` per failed input line.

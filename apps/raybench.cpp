@@ -48,6 +48,7 @@ int main(int argc, char** argv) {
   const rb::app::Command trace = rb::app::add_trace_command(app);
   const rb::app::Command render = rb::app::add_render_command(app);
   const rb::app::Command accuracy = rb::app::add_accuracy_command(app);
+  const rb::app::Command csg = rb::app::add_csg_command(app);
 
   auto* mach = app.add_subcommand("machine", "Print the machine and build description recorded with every result (JSON)");
 
@@ -78,6 +79,7 @@ int main(int argc, char** argv) {
     if (*trace.cli) return trace.run();
     if (*render.cli) return render.run();
     if (*accuracy.cli) return accuracy.run();
+    if (*csg.cli) return csg.run();
     if (*mach) { std::cout << rb::app::machine().json().dump(2) << "\n"; return 0; }
   } catch (const std::exception& e) {
     std::cerr << "raybench: " << e.what() << "\n";

@@ -362,6 +362,8 @@ int run_report(const ReportOptions& o) {
   std::cerr << "[report] accuracy lab\n";
   md += report_section_accuracy(o, out, summary);
 
+  md += report_section_csg(o, out, summary);
+
   md += pgo_section(out);
 
   std::cerr << "[report] charts\n";

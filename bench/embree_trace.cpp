@@ -34,8 +34,8 @@ bool monitor(void* user, ssize_t bytes, bool) {
 
 EmbreeBuild embree_build(const scene::Scene& s, int threads) {
   EmbreeBuild b;
-  if (!s.cones.empty() || !s.polygons.empty()) {
-    b.why = "the scene has cones, cylinders or polygons, which Embree does not model";
+  if (!s.cones.empty() || !s.polygons.empty() || !s.csgs.empty()) {
+    b.why = "the scene has cones, cylinders, polygons or CSG objects, which Embree does not model";
     return b;
   }
   auto e = std::make_shared<EmbreeScene>();

@@ -160,5 +160,6 @@ void add_basic_rows(std::vector<Row>& rows);    // ops_table.cpp: plane, triangl
 void add_planar_rows(std::vector<Row>& rows);   // ops_planar.cpp
 void add_quadric_rows(std::vector<Row>& rows);  // ops_quadric.cpp
 void add_solver_rows(std::vector<Row>& rows);   // ops_solver.cpp
+void add_csg_rows(std::vector<Row>& rows);      // ops_csg.cpp
 
 }  // namespace rb::opstable

@@ -74,6 +74,7 @@ std::vector<Row> build() {
   add_planar_rows(rows);
   add_quadric_rows(rows);
   add_solver_rows(rows);
+  add_csg_rows(rows);
   return rows;
 }
 

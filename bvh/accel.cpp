@@ -85,6 +85,7 @@ Accel Accel::build(const scene::Scene& s, const BuildOptions& opt) {
           case Kind::cylinder: set_slot(a.cyl, base + j, scene::cylinder_prim(s, r.index)); break;
           case Kind::cone: set_slot(a.cone, base + j, scene::cone_prim(s, r.index)); break;
           case Kind::polygon: break;
+          case Kind::csg: break;
         }
         a.id[int(k)][base + j] = r.index;
       }
@@ -108,6 +109,10 @@ Accel Accel::build(const scene::Scene& s, const BuildOptions& opt) {
     for (std::size_t j = 0; j < a.id[4].size(); ++j)
       if (a.id[4][j] != UINT32_MAX) a.poly_slot[j] = slot_of[p++];
   }
+  for (const auto& c : s.csgs) {
+    a.csg_owner.push_back(c.tree);
+    a.csg.push_back(c.tree.get());
+  }
   a.reorder_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
   a.wide = collapse8(a.bin);
   a.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -116,6 +121,7 @@ Accel Accel::build(const scene::Scene& s, const BuildOptions& opt) {
 
 std::size_t Accel::bytes_prims() const {
   std::size_t b = tri.bytes() + sph.bytes() + cyl.bytes() + cone.bytes() + poly.bytes() + poly_slot.size() * 4;
+  for (const CsgTree* t : csg) b += t->bytes() + sizeof(void*);
   for (const auto& v : id) b += v.size() * sizeof(std::uint32_t);
   return b;
 }
@@ -135,6 +141,13 @@ BruteForce::BruteForce(const scene::Scene& s) {
   fill(co, id[3]);
   cone = std::move(co.prims);
   poly = scene::polygon_batch(s);
+  id[5].clear();
+  for (std::size_t i = 0; i < s.csgs.size(); ++i) {
+    csg_owner.push_back(s.csgs[i].tree);
+    csg.push_back(s.csgs[i].tree.get());
+    id[5].push_back(std::uint32_t(i));
+  }
+  id[5].resize((id[5].size() + 7) / 8 * 8, UINT32_MAX);
 }
 
 }  // namespace rb::bvh

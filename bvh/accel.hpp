@@ -12,10 +12,12 @@
 #pragma once
 
 #include "bvh/bvh.hpp"
+#include "kernels/csg.hpp"
 #include "scene/batches.hpp"
 #include "soa/rays.hpp"
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -63,6 +65,8 @@ struct Accel {
   std::vector<std::uint32_t> id[scene::kKinds];
   PolygonSoA poly;                       // grouped by its own rule
   std::vector<std::uint32_t> poly_slot;  // per leaf lane: slot in `poly` (UINT32_MAX: padding)
+  std::vector<const CsgTree*> csg;       // the scene's CSG trees by scene index (id[csg] slots index it)
+  std::vector<std::shared_ptr<const CsgTree>> csg_owner;  // keeps them alive with the Accel
 
   static Accel build(const scene::Scene& s, const BuildOptions& opt = {});
 
@@ -88,6 +92,8 @@ struct BruteForce {
   PrimSoA<Transformed<Cone>::T> cone;
   std::vector<std::uint32_t> id[scene::kKinds];
   PolygonSoA poly;
+  std::vector<const CsgTree*> csg;
+  std::vector<std::shared_ptr<const CsgTree>> csg_owner;
   explicit BruteForce(const scene::Scene& s);
   HitRec trace(const Ray<float>& r, bool any) const;
 };

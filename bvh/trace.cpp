@@ -129,6 +129,26 @@ RB_INLINE bool group1(const B& a, int kind, std::size_t base, const Ray<float>& 
       if (any) rb.tmax = f8(h.t);
       return any;
     }
+    case Kind::csg: {
+      // A CSG tree per slot, one ray at a time (the scalar query with its early exits).
+      bool any = false;
+      Ray<float> rr = r;
+      rr.tmax = h.t;
+      for (std::size_t j = 0; j < 8; ++j) {
+        const std::uint32_t sid = base + j < ids.size() ? ids[base + j] : UINT32_MAX;
+        if (sid == UINT32_MAX) continue;
+        float tag;
+        const Hit<float> hc = csg_hit(*a.csg[sid], rr, tag);
+        if (hc.mask && hc.t <= rr.tmax) {
+          rr.tmax = hc.t;
+          h.t = hc.t;
+          h.prim = prim_code(Kind::csg, sid);
+          any = true;
+        }
+      }
+      if (any) rb.tmax = f8(h.t);
+      return any;
+    }
   }
   if (none_of<f8>(hit.mask)) return false;
   float t;
@@ -305,6 +325,11 @@ RB_INLINE void group_packet(const Accel& a, int kind, std::size_t base, Packet<H
         case Kind::cylinder: hit = cyl_hit(rr, a.cyl.broadcast<f8>(s)); break;
         case Kind::cone: hit = cone_hit(rr, a.cone.broadcast<f8>(s)); break;
         case Kind::polygon: hit = intersect_polygon(rr, a.poly.broadcast<f8>(a.poly_slot[s])); break;
+        case Kind::csg: {
+          f8 tag;
+          hit = csg_hit8(*a.csg[sid], rr, tag);  // the packet's 8 rays in lanes
+          break;
+        }
       }
       const f8_mask m = hit.mask & p.active[k];
       unsigned bits = movemask(m);
@@ -479,7 +504,7 @@ HitRec BruteForce::trace(const Ray<float>& r, bool any) const {
   if (!(r.tmin <= r.tmax)) return {kInfF, kNoPrim};
   LeafRay lr;
   TraceCounters c;
-  const std::size_t sizes[scene::kKinds] = {tri.size(), sph.size(), cyl.size(), cone.size(), poly.size()};
+  const std::size_t sizes[scene::kKinds] = {tri.size(), sph.size(), cyl.size(), cone.size(), poly.size(), id[5].size()};
   for (int k = 0; k < scene::kKinds; ++k)
     for (std::size_t g = 0; g < sizes[k]; g += 8)
       if (group1<false>(*this, k, g, r, lr, h, c) && any) return h;

@@ -187,6 +187,28 @@ RB_INLINE Hit<F> intersect_quadric_coeffs10(const Ray<F>& r, const Quadric<F>& q
   return first_hit(r, stable_roots(A, B, C, disc, m));
 }
 
+// The closed solid F <= 0 of a bounded quadric (an ellipsoid: its quadratic part is positive
+// definite, so A > 0 for every direction): the interval between the roots on the whole line
+// (not clipped to [tmin, tmax]: CSG combines intervals first), canonical. The caller guarantees
+// boundedness (the CSG builder checks it). coeffs10's A, B, C, then the stable roots.
+template <class F>
+RB_INLINE Roots<F, 2> quadric_solid_roots(const Ray<F>& r, const Quadric<F>& q) {
+  const Vec3<F>& o = r.o;
+  const Vec3<F>& p = r.d;
+  const F u0 = q.a * p.x + q.d * p.y + q.f * p.z, u1 = q.d * p.x + q.b * p.y + q.e * p.z;
+  const F u2 = q.f * p.x + q.e * p.y + q.c * p.z, u3 = q.g * p.x + q.h * p.y + q.j * p.z;
+  const F w0 = q.a * o.x + q.d * o.y + q.f * o.z + q.g, w1 = q.d * o.x + q.b * o.y + q.e * o.z + q.h;
+  const F w2 = q.f * o.x + q.e * o.y + q.c * o.z + q.j, w3 = q.g * o.x + q.h * o.y + q.j * o.z + q.k;
+  const F A = u0 * p.x + u1 * p.y + u2 * p.z;
+  const F B = u0 * o.x + u1 * o.y + u2 * o.z + u3;
+  const F C = w0 * o.x + w1 * o.y + w2 * o.z + w3;
+  const F disc = B * B - A * C;
+  const mask_t<F> m = disc >= F(0);
+  if (none_of<F>(m)) return Roots<F, 2>::none();
+  const Roots<F, 2> s = stable_roots(A, B, C, disc, m);
+  return Roots<F, 2>::closed_span(m & (s.lo() <= s.hi()), s.lo(), s.hi());
+}
+
 // Unit gradient at p (seed 004): 9* 9+-, normalised 3* 2+- 1 sqrt 1/ 3*.
 template <class F>
 RB_INLINE Vec3<F> quadric_normal(const Quadric<F>& q, const Vec3<F>& p) {

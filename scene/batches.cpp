@@ -1,4 +1,5 @@
 #include "scene/batches.hpp"
+#include "kernels/csg.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -12,6 +13,7 @@ const char* kind_name(Kind k) {
     case Kind::cylinder: return "cylinder";
     case Kind::cone: return "cone";
     case Kind::polygon: return "polygon";
+    case Kind::csg: return "csg";
   }
   return "?";
 }
@@ -101,6 +103,14 @@ Bounds prim_bounds(const Scene& s, PrimRef p) {
       for (const auto& q : v) b.grow(q);
       return b;
     }
+    case Kind::csg: {
+      const CsgTree& t = *s.csgs[p.index].tree;
+      if (t.empty()) return {};
+      const CsgNode& n = t.nodes[t.root];
+      b.grow({n.lo[0], n.lo[1], n.lo[2]});
+      b.grow({n.hi[0], n.hi[1], n.hi[2]});
+      break;
+    }
   }
   return finite_box(b) ? b : Bounds{};
 }
@@ -112,6 +122,7 @@ std::vector<PrimRef> prim_refs(const Scene& s) {
   for (std::size_t i = 0; i < s.spheres.size(); ++i) r.push_back({Kind::sphere, std::uint32_t(i)});
   for (std::size_t i = 0; i < s.cones.size(); ++i) r.push_back({cone_is_cylinder(s, i) ? Kind::cylinder : Kind::cone, std::uint32_t(i)});
   for (std::size_t i = 0; i < s.polygons.size(); ++i) r.push_back({Kind::polygon, std::uint32_t(i)});
+  for (std::size_t i = 0; i < s.csgs.size(); ++i) r.push_back({Kind::csg, std::uint32_t(i)});
   return r;
 }
 

@@ -9,6 +9,8 @@
 //   cylinder  Transformed<Cylinder>::T: an NFF cone with equal radii, placed unit cylinder
 //   cone      Transformed<Cone>::T: an NFF cone with different radii, placed unit cone
 //   polygon   PolygonSoA (plane, projected vertices grouped by dropped axis)
+//   csg       no SoA batch: each slot is a CSG tree (kernels/csg.hpp), queried one ray at a time
+//             (csg_hit) or 8 rays at a time (csg_hit8); its box is the root node's
 // Degenerate input becomes the kind's never() (a slot that no ray hits), so ids stay aligned.
 #pragma once
 
@@ -24,12 +26,12 @@
 
 namespace rb::scene {
 
-enum class Kind : std::uint8_t { triangle = 0, sphere = 1, cylinder = 2, cone = 3, polygon = 4 };
-inline constexpr int kKinds = 5;
+enum class Kind : std::uint8_t { triangle = 0, sphere = 1, cylinder = 2, cone = 3, polygon = 4, csg = 5 };
+inline constexpr int kKinds = 6;
 const char* kind_name(Kind k);
 
 // A reference to one scene primitive: its kind and its index in the scene array of that kind
-// (Scene::triangles, spheres, cones, polygons; cylinders and cones both index Scene::cones).
+// (Scene::triangles, spheres, cones, polygons, csgs; cylinders and cones both index Scene::cones).
 struct PrimRef {
   Kind kind;
   std::uint32_t index;

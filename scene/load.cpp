@@ -1,4 +1,5 @@
 // load_scene: one name for files and embedded generators; shared loader helpers.
+#include "scene/csg.hpp"
 #include "scene/loaders.hpp"
 #include "scene/parse_util.hpp"
 #include "scene/sources.hpp"
@@ -116,11 +117,13 @@ Scene load_scene(const std::string& source) {
     return generate_spd(name, size);
   }
   if (source.rfind("lecture:", 0) == 0) return lecture_scene(source.substr(8));
+  if (source.rfind("csg:", 0) == 0) return csg_scene(source.substr(4));
   const std::string ext = lower_ext(source);
   if (ext == "obj") return load_obj(source);
   if (ext == "ply") return load_ply(source);
   if (ext == "nff") return load_nff(source);
-  throw SceneError(fmt::format("{}: unknown scene source: expected a .obj, .ply or .nff file, spd:NAME[:SIZE] or lecture:NAME",
+  if (ext == "json") return load_json_scene(source);
+  throw SceneError(fmt::format("{}: unknown scene source: expected a .obj, .ply or .nff file, a .json scene, spd:NAME[:SIZE], lecture:NAME or csg:NAME",
                                source));
 }
 

@@ -1,4 +1,5 @@
 #include "scene/scene.hpp"
+#include "kernels/csg.hpp"
 
 #include <cmath>
 
@@ -20,6 +21,18 @@ Bounds Scene::bounds() const {
   for (const auto& p : poly_verts) b.grow(p);
   for (const auto& t : triangles)
     for (auto i : t.v) b.grow(verts[i]);
+  for (const auto& c : csgs)
+    if (!c.tree->empty()) {
+      const CsgNode& n = c.tree->nodes[c.tree->root];
+      b.grow({n.lo[0], n.lo[1], n.lo[2]});
+      b.grow({n.hi[0], n.hi[1], n.hi[2]});
+    }
+  return b;
+}
+
+std::size_t Scene::csg_tree_bytes() const {
+  std::size_t b = 0;
+  for (const auto& c : csgs) b += c.tree->bytes();
   return b;
 }
 

@@ -12,8 +12,13 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
+
+namespace rb {
+struct CsgTree;  // kernels/csg.hpp
+}
 
 namespace rb::scene {
 
@@ -71,6 +76,13 @@ struct TriangleIn {
   std::uint32_t mat;
 };
 
+// A CSG solid (kernels/csg.hpp; built by scene/csg.hpp from JSON). Materials are per leaf (each
+// leaf's surface keeps its own); `mat` is the object's default. The tree is shared, immutable.
+struct CsgIn {
+  std::shared_ptr<const CsgTree> tree;
+  std::uint32_t mat;
+};
+
 struct Bounds {
   Vec3f lo{std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity()};
   Vec3f hi{-std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity()};
@@ -92,14 +104,16 @@ struct Scene {
   std::vector<Vec3f> verts;                     // triangle mesh vertices
   std::vector<Vec3f> vert_normals;              // empty or parallel to verts
   std::vector<TriangleIn> triangles;
+  std::vector<CsgIn> csgs;
 
   Bounds bounds() const;
-  std::size_t primitive_count() const { return spheres.size() + cones.size() + polygons.size() + triangles.size(); }
+  std::size_t primitive_count() const { return spheres.size() + cones.size() + polygons.size() + triangles.size() + csgs.size(); }
+  std::size_t csg_tree_bytes() const;  // nodes and leaves of every CSG tree (scene/csg.cpp)
   // Bytes of the input-form arrays (sizes, not capacities).
   std::size_t memory_bytes() const {
     return lights.size() * sizeof(Light) + materials.size() * sizeof(Material) + spheres.size() * sizeof(SphereIn) +
            cones.size() * sizeof(ConeIn) + (poly_verts.size() + poly_normals.size() + verts.size() + vert_normals.size()) * sizeof(Vec3f) +
-           polygons.size() * sizeof(PolygonIn) + triangles.size() * sizeof(TriangleIn);
+           polygons.size() * sizeof(PolygonIn) + triangles.size() * sizeof(TriangleIn) + csgs.size() * sizeof(CsgIn) + csg_tree_bytes();
   }
 };
 

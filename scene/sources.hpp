@@ -2,6 +2,8 @@
 //   path/to/file.obj | .ply | .nff        a file, by extension
 //   spd:NAME[:SIZE]                       Haines' SPD generators: balls gears mount rings teapot tetra tree
 //   lecture:NAME                          the lecture's scenes (seed 004's images)
+//   path/to/scene.json                    the JSON scene format: CSG trees and analytic primitives (scene/csg.hpp)
+//   csg:NAME                              embedded CSG scenes (scene/csg.hpp)
 // Errors (unknown name, unreadable or malformed file) throw rb::scene::SceneError whose
 // message names the file, the line (or byte offset) and what was expected.
 #pragma once
