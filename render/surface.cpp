@@ -1,5 +1,7 @@
 #include "render/surface.hpp"
 
+#include "scene/csg.hpp"
+
 #include <cmath>
 #include <stdexcept>
 
@@ -100,6 +102,14 @@ Surface surface_at(const scene::Scene& s, std::uint32_t prim, const Ray<float>& 
         h.ns = interpolate(v, n, 3, p, h.ng);
       }
       h.mat = tr.mat;
+      break;
+    }
+    case Kind::csg: {
+      // The tree's own closest-hit query gives the outward normal (flipped on subtracted
+      // surfaces) and the material of the leaf surface hit, for the same ray.
+      const auto c = scene::csg_surface(*s.csgs.at(i).tree, r);
+      h.ng = h.ns = c.hit ? unit_or(to_double(c.normal), fallback) : fallback;
+      h.mat = c.material;
       break;
     }
     default: throw std::logic_error("surface_at: a primitive kind without a surface rule");
