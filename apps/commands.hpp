@@ -4,6 +4,8 @@
 // the input (file, scene, line) it is about.
 #pragma once
 
+#include "apps/query.hpp"
+
 #include <CLI/CLI.hpp>
 
 #include <functional>
@@ -19,10 +21,6 @@ struct Command {
 Command add_info_command(CLI::App& app);   // cmd_info.cpp:  raybench info SCENE
 Command add_query_command(CLI::App& app);  // cmd_query.cpp: raybench query
 Command add_trace_command(CLI::App& app);  // cmd_trace.cpp: raybench trace SCENE
-
-// The query loop itself (tests call it): one JSON line out per line in; 1 if any line failed,
-// with one line on `err` per failed input line.
-int run_query(std::istream& in, std::ostream& out, bool dbl);
-int run_query(std::istream& in, std::ostream& out, std::ostream& err, bool dbl);
+// The query loop itself: apps/query.hpp (tests include that, not this header and CLI11).
 
 }  // namespace rb::app
