@@ -4,6 +4,8 @@
 // the input (file, scene, line) it is about.
 #pragma once
 
+#include "apps/query.hpp"
+
 #include <CLI/CLI.hpp>
 
 #include <functional>
@@ -23,9 +25,6 @@ Command add_render_command(CLI::App& app); // cmd_render.cpp: raybench render SC
 Command add_accuracy_command(CLI::App& app);  // cmd_accuracy.cpp: raybench accuracy
 Command add_csg_command(CLI::App& app);    // report_csg.cpp: raybench csg
 
-// The query loop itself (tests call it): one JSON line out per line in; 1 if any line failed,
-// with one line on `err` per failed input line.
-int run_query(std::istream& in, std::ostream& out, bool dbl);
-int run_query(std::istream& in, std::ostream& out, std::ostream& err, bool dbl);
+// The query loop itself: apps/query.hpp (tests include that, not this header and CLI11).
 
 }  // namespace rb::app

@@ -17,6 +17,7 @@
 
 #include "core/ray.hpp"
 #include "core/roots.hpp"
+#include "core/why.hpp"
 
 namespace rb {
 
@@ -28,10 +29,12 @@ struct Box {
   static Box never() { return {{F(kInf<F>), F(kInf<F>), F(kInf<F>)}, {F(kInf<F>), F(kInf<F>), F(kInf<F>)}}; }
 };
 
-// Inverted (lo > hi on any axis) or non-finite boxes: never(). A flat box (lo == hi) is kept.
+// Inverted (lo > hi on any axis) or non-finite boxes: never() (the reason in *why). A flat box
+// (lo == hi) is kept.
 template <class T>
-inline Box<float> make_box(Vec3<T> lo, Vec3<T> hi) {
-  if (!finite3(lo) || !finite3(hi) || lo.x > hi.x || lo.y > hi.y || lo.z > hi.z) return Box<float>::never();
+inline Box<float> make_box(Vec3<T> lo, Vec3<T> hi, std::string* why = nullptr) {
+  if (!finite3(lo) || !finite3(hi)) return never_because<Box<float>>(why, "box: a corner is not finite");
+  if (lo.x > hi.x || lo.y > hi.y || lo.z > hi.z) return never_because<Box<float>>(why, "box: min is above max on an axis");
   return {to_float(to_double(lo)), to_float(to_double(hi))};
 }
 

@@ -34,6 +34,7 @@
 #pragma once
 
 #include "core/roots.hpp"
+#include "core/why.hpp"
 #include "kernels/quadratic.hpp"
 #include "kernels/transform.hpp"
 
@@ -51,14 +52,19 @@ struct Cylinder {
 };
 
 // Axis through (cx, cy) along z, radius r, z0 <= z <= z1 (infinite bounds allowed). Zero, negative
-// or non-finite radius, NaN bounds, infinite axis position, or zero or negative height: never().
+// or non-finite radius, NaN bounds, infinite axis position, or zero or negative height: never()
+// (the reason in *why).
 template <class T>
-inline Cylinder<float> make_cylinder(T cx, T cy, T r, T z0, T z1) {
-  if (!std::isfinite(cx) || !std::isfinite(cy) || !std::isfinite(r) || !(r > T(0)) || std::isnan(z0) || std::isnan(z1) ||
-      !(z0 < z1) || z0 == std::numeric_limits<T>::infinity() || z1 == -std::numeric_limits<T>::infinity())
-    return Cylinder<float>::never();
+inline Cylinder<float> make_cylinder(T cx, T cy, T r, T z0, T z1, std::string* why = nullptr) {
+  using C = Cylinder<float>;
+  if (!std::isfinite(cx) || !std::isfinite(cy)) return never_because<C>(why, "cylinder: axis position is not finite");
+  if (!std::isfinite(r) || !(r > T(0))) return never_because<C>(why, "cylinder: radius is not positive and finite");
+  if (std::isnan(z0) || std::isnan(z1) || !(z0 < z1) || z0 == std::numeric_limits<T>::infinity() ||
+      z1 == -std::numeric_limits<T>::infinity())
+    return never_because<C>(why, "cylinder: height range is empty or NaN");
   const double rr = double(r) * double(r);
-  if (!std::isfinite(float(rr)) || float(rr) == 0.f || !(float(z0) < float(z1))) return Cylinder<float>::never();
+  if (!std::isfinite(float(rr)) || float(rr) == 0.f) return never_because<C>(why, "cylinder: radius squared is not representable in float");
+  if (!(float(z0) < float(z1))) return never_because<C>(why, "cylinder: height range is empty in float");
   return {float(cx), float(cy), float(rr), float(z0), float(z1)};
 }
 
@@ -173,12 +179,13 @@ struct Cone {
 
 // The open (double) cone shell x^2 + y^2 = z^2 about `apex`, cut to z0 <= z <= z1 (relative to
 // the apex; infinite bounds allowed). Non-finite apex, NaN bounds or zero or negative height:
-// never().
+// never() (the reason in *why).
 template <class T>
-inline Cone<float> make_cone(Vec3<T> apex, T z0, T z1) {
-  if (!finite3(apex) || std::isnan(z0) || std::isnan(z1) || !(z0 < z1) || z0 == std::numeric_limits<T>::infinity() ||
+inline Cone<float> make_cone(Vec3<T> apex, T z0, T z1, std::string* why = nullptr) {
+  if (!finite3(apex)) return never_because<Cone<float>>(why, "cone: apex is not finite");
+  if (std::isnan(z0) || std::isnan(z1) || !(z0 < z1) || z0 == std::numeric_limits<T>::infinity() ||
       z1 == -std::numeric_limits<T>::infinity() || !(float(z0) < float(z1)))
-    return Cone<float>::never();
+    return never_because<Cone<float>>(why, "cone: height range is empty or NaN");
   return {to_float(to_double(apex)), float(z0), float(z1)};
 }
 
@@ -189,7 +196,7 @@ template <class T>
 inline Cone<float> make_capped_cone(Vec3<T> apex, T z0, T z1, std::string* why = nullptr) {
   if (z0 < T(0) && z1 > T(0))
     return never_because<Cone<float>>(why, "capped cone: the height range contains the apex (two nappes are not one closed solid)");
-  return make_cone(apex, z0, z1);
+  return make_cone(apex, z0, z1, why);
 }
 
 namespace detail {

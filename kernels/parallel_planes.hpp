@@ -8,6 +8,7 @@
 #pragma once
 
 #include "core/ray.hpp"
+#include "core/why.hpp"
 
 #include <stdexcept>
 #include <utility>
@@ -36,14 +37,16 @@ template <class F>
 using ParallelPlanes4 = ParallelPlanesK<F, 4>;
 
 // Planes n . X + d_i = 0 for the given normal and offsets (scaled by 1/|n| in double, so the
-// stored normal is a unit vector). More than K offsets: std::invalid_argument. A zero or
-// non-finite normal: never(); a non-finite offset: that slot never hits.
+// stored normal is a unit vector). More than K offsets: std::invalid_argument (a programming
+// error: K is the caller's choice). A zero or non-finite normal: never() (the reason in *why); a
+// non-finite offset: that slot never hits.
 template <int K, class T>
-inline ParallelPlanesK<float, K> make_parallel_planes(Vec3<T> normal, const std::vector<T>& offsets) {
+inline ParallelPlanesK<float, K> make_parallel_planes(Vec3<T> normal, const std::vector<T>& offsets, std::string* why = nullptr) {
   if (offsets.size() > std::size_t(K)) throw std::invalid_argument("make_parallel_planes: more offsets than slots");
   const Vec3d n = to_double(normal);
   const double len = std::sqrt(dot(n, n));
-  if (!std::isfinite(len) || len == 0.0) return ParallelPlanesK<float, K>::never();
+  if (!std::isfinite(len) || len == 0.0)
+    return never_because<ParallelPlanesK<float, K>>(why, "parallel planes: the normal is zero or not finite");
   ParallelPlanesK<float, K> p = ParallelPlanesK<float, K>::never();
   p.n = to_float(n * (1.0 / len));
   for (std::size_t i = 0; i < offsets.size(); ++i) {

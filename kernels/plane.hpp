@@ -5,6 +5,7 @@
 #pragma once
 
 #include "core/ray.hpp"
+#include "core/why.hpp"
 
 namespace rb {
 
@@ -17,12 +18,13 @@ struct Plane {
 };
 
 // From a point on the plane and a normal (normalised in double). A zero or non-finite normal or
-// point gives Plane::never().
+// point gives Plane::never() (the reason in *why).
 template <class T>
-inline Plane<float> make_plane(Vec3<T> point, Vec3<T> normal) {
+inline Plane<float> make_plane(Vec3<T> point, Vec3<T> normal, std::string* why = nullptr) {
   const Vec3d n = to_double(normal), p = to_double(point);
   const double len = std::sqrt(dot(n, n));
-  if (!finite3(p) || !std::isfinite(len) || len == 0.0) return Plane<float>::never();
+  if (!finite3(p)) return never_because<Plane<float>>(why, "plane: point is not finite");
+  if (!finite3(n) || !std::isfinite(len) || len == 0.0) return never_because<Plane<float>>(why, "plane: normal is zero or not finite");
   const Vec3d u = n * (1.0 / len);
   return {to_float(u), float(-dot(u, p))};
 }

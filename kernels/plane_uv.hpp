@@ -19,8 +19,8 @@ namespace rb {
 
 // The lecture data of the frame (PI0, U, V): make_lecture_frame (kernels/triangle.hpp).
 template <class T>
-inline TriLecture<float> make_plane_uv(Vec3<T> pi0, Vec3<T> u_dir, Vec3<T> v_dir, int& axis) {
-  return make_lecture_frame(to_double(pi0), to_double(u_dir), to_double(v_dir), axis);
+inline TriLecture<float> make_plane_uv(Vec3<T> pi0, Vec3<T> u_dir, Vec3<T> v_dir, int& axis, std::string* why = nullptr) {
+  return make_lecture_frame(to_double(pi0), to_double(u_dir), to_double(v_dir), axis, why);
 }
 
 // [u,v] of a point on the plane: the slide's "inverse transformation on the plane" with the
@@ -78,8 +78,8 @@ RB_INLINE Hit<F> intersect_parallelogram(const Ray<F>& r, const TriLecture<F>& q
 // The parallelogram with corner R0 and adjacent corners R0 + U, R0 + V (the fourth is
 // R0 + U + V): the lecture data of the triangle (R0, R0 + U, R0 + V).
 template <class T>
-inline TriLecture<float> make_parallelogram(Vec3<T> r0, Vec3<T> u_dir, Vec3<T> v_dir, int& axis) {
-  return make_plane_uv(r0, u_dir, v_dir, axis);
+inline TriLecture<float> make_parallelogram(Vec3<T> r0, Vec3<T> u_dir, Vec3<T> v_dir, int& axis, std::string* why = nullptr) {
+  return make_plane_uv(r0, u_dir, v_dir, axis, why);
 }
 
 // Normal: triangle_normal(TriLecture) in kernels/triangle.hpp (n = U x V, not normalised).

@@ -20,6 +20,7 @@
 #pragma once
 
 #include "core/ray.hpp"
+#include "core/why.hpp"
 #include "core/roots.hpp"
 
 #include <array>
@@ -57,17 +58,19 @@ struct HalfspaceIn {
 };
 
 // Normals are normalised in double. Unused slots: n = 0, D = -1 (always inside, no constraint).
-// More than K halfspaces: std::invalid_argument. Zero or non-finite normal or point: never()
-// (a polyhedron with a degenerate face is not a defined solid).
+// More than K halfspaces: std::invalid_argument (a programming error: K is the caller's choice).
+// Zero or non-finite normal or point: never() (a polyhedron with a degenerate face is not a
+// defined solid; the reason in *why).
 template <int K>
-inline HalfspacesK<float, K> make_halfspaces(const std::vector<HalfspaceIn>& hs) {
+inline HalfspacesK<float, K> make_halfspaces(const std::vector<HalfspaceIn>& hs, std::string* why = nullptr) {
   if (hs.size() > std::size_t(K)) throw std::invalid_argument("make_halfspaces: more halfspaces than slots");
   HalfspacesK<float, K> h;
   for (int i = 0; i < K; ++i) { h.n[i] = {0.f, 0.f, 0.f}; h.D[i] = -1.f; }
   for (std::size_t i = 0; i < hs.size(); ++i) {
     const Vec3d n = to_double(hs[i].normal), p = to_double(hs[i].point);
     const double len = std::sqrt(dot(n, n));
-    if (!finite3(p) || !std::isfinite(len) || len == 0.0) return HalfspacesK<float, K>::never();
+    if (!finite3(p) || !std::isfinite(len) || len == 0.0)
+      return never_because<HalfspacesK<float, K>>(why, "polyhedron: a face normal is zero or not finite, or its point is not finite");
     const Vec3d u = n * (1.0 / len);
     h.n[i] = to_float(u);
     h.D[i] = float(-dot(u, p));
@@ -76,10 +79,12 @@ inline HalfspacesK<float, K> make_halfspaces(const std::vector<HalfspaceIn>& hs)
 }
 
 // An axis-aligned box as six halfspaces (normals +-x, +-y, +-z; D = -+ the bounds, exact).
+// Non-finite or inverted: never() (the reason in *why).
 template <int K = 8>
-inline HalfspacesK<float, K> make_box_halfspaces(Vec3f lo, Vec3f hi) {
+inline HalfspacesK<float, K> make_box_halfspaces(Vec3f lo, Vec3f hi, std::string* why = nullptr) {
   static_assert(K >= 6);
-  if (!finite3(lo) || !finite3(hi) || lo.x > hi.x || lo.y > hi.y || lo.z > hi.z) return HalfspacesK<float, K>::never();
+  if (!finite3(lo) || !finite3(hi) || lo.x > hi.x || lo.y > hi.y || lo.z > hi.z)
+    return never_because<HalfspacesK<float, K>>(why, "box: a corner is not finite or min is above max on an axis");
   HalfspacesK<float, K> h;
   for (int i = 0; i < K; ++i) { h.n[i] = {0.f, 0.f, 0.f}; h.D[i] = -1.f; }
   for (int a = 0; a < 3; ++a) {
@@ -178,15 +183,17 @@ template <class F>
 using Slabs3 = SlabsK<F, 3>;
 
 // Slab i: the points with lo_i <= u_i . X <= hi_i (u_i normalised in double). A zero or
-// non-finite axis, non-finite bounds or lo > hi: never().
+// non-finite axis, non-finite bounds or lo > hi: never() (the reason in *why).
 template <int K>
-inline SlabsK<float, K> make_slabs(const std::array<Vec3f, K>& axis, const std::array<float, K>& lo, const std::array<float, K>& hi) {
+inline SlabsK<float, K> make_slabs(const std::array<Vec3f, K>& axis, const std::array<float, K>& lo, const std::array<float, K>& hi,
+                                   std::string* why = nullptr) {
   SlabsK<float, K> s;
   for (int i = 0; i < K; ++i) {
     const Vec3d n = to_double(axis[i]);
     const double len = std::sqrt(dot(n, n));
-    if (!std::isfinite(len) || len == 0.0 || !std::isfinite(lo[i]) || !std::isfinite(hi[i]) || !(lo[i] <= hi[i]))
-      return SlabsK<float, K>::never();
+    if (!std::isfinite(len) || len == 0.0) return never_because<SlabsK<float, K>>(why, "slabs: an axis is zero or not finite");
+    if (!std::isfinite(lo[i]) || !std::isfinite(hi[i]) || !(lo[i] <= hi[i]))
+      return never_because<SlabsK<float, K>>(why, "slabs: a bound is not finite or lo is above hi");
     s.n[i] = to_float(n * (1.0 / len));
     s.Dlo[i] = float(-double(lo[i]) / len);
     s.Dhi[i] = float(-double(hi[i]) / len);
@@ -194,9 +201,11 @@ inline SlabsK<float, K> make_slabs(const std::array<Vec3f, K>& axis, const std::
   return s;
 }
 
-// An axis-aligned box as three axis slabs (exact data).
-inline Slabs3<float> make_box_slabs(Vec3f lo, Vec3f hi) {
-  if (!finite3(lo) || !finite3(hi) || lo.x > hi.x || lo.y > hi.y || lo.z > hi.z) return Slabs3<float>::never();
+// An axis-aligned box as three axis slabs (exact data). Non-finite or inverted: never() (the
+// reason in *why).
+inline Slabs3<float> make_box_slabs(Vec3f lo, Vec3f hi, std::string* why = nullptr) {
+  if (!finite3(lo) || !finite3(hi) || lo.x > hi.x || lo.y > hi.y || lo.z > hi.z)
+    return never_because<Slabs3<float>>(why, "box: a corner is not finite or min is above max on an axis");
   Slabs3<float> s;
   for (int a = 0; a < 3; ++a) {
     s.n[a] = {a == 0 ? 1.f : 0.f, a == 1 ? 1.f : 0.f, a == 2 ? 1.f : 0.f};

@@ -114,21 +114,22 @@ struct Quadric {
 
 // Scaled by its largest |coefficient| (the surface is unchanged; float can hold it). Non-finite
 // coefficients, or a..j all zero (singular Q: F is the constant k, every point or none is on
-// it), give never(). A k-only scale of exactly 0 everywhere (Q = 0) is never() too.
-inline Quadric<float> make_quadric(const QuadricCoeffs& q) {
+// it), give never() (the reason in *why). A k-only scale of exactly 0 everywhere (Q = 0) is never() too.
+inline Quadric<float> make_quadric(const QuadricCoeffs& q, std::string* why = nullptr) {
+  using Q = Quadric<float>;
   const double v[10] = {q.a, q.b, q.c, q.d, q.e, q.f, q.g, q.h, q.j, q.k};
   double mx = 0, mx9 = 0;
   for (int i = 0; i < 10; ++i) {
-    if (!std::isfinite(v[i])) return Quadric<float>::never();
+    if (!std::isfinite(v[i])) return never_because<Q>(why, "quadric: a coefficient is not finite");
     mx = std::max(mx, std::fabs(v[i]));
     if (i < 9) mx9 = std::max(mx9, std::fabs(v[i]));
   }
-  if (mx9 == 0.0 || !(mx9 > 1e-30 * mx)) return Quadric<float>::never();
+  if (mx9 == 0.0 || !(mx9 > 1e-30 * mx)) return never_because<Q>(why, "quadric: every coefficient a..j is zero (no surface)");
   float o[10];
   for (int i = 0; i < 10; ++i) o[i] = float(v[i] / mx);
   bool any = false;
   for (int i = 0; i < 9; ++i) any = any || o[i] != 0.f;
-  if (!any) return Quadric<float>::never();
+  if (!any) return never_because<Q>(why, "quadric: coefficients a..j vanish in float");
   return {o[0], o[1], o[2], o[3], o[4], o[5], o[6], o[7], o[8], o[9]};
 }
 
@@ -144,7 +145,7 @@ inline Quadric<float> make_quadric_matrix(const double Q[4][4], std::string* why
       if (!(std::fabs(Q[r][s] - Q[s][r]) <= 1e-12 * mx)) {
         if (std::isfinite(mx)) return never_because<Quadric<float>>(why, "quadric: Q is not symmetric");
       }
-  return make_quadric(QuadricCoeffs::from_matrix(Q));
+  return make_quadric(QuadricCoeffs::from_matrix(Q), why);
 }
 
 // matrix method (seed 000).
@@ -227,11 +228,12 @@ struct QuadricRev {
   static QuadricRev never() { return {{F(0), F(0), F(0)}, F(1), F(0), F(0), F(kInf<F>)}; }
 };
 
-// Non-finite input: never(). (a = b = 0, c > 0 is a legitimate empty surface; c = 0 with
+// Non-finite input: never() (the reason in *why). (a = b = 0, c > 0 is a legitimate empty surface; c = 0 with
 // a = b = 0 is the z axis: a line, hit by no ray in general position.)
 template <class T>
-inline QuadricRev<float> make_quadric_rev(Vec3<T> centre, T a, T b, T c) {
-  if (!finite3(centre) || !std::isfinite(a) || !std::isfinite(b) || !std::isfinite(c)) return QuadricRev<float>::never();
+inline QuadricRev<float> make_quadric_rev(Vec3<T> centre, T a, T b, T c, std::string* why = nullptr) {
+  if (!finite3(centre) || !std::isfinite(a) || !std::isfinite(b) || !std::isfinite(c))
+    return never_because<QuadricRev<float>>(why, "quadric of revolution: a coefficient or the centre is not finite");
   return {to_float(to_double(centre)), float(a), float(b), float(0.5 * double(b)), float(c)};
 }
 

@@ -26,12 +26,15 @@ struct Sphere {
   static Sphere never() { return {{F(0), F(0), F(0)}, F(-kInf<F>), F(0)}; }
 };
 
-// Zero, negative or non-finite radius, or a non-finite centre: Sphere::never().
+// Zero, negative or non-finite radius, or a non-finite centre: Sphere::never() (the reason in *why).
 template <class T>
-inline Sphere<float> make_sphere(Vec3<T> c, T r) {
-  if (!finite3(c) || !std::isfinite(r) || !(r > T(0))) return Sphere<float>::never();
+inline Sphere<float> make_sphere(Vec3<T> c, T r, std::string* why = nullptr) {
+  using S = Sphere<float>;
+  if (!finite3(c)) return never_because<S>(why, "sphere: centre is not finite");
+  if (!std::isfinite(r) || !(r > T(0))) return never_because<S>(why, "sphere: radius is not positive and finite");
   const double rd = double(r);
-  if (!std::isfinite(float(rd * rd)) || float(rd * rd) == 0.f) return Sphere<float>::never();
+  if (!std::isfinite(float(rd * rd)) || float(rd * rd) == 0.f)
+    return never_because<S>(why, "sphere: radius squared is not representable in float");
   return {to_float(to_double(c)), float(rd * rd), float(1.0 / rd)};
 }
 
@@ -243,8 +246,8 @@ inline SphereUV<float> make_sphere_uv(Vec3<T> c, T r, Vec3<T> pole = {T(0), T(0)
   if (!finite3(e) || !std::isfinite(le0) || !(le > 1e-6 * le0))
     return never_because<S>(why, "sphere: equator direction is zero, not finite or parallel to the pole");
   const Vec3d E = e2 * (1.0 / le);
-  const Sphere<float> s = make_sphere(c, r);
-  if (!(s.r2 > 0.f)) return never_because<S>(why, "sphere: radius is not positive and finite");
+  const Sphere<float> s = make_sphere(c, r, why);
+  if (!(s.r2 > 0.f)) return S::never();
   return {s, to_float(P), to_float(E), to_float(cross(P, E))};
 }
 

@@ -10,6 +10,7 @@
 #pragma once
 
 #include "core/ray.hpp"
+#include "core/why.hpp"
 #include "soa/axis_grouped.hpp"
 
 #include <algorithm>
@@ -30,11 +31,15 @@ struct TriLecture {
 // The lecture data of the frame R0 + u U + v V (triangle, parallelogram, plane with [u,v]): the
 // dropped axis is dominant_axis(n) (core/vec3.hpp). Zero area (U x V == 0, also after rounding
 // to float), non-finite input, or n, D or the determinant not representable in float:
-// TriLecture::never() (n = 0: parallel to every ray), axis 2. `axis` receives the dropped axis.
-inline TriLecture<float> make_lecture_frame(const Vec3d& R0, const Vec3d& U, const Vec3d& V, int& axis) {
+// TriLecture::never() (n = 0: parallel to every ray), axis 2, the reason in *why. `axis` receives
+// the dropped axis.
+inline TriLecture<float> make_lecture_frame(const Vec3d& R0, const Vec3d& U, const Vec3d& V, int& axis,
+                                            std::string* why = nullptr) {
+  using L = TriLecture<float>;
   const Vec3d n = cross(U, V);
   axis = 2;
-  if (!finite3(R0) || !finite3(U) || !finite3(V) || !finite3(n) || dot(n, n) == 0.0) return TriLecture<float>::never();
+  if (!finite3(R0) || !finite3(U) || !finite3(V) || !finite3(n)) return never_because<L>(why, "frame: a vertex or edge is not finite");
+  if (dot(n, n) == 0.0) return never_because<L>(why, "frame: zero area (the edges are parallel)");
   const int ax = dominant_axis(n);
   const int a = (ax + 1) % 3, b = (ax + 2) % 3;
   TriLecture<float> t;
@@ -45,7 +50,7 @@ inline TriLecture<float> make_lecture_frame(const Vec3d& R0, const Vec3d& U, con
   const double det = double(t.ua) * double(t.vb) - double(t.va) * double(t.ub);
   if (!std::isfinite(t.D) || !finite3(t.n) || dot(to_double(t.n), to_double(t.n)) == 0.0 || det == 0.0 ||
       !std::isfinite(float(det)) || float(det) == 0.f)
-    return TriLecture<float>::never();
+    return never_because<L>(why, "frame: normal, offset or determinant not representable in float");
   t.det = float(det);
   axis = ax;
   return t;
@@ -53,9 +58,9 @@ inline TriLecture<float> make_lecture_frame(const Vec3d& R0, const Vec3d& U, con
 
 // The lecture form of triangle (v0, v1, v2) (parallelogram: same data, different test).
 template <class T>
-inline TriLecture<float> make_tri_lecture(Vec3<T> v0, Vec3<T> v1, Vec3<T> v2, int& axis) {
+inline TriLecture<float> make_tri_lecture(Vec3<T> v0, Vec3<T> v1, Vec3<T> v2, int& axis, std::string* why = nullptr) {
   const Vec3d R0 = to_double(v0);
-  return make_lecture_frame(R0, to_double(v1) - R0, to_double(v2) - R0, axis);
+  return make_lecture_frame(R0, to_double(v1) - R0, to_double(v2) - R0, axis, why);
 }
 
 template <class F>
@@ -105,16 +110,19 @@ struct Triangle {
   }
 };
 
-// Edges are formed in double and rounded once. Zero area or non-finite input: never().
+// Edges are formed in double and rounded once. Zero area or non-finite input: never() (the reason
+// in *why).
 template <class T>
-inline Triangle<float> make_triangle(Vec3<T> a, Vec3<T> b, Vec3<T> c) {
+inline Triangle<float> make_triangle(Vec3<T> a, Vec3<T> b, Vec3<T> c, std::string* why = nullptr) {
   const Vec3d A = to_double(a), e1 = to_double(b) - A, e2 = to_double(c) - A;
   const Vec3d n = cross(e1, e2);
-  if (!finite3(A) || !finite3(e1) || !finite3(e2) || !finite3(n) || dot(n, n) == 0.0) return Triangle<float>::never();
+  if (!finite3(A) || !finite3(e1) || !finite3(e2) || !finite3(n))
+    return never_because<Triangle<float>>(why, "triangle: a vertex is not finite");
+  if (dot(n, n) == 0.0) return never_because<Triangle<float>>(why, "triangle: zero area");
   const Triangle<float> t{to_float(A), to_float(e1), to_float(e2)};
   const Vec3d nr = cross(to_double(t.e1), to_double(t.e2));  // the rounded edges may be parallel
   if (dot(nr, nr) == 0.0)
-    return Triangle<float>::never();
+    return never_because<Triangle<float>>(why, "triangle: zero area after rounding to float");
   return t;
 }
 

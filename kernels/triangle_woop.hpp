@@ -32,6 +32,7 @@
 #pragma once
 
 #include "core/ray.hpp"
+#include "core/why.hpp"
 
 #include <type_traits>
 
@@ -49,15 +50,17 @@ struct TriVerts {
 };
 
 // Vertices are kept exactly as given (watertightness needs shared vertices bit-identical).
-// Zero area (cross product zero in double) or non-finite input: never().
+// Zero area (cross product zero in double) or non-finite input: never() (the reason in *why).
 template <class T>
-inline TriVerts<float> make_tri_verts(Vec3<T> a, Vec3<T> b, Vec3<T> c) {
+inline TriVerts<float> make_tri_verts(Vec3<T> a, Vec3<T> b, Vec3<T> c, std::string* why = nullptr) {
   const Vec3d A = to_double(a), B = to_double(b), C = to_double(c);
   const Vec3d n = cross(B - A, C - A);
-  if (!finite3(A) || !finite3(B) || !finite3(C) || !finite3(n) || dot(n, n) == 0.0) return TriVerts<float>::never();
+  if (!finite3(A) || !finite3(B) || !finite3(C) || !finite3(n))
+    return never_because<TriVerts<float>>(why, "triangle: a vertex is not finite");
+  if (dot(n, n) == 0.0) return never_because<TriVerts<float>>(why, "triangle: zero area");
   const TriVerts<float> t{to_float(A), to_float(B), to_float(C)};
   const Vec3d nr = cross(to_double(t.b) - to_double(t.a), to_double(t.c) - to_double(t.a));
-  if (dot(nr, nr) == 0.0) return TriVerts<float>::never();
+  if (dot(nr, nr) == 0.0) return never_because<TriVerts<float>>(why, "triangle: zero area after rounding to float");
   return t;
 }
 

@@ -34,7 +34,11 @@ struct RaySoA {
     push(make_ray(o, d, t0, t1));
   }
 
-  Ray<float> get(std::size_t i) const {
+  // RB_INLINE: broadcast() calls it once per ray in the primitives-in-lanes loops; left to GCC's
+  // heuristics, it stayed an out-of-line call in the timed loop of the larger kernels (cylinder,
+  // cone, quadric, uv sphere, transformed instances; seen in the disassembly), a call per ray
+  // that the cheap miss case cannot hide.
+  RB_INLINE Ray<float> get(std::size_t i) const {
     return {{ox[i], oy[i], oz[i]}, {dx[i], dy[i], dz[i]}, {rx[i], ry[i], rz[i]}, tmin[i], tmax[i]};
   }
   template <class F>

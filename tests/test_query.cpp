@@ -1,6 +1,6 @@
 // `raybench query`: every primitive type answers, results agree with hand-worked values, t is in
 // the caller's direction units, and malformed lines get an error naming the line.
-#include "apps/commands.hpp"
+#include "apps/query.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

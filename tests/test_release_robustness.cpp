@@ -13,7 +13,7 @@
 //   - Box and convex polyhedron from inside: t is the exit surface, not the clamped tmin.
 //   - Planet: grazing rays at a sphere of radius 6.4e6 seen from 1 above the surface: the
 //     compensated float method classifies all of them as the exact reference does.
-#include "apps/commands.hpp"
+#include "apps/query.hpp"
 #include "core/counted.hpp"
 #include "kernels/box.hpp"
 #include "kernels/cylinder_cone.hpp"
