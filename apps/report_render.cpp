@@ -5,6 +5,7 @@
 #include "apps/report.hpp"
 #include "apps/report_sections.hpp"
 #include "apps/trace_run.hpp"
+#include "scene/csg.hpp"
 #include "scene/sources.hpp"
 
 #include <fmt/format.h>
@@ -73,7 +74,7 @@ std::string report_section_render(const ReportOptions& o, const fs::path& out, j
   std::string img_md;
   const auto names = scene::spd_names();
   std::size_t step = 0;
-  const std::size_t total = names.size() + 1 + scene::lecture_scene_names().size();
+  const std::size_t total = names.size() + 1 + scene::lecture_scene_names().size() + scene::csg_scene_names().size();
   auto render_one = [&](const std::string& src, bool spd, const std::string& png) {
     std::cerr << fmt::format("[report render {}/{}] {}\n", ++step, total, src);
     RenderRunOptions ro;
@@ -105,6 +106,8 @@ std::string report_section_render(const ReportOptions& o, const fs::path& out, j
     if (n == "teapot") spd.push_back(render_one("spd:teapot:12", true, "render_spd_teapot_12.png"));
   }
   for (const auto& n : scene::lecture_scene_names()) lect.push_back(render_one("lecture:" + n, false, "render_lecture_" + n + ".png"));
+  std::vector<json> csgs;  // the embedded CSG scenes (the JSON scene format's camera, lights, materials)
+  for (const auto& n : scene::csg_scene_names()) csgs.push_back(render_one("csg:" + n, false, "render_csg_" + n + ".png"));
 
   md += "### Rays: ours beside Haines'\n\n| scene | prims | Haines' prims | eye | eye hits | Haines | reflection | Haines | refraction | Haines | "
         "shadow | Haines |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
@@ -145,7 +148,7 @@ std::string report_section_render(const ReportOptions& o, const fs::path& out, j
                     "`raybench trace SCENE --rays primary --packet 8 --threads {} --count 262144 --no-embree` (median of 3) in the "
                     "same run.\n\n| scene | rays | load ms | BVH ms | trace ms | Mrays/s | primary trace Mrays/s | render / primary |\n"
                     "|---|---:|---:|---:|---:|---:|---:|---:|\n", threads, threads);
-  for (const auto* group : {&spd, &lect})
+  for (const auto* group : {&spd, &lect, &csgs})
     for (const auto& j : *group) {
       const double a = j["mrays_per_s"].get<double>();
       const json& p = j["trace_primary_mrays_per_s"];
@@ -156,7 +159,7 @@ std::string report_section_render(const ReportOptions& o, const fs::path& out, j
     }
 
   int met = 0, all = 0;
-  for (const auto* group : {&spd, &lect})
+  for (const auto* group : {&spd, &lect, &csgs})
     for (const auto& j : *group) {
       const json& p = j["trace_primary_mrays_per_s"];
       if (p.is_null() || p.get<double>() <= 0) continue;
@@ -170,16 +173,20 @@ std::string report_section_render(const ReportOptions& o, const fs::path& out, j
                     "(`--secondary-packet 8` sorts them by direction octant into packets: faster on the glass lecture scenes, "
                     "slower on balls and teapot).\n", met, all);
   summary["render_goal_half_of_primary"] = {{"met", met}, {"scenes", all}};
-  md += "\n### The lecture's scenes\n\n512 x 512, one ray per pixel centre, depth 5, two-sided surfaces.\n\n| scene | eye hits | "
+  std::vector<const json*> rows_lc;
+  md += "\n### The lecture's scenes and the CSG scenes\n\n512 x 512, one ray per pixel centre, depth 5, two-sided surfaces.\n\n| scene | eye hits | "
         "reflection | refraction | shadow | box tests | primitive tests |\n|---|---:|---:|---:|---:|---:|---:|\n";
-  for (const auto& j : lect) {
+  for (const auto& j : lect) rows_lc.push_back(&j);
+  for (const auto& j : csgs) rows_lc.push_back(&j);
+  for (const json* jp : rows_lc) {
+    const json& j = *jp;
     std::uint64_t pt = 0;
     for (const auto& [k, v] : j["prim_tests"].items()) pt += v.get<std::uint64_t>();
     md += fmt::format("| {} | {} | {} | {} | {} | {} | {} |\n", j["scene"].get<std::string>(), u(j["eye_hit_rays"]),
                       u(j["reflect_rays"]), u(j["refract_rays"]), u(j["shadow_rays"]), u(j["box_tests"]), sep(pt));
   }
   md += "\n### Images\n\n";
-  for (const auto* group : {&spd, &lect})
+  for (const auto* group : {&spd, &lect, &csgs})
     for (const auto& j : *group) md += fmt::format("`{}`\n\n![{}]({})\n\n", j["scene"].get<std::string>(), j["scene"].get<std::string>(),
                                                    j["png"].get<std::string>());
   summary["render"] = rows;

@@ -89,27 +89,12 @@ RB_INLINE Hit<F> first_hit(const Ray<F>& r, const Roots<F, 2>& s) {
 }
 
 // ---- CSG in 1D ray space ------------------------------------------------------------------------
-// Merging two canonical lists A (N slots) and B (M slots) into one of N + M slots. Each boundary
-// of A is kept when the result's membership changes across it with B held at its state just
-// before that t; each boundary of B is kept when it changes with A held at its state just after
-// that t. So a t where both lists have a boundary is counted once per change, in A-then-B order,
-// and two intervals that touch at one t stay two. The result is right as a set of points up to
-// single points where boundaries coincide (a zero-length gap or interval may remain there). Dropped slots become +inf; the result is sorted (sort_net).
-// Cost: N M cmp for the memberships, 2 (N + M) mask ops, N + M selects, the sort.
+// The set operations on entry/exit lists. The merges themselves (a scalar two-pointer merge that
+// can stop at the closest hit, and a lane-generic one for packets) live with the tagged interval
+// list in core/intervals.hpp; these are the operation and its membership rule.
 enum class SetOp { kUnion, kIntersection, kDifference };  // difference: A minus B
 
 namespace detail {
-// Parity of the valid boundaries of L at or before t (strict = false) / before t (strict = true):
-// whether t lies inside L just after / just before it.
-template <class F, int N>
-RB_INLINE mask_t<F> inside_at(const Roots<F, N>& L, const F& t, bool strict) {
-  mask_t<F> in = mask_false<F>();
-  for (int k = 0; k < N; ++k) {
-    const mask_t<F> c = L.valid[k] & (strict ? (L.t[k] < t) : (L.t[k] <= t));
-    in = mask_xor<F>(in, c);
-  }
-  return in;
-}
 template <class F>
 RB_INLINE mask_t<F> set_op(SetOp op, const mask_t<F>& a, const mask_t<F>& b) {
   switch (op) {
@@ -119,35 +104,5 @@ RB_INLINE mask_t<F> set_op(SetOp op, const mask_t<F>& a, const mask_t<F>& b) {
   }
 }
 }  // namespace detail
-
-template <class F, int N, int M>
-RB_INLINE Roots<F, N + M> combine(SetOp op, const Roots<F, N>& A, const Roots<F, M>& B) {
-  F t[N + M];
-  const mask_t<F> yes = mask_true<F>(), no = mask_false<F>();
-  for (int k = 0; k < N; ++k) {  // A toggles at its k-th boundary: inside before iff k is odd
-    const mask_t<F> inB = detail::inside_at(B, A.t[k], true);
-    const mask_t<F> before = detail::set_op<F>(op, (k % 2) ? yes : no, inB);
-    const mask_t<F> after = detail::set_op<F>(op, (k % 2) ? no : yes, inB);
-    t[k] = vselect(A.valid[k] & mask_xor<F>(before, after), A.t[k], F(kInf<F>));
-  }
-  for (int k = 0; k < M; ++k) {
-    const mask_t<F> inA = detail::inside_at(A, B.t[k], false);
-    const mask_t<F> before = detail::set_op<F>(op, inA, (k % 2) ? yes : no);
-    const mask_t<F> after = detail::set_op<F>(op, inA, (k % 2) ? no : yes);
-    t[N + k] = vselect(B.valid[k] & mask_xor<F>(before, after), B.t[k], F(kInf<F>));
-  }
-  return Roots<F, N + M>::canonical(t);
-}
-
-template <class F, int N, int M>
-RB_INLINE Roots<F, N + M> csg_union(const Roots<F, N>& A, const Roots<F, M>& B) { return combine(SetOp::kUnion, A, B); }
-template <class F, int N, int M>
-RB_INLINE Roots<F, N + M> csg_intersection(const Roots<F, N>& A, const Roots<F, M>& B) {
-  return combine(SetOp::kIntersection, A, B);
-}
-template <class F, int N, int M>
-RB_INLINE Roots<F, N + M> csg_difference(const Roots<F, N>& A, const Roots<F, M>& B) {
-  return combine(SetOp::kDifference, A, B);
-}
 
 }  // namespace rb

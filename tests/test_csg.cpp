@@ -3,11 +3,12 @@
 // leaves, SIMD packets against scalar, and the JSON format's errors.
 #include "core/counted.hpp"
 #include "kernels/csg.hpp"
-#include "apps/commands.hpp"
+#include "apps/query.hpp"
 #include "scene/csg.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -46,6 +47,56 @@ using V = std::vector<float>;
 constexpr SetOp U = SetOp::kUnion, I = SetOp::kIntersection, D = SetOp::kDifference;
 
 }  // namespace
+
+// Random lists of small integers (many shared boundaries): both merges against point membership
+// at the midpoints between boundaries; the result is sorted and regular (no zero-length pieces).
+TEST(CsgIntervals, RandomListsAgreeWithPointMembership) {
+  std::mt19937 g(7);
+  std::uniform_int_distribution<int> cnt(0, 3), val(0, 12);
+  auto random_list = [&]() {
+    std::vector<float> v;
+    const int n = 2 * cnt(g);
+    for (int k = 0; k < n; ++k) v.push_back(float(val(g)));
+    std::sort(v.begin(), v.end());
+    // Drop zero-length intervals and merge touching ones: a canonical operand.
+    std::vector<float> c;
+    for (std::size_t k = 0; k < v.size(); k += 2) {
+      if (v[k] == v[k + 1]) continue;
+      if (!c.empty() && c.back() >= v[k]) c.back() = std::max(c.back(), v[k + 1]);
+      else { c.push_back(v[k]); c.push_back(v[k + 1]); }
+    }
+    return c;
+  };
+  auto inside = [](const std::vector<float>& v, double x) {
+    for (std::size_t k = 0; k + 1 < v.size(); k += 2)
+      if (double(v[k]) <= x && x <= double(v[k + 1])) return true;
+    return false;
+  };
+  auto as_spans = [](const std::vector<float>& v) {
+    Spans<float> s;
+    s.n = 0;
+    for (float t : v) { s.t[s.n] = t; s.tag[s.n] = 1; ++s.n; }
+    return s;
+  };
+  for (int it = 0; it < 2000; ++it) {
+    const auto a = random_list(), b = random_list();
+    for (const SetOp o : {U, I, D}) {
+      const auto r = op(o, as_spans(a), as_spans(b));
+      ASSERT_EQ(r.size() % 2, 0u);
+      for (std::size_t k = 1; k < r.size(); ++k) ASSERT_LT(r[k - 1], r[k]) << "sorted, no zero-length piece";
+      std::vector<float> xs(a);
+      xs.insert(xs.end(), b.begin(), b.end());
+      std::sort(xs.begin(), xs.end());
+      for (std::size_t k = 0; k + 1 < xs.size(); ++k) {
+        if (xs[k] == xs[k + 1]) continue;
+        const double x = 0.5 * (double(xs[k]) + double(xs[k + 1]));
+        const bool ia = inside(a, x), ib = inside(b, x);
+        const bool want = o == U ? (ia || ib) : o == I ? (ia && ib) : (ia && !ib);
+        ASSERT_EQ(inside(r, x), want) << "op " << int(o) << " x " << x;
+      }
+    }
+  }
+}
 
 TEST(CsgIntervals, Disjoint) {
   const auto a = list({0, 1}), b = list({2, 3});
