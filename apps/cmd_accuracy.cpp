@@ -126,20 +126,8 @@ Command add_accuracy_command(CLI::App& app) {
       return 2;
     }
     const auto rows = run_accuracy(*o, "raybench accuracy");
-    if (cmd->count("--json") == 0) {
-      std::cout << accuracy_text(rows);
-    } else if (json_out->empty() || *json_out == "-") {
-      std::cout << accuracy_json(*o, rows).dump(2) << "\n";
-    } else {
-      std::ofstream f(*json_out);
-      f << accuracy_json(*o, rows).dump(2) << "\n";
-      if (!f) {
-        std::cerr << "raybench accuracy: " << *json_out << ": cannot write\n";
-        return 1;
-      }
-      std::cerr << "wrote " << rows.size() << " rows to " << *json_out << "\n";
-    }
-    return 0;
+    return write_result("accuracy", cmd->count("--json") > 0, *json_out, [&] { return accuracy_text(rows); },
+                        [&] { return accuracy_json(*o, rows); }, std::to_string(rows.size()) + " rows");
   }};
 }
 

@@ -186,19 +186,7 @@ Command add_info_command(CLI::App& app) {
               std::cerr << "raybench info: " << (what.find(o->scene) == std::string::npos ? o->scene + ": " : "") << what << "\n";
               return 1;
             }
-            if (o->json_out.empty()) {
-              std::cout << scene_info_text(j);
-            } else if (o->json_out == "-") {
-              std::cout << j.dump(2) << "\n";
-            } else {
-              std::ofstream f(o->json_out);
-              f << j.dump(2) << "\n";
-              if (!f) {
-                std::cerr << "raybench info: cannot write " << o->json_out << "\n";
-                return 1;
-              }
-            }
-            return 0;
+            return write_result("info", !o->json_out.empty(), o->json_out, [&] { return scene_info_text(j); }, [&] { return j; });
           }};
 }
 

@@ -44,16 +44,7 @@ Command add_render_command(CLI::App& app) {
 #else
       const nlohmann::json j = run_render(*o, nullptr);
 #endif
-      if (cmd->count("--json") == 0) {
-        std::cout << render_text(j);
-      } else if (json_out->empty() || *json_out == "-") {
-        std::cout << j.dump(2) << "\n";
-      } else {
-        std::ofstream f(*json_out);
-        f << j.dump(2) << "\n";
-        if (!f) throw std::runtime_error(*json_out + ": cannot write");
-      }
-      return 0;
+      return write_result("render", cmd->count("--json") > 0, *json_out, [&] { return render_text(j); }, [&] { return j; });
     } catch (const std::exception& e) {
       std::cerr << "raybench render: " << o->scene << ": " << e.what() << "\n";
       return 1;

@@ -35,16 +35,7 @@ Command add_trace_command(CLI::App& app) {
   return {cmd, [o, json_out, cmd]() -> int {
     try {
       const nlohmann::json j = run_trace(*o, true);
-      if (cmd->count("--json") == 0) {
-        std::cout << trace_text(j);
-      } else if (json_out->empty() || *json_out == "-") {
-        std::cout << j.dump(2) << "\n";
-      } else {
-        std::ofstream f(*json_out);
-        f << j.dump(2) << "\n";
-        if (!f) throw std::runtime_error(*json_out + ": cannot write");
-      }
-      return 0;
+      return write_result("trace", cmd->count("--json") > 0, *json_out, [&] { return trace_text(j); }, [&] { return j; });
     } catch (const std::exception& e) {
       std::cerr << "raybench trace: " << o->scene << ": " << e.what() << "\n";
       return 1;

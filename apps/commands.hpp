@@ -7,9 +7,11 @@
 #include "apps/query.hpp"
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <functional>
 #include <iosfwd>
+#include <string>
 
 namespace rb::app {
 
@@ -24,6 +26,12 @@ Command add_trace_command(CLI::App& app);  // cmd_trace.cpp: raybench trace SCEN
 Command add_render_command(CLI::App& app); // cmd_render.cpp: raybench render SCENE
 Command add_accuracy_command(CLI::App& app);  // cmd_accuracy.cpp: raybench accuracy
 Command add_csg_command(CLI::App& app);    // report_csg.cpp: raybench csg
+
+// A subcommand's result: without --json (`json` false) the text table on stdout; with --json the
+// JSON on stdout (no FILE or "-") or in FILE, then "wrote WROTE to FILE" on stderr when `wrote` is
+// not empty. 0, or 1 with one line on stderr naming the file when it cannot be written.
+int write_result(const std::string& command, bool json, const std::string& file, const std::function<std::string()>& text,
+                 const std::function<nlohmann::json()>& to_json, const std::string& wrote = "");
 
 // The query loop itself: apps/query.hpp (tests include that, not this header and CLI11).
 

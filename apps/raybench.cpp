@@ -57,17 +57,8 @@ int main(int argc, char** argv) {
     if (*report) return rb::app::run_report(ro);
     if (*ops) {
       const auto rows = rb::opstable::build();
-      if (ops_json.empty()) {
-        std::cout << rb::opstable::to_text(rows);
-      } else if (ops_json == "-") {
-        std::cout << rb::opstable::to_json(rows).dump(2) << "\n";
-      } else {
-        std::ofstream f(ops_json);
-        f << rb::opstable::to_json(rows).dump(2) << "\n";
-        if (!f) { std::cerr << "raybench ops: cannot write " << ops_json << "\n"; return 1; }
-        std::cerr << "wrote " << rows.size() << " rows to " << ops_json << "\n";
-      }
-      return 0;
+      return rb::app::write_result("ops", !ops_json.empty(), ops_json, [&] { return rb::opstable::to_text(rows); },
+                                   [&] { return rb::opstable::to_json(rows); }, std::to_string(rows.size()) + " rows");
     }
     if (*bench) {
       const int rc = rb::app::run_benchmarks(bo);
