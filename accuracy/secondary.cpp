@@ -47,11 +47,15 @@ inline Vec3f vabs3(const Vec3f& v) { return {std::fabs(v.x), std::fabs(v.y), std
 
 // The error-bound offset: p (within err of the surface, per coordinate) moved along the unit
 // normal n (on the outgoing side) by |n| . err, each moved coordinate rounded one float further.
-inline float away(float po, float off) {
-  if (off > 0) return std::nextafter(po, std::numeric_limits<float>::infinity());
-  if (off < 0) return std::nextafter(po, -std::numeric_limits<float>::infinity());
-  return po;
+// The next float up or down by its bit pattern (finite inputs; -0 is taken as +0 going up and
+// +0 as -0 going down): an integer step, no library call.
+inline float next_up(float v) {
+  if (v == 0.0f) return std::bit_cast<float>(1);
+  const int b = std::bit_cast<int>(v);
+  return std::bit_cast<float>(v > 0 ? b + 1 : b - 1);
 }
+inline float next_down(float v) { return -next_up(-v); }
+inline float away(float po, float off) { return off > 0 ? next_up(po) : off < 0 ? next_down(po) : po; }
 inline Vec3f bound_offset(const Vec3f& p, const Vec3f& err, const Vec3f& n) {
   const float d = std::fabs(n.x) * err.x + std::fabs(n.y) * err.y + std::fabs(n.z) * err.z;
   const Vec3f off = n * d;
