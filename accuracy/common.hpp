@@ -26,6 +26,8 @@ struct Ref {
   long double t = 0;   // first surface crossing in [tmin, tmax] (cls hit or either-with-hit)
   bool has_t = false;
   double scale = 1;    // |origin| + object extent (for the scale-normalised error)
+  long double t_next = 0;  // the next root after t (has_next): a hit nearer to it is a wrong root
+  bool has_next = false;
 };
 
 struct Out {
@@ -194,6 +196,7 @@ void run_quadrics(Ctx& x);
 void run_torus(Ctx& x);
 void run_boxes(Ctx& x);
 void run_secondary(Ctx& x);
+void run_implicit(Ctx& x);
 void run_quartics(Ctx& x);
 std::vector<CaseInfo> triangle_cases();
 std::vector<CaseInfo> sphere_cases();
@@ -201,6 +204,7 @@ std::vector<CaseInfo> quadric_cases();
 std::vector<CaseInfo> torus_cases();
 std::vector<CaseInfo> box_cases();
 std::vector<CaseInfo> secondary_cases();
+std::vector<CaseInfo> implicit_cases();
 std::vector<CaseInfo> quartic_cases();
 
 }  // namespace rb::acc

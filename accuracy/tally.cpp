@@ -40,7 +40,9 @@ Row tally(const std::string& family, const std::string& method, const std::strin
       const long double dt = std::fabs((long double)m.t - f.t);
       const double u = double(dt) / ulp_at(f.t, eps);
       const double sc = double(dt) / (eps * f.scale);
-      if (wrong_roots && sc > 1e3) ++r.wrong_roots;
+      // A wrong root: nearer the next root than the first (when the case knows the next root), else
+      // farther than 1e3 scale-normalised units from the first.
+      if (wrong_roots && (f.has_next ? std::fabs((long double)m.t - f.t_next) < dt : sc > 1e3)) ++r.wrong_roots;
       ulps.push_back(u);
       scaled.push_back(sc);
     }

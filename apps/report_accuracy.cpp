@@ -261,19 +261,28 @@ std::string report_section_accuracy(const ReportOptions& o, const fs::path& out,
     for (const Row& r : rows) any2 = any2 || (r.family == fam && is_secondary(r));
     if (any2) {
       md += "Secondary rays (float): self-hits per million rays spawned at the computed hit point, leaving on the side the ray came "
-            "from, without and with the Waechter-Binder integer offset; ns per spawned test includes the offset (without it, "
-            "half the spawned rays hit their own surface and run the kernel's longer positive path, so the change is not the "
-            "offset's cost alone).\n\n"
-            "| method | no offset: self-hit ppm | ns | offset: self-hit ppm | ns | change |\n|---|---:|---:|---:|---:|---:|\n";
+            "from: without an offset, with the Waechter-Binder integer offset, and with the error-bound offset (pbrt-style: the hit "
+            "point recomputed in a form with a known rounding-error bound, moved along the normal by that bound and rounded one "
+            "float further). ns per spawned test includes the scheme's work (without an offset, the self-hit rays run the "
+            "kernel's longer positive path, so the change is not the scheme's cost alone).\n\n"
+            "| method | no offset: self-hit ppm | ns | integer offset: self-hit ppm | ns | change | error-bound offset: self-hit ppm | ns | change |\n"
+            "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
       std::set<std::string> ms;
       for (const Row& r : rows)
         if (r.family == fam && is_secondary(r)) ms.insert(r.method);
+      auto change = [](const Row* a, const Row* b) {
+        return b && std::isfinite(a->ns_per_test) && a->ns_per_test > 0 && std::isfinite(b->ns_per_test)
+                   ? fmt::format("{:+.0f} %", 100 * (b->ns_per_test / a->ns_per_test - 1))
+                   : std::string("-");
+      };
       for (const auto& m : ms) {
         const Row* a = find(rows, fam, "secondary_no_offset", m, "float");
         const Row* b = find(rows, fam, "secondary_wb_offset", m, "float");
-        if (!a || !b) continue;
-        md += fmt::format("| {} | {} | {} | {} | {} | {} |\n", m, ppm(a->self_hit_ppm), g3(a->ns_per_test), ppm(b->self_hit_ppm), g3(b->ns_per_test),
-                          std::isfinite(a->ns_per_test) && a->ns_per_test > 0 ? fmt::format("{:+.0f} %", 100 * (b->ns_per_test / a->ns_per_test - 1)) : "-");
+        const Row* c = find(rows, fam, "secondary_bound_offset", m, "float");
+        if (!a) continue;
+        md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", m, ppm(a->self_hit_ppm), g3(a->ns_per_test),
+                          b ? ppm(b->self_hit_ppm) : "-", b ? g3(b->ns_per_test) : "-", change(a, b), c ? ppm(c->self_hit_ppm) : "-",
+                          c ? g3(c->ns_per_test) : "-", change(a, c));
       }
       md += "\n";
     }
