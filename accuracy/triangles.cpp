@@ -123,6 +123,16 @@ Vec3d mesh_target(const Mesh& m, bool vertices, bool inner_only, std::mt19937_64
 struct TriCase {
   Case<TriVerts> woop;
   Case<Triangle> mt;
+  // One-to-one cases: ray i against its own triangle, in both batches, with the exact reference of
+  // the ray as stored (the float ray the kernels see).
+  void add_pair(const Tri& t, const Ray<float>& r) {
+    woop.prims.push(make_tri_verts(t[0], t[1], t[2]));
+    mt.prims.push(make_triangle(t[0], t[1], t[2]));
+    woop.rays.push(r);
+    mt.rays.push(r);
+    const Ray<float> q = woop.rays.get(woop.rays.count - 1);
+    woop.ref.push_back(triangle_ref(q.o, q.d, q.tmin, q.tmax, t[0], t[1], t[2]));
+  }
 };
 
 // closed: 0 open surface (no leak figure), 1 a closed solid (a ray must hit when it passes through
@@ -386,13 +396,7 @@ void run_triangles(Ctx& x) {
     const Vec3d O0{-1081.47925, 99.9999542, 87.7701111}, D{-32.1072998, -183.355865, -144.607635};
     for (std::size_t i = 0; i < n; ++i) {
       const Vec3d O = i == 0 ? O0 : O0 + unit_rand(g) * lurand(g, 1e-7, 1e-3);
-      const Ray<float> r = make_ray(O, D, 0.0, 0.9999);
-      c.woop.prims.push(make_tri_verts(t[0], t[1], t[2]));
-      c.mt.prims.push(make_triangle(t[0], t[1], t[2]));
-      c.woop.rays.push(r);
-      c.mt.rays.push(r);
-      const Ray<float> q = c.woop.rays.get(i);
-      c.woop.ref.push_back(triangle_ref(q.o, q.d, q.tmin, q.tmax, t[0], t[1], t[2]));
+      c.add_pair(t, make_ray(O, D, 0.0, 0.9999));
     }
     c.mt.ref = c.woop.ref;
     measure_all<void>(x, c);
@@ -414,13 +418,7 @@ void run_triangles(Ctx& x) {
       const Vec3d P = tA + (tB - tA) * urand(g, -0.05, 1.05) + (tC - tA) * urand(g, -0.3, 0.6);
       Vec3d u = unit_rand(g);
       const Vec3d O = P + u * 2.0;
-      const Ray<float> r = make_ray(O, P - O);
-      c.woop.prims.push(make_tri_verts(t[0], t[1], t[2]));
-      c.mt.prims.push(make_triangle(t[0], t[1], t[2]));
-      c.woop.rays.push(r);
-      c.mt.rays.push(r);
-      const Ray<float> s = c.woop.rays.get(i);
-      c.woop.ref.push_back(triangle_ref(s.o, s.d, s.tmin, s.tmax, t[0], t[1], t[2]));
+      c.add_pair(t, make_ray(O, P - O));
     }
     c.mt.ref = c.woop.ref;
     measure_all<void>(x, c);
