@@ -103,20 +103,29 @@ pgo() {
   build pgo-tuned --target raybench 2>&1 | grep -E 'missing-profile|error' || true
   rm -rf "$PGO_OUT"
   declare -A bins=([normal]=build/release/apps/raybench [pgo]=build/pgo-use/apps/raybench [tuned]=build/pgo-tuned/apps/raybench)
-  # Back to back: two rounds of 3 repetitions per build, interleaved, then the traces build after
-  # build for each scene, ray set and packet size.
-  for round in 1 2; do
-    for b in normal pgo tuned; do
-      echo "[pgo] kernel benchmarks, round $round of 2: $b build"
+  # Back to back: three rounds of 2 repetitions per build, the build order rotated each round, then
+  # the traces build after build for each scene, ray set and packet size (order rotated per scene).
+  # The load average before each run goes to load.txt: the report says whether the machine was idle.
+  local order=(normal pgo tuned) i
+  mkdir -p "$PGO_OUT"
+  for round in 1 2 3; do
+    for i in 0 1 2; do
+      local b=${order[$(( (i + round - 1) % 3 ))]}
+      echo "[pgo] kernel benchmarks, round $round of 3: $b build"
       mkdir -p "$PGO_OUT/$b"
-      "${bins[$b]}" bench --repetitions 3 --min-time 0.05 --out "$PGO_OUT/$b/bench-$round.json" >/dev/null
+      echo "bench-$round-$b $(cut -d' ' -f1 /proc/loadavg)" >>"$PGO_OUT/load.txt"
+      "${bins[$b]}" bench --repetitions 2 --min-time 0.05 --out "$PGO_OUT/$b/bench-$round.json" >/dev/null
     done
   done
+  local s=0
   for scene in "${PGO_TRACE_SCENES[@]}"; do
     echo "[pgo] traces: $scene"
-    for b in normal pgo tuned; do
+    for i in 0 1 2; do
+      local b=${order[$(( (i + s) % 3 ))]}
+      echo "trace-$scene-$b $(cut -d' ' -f1 /proc/loadavg)" >>"$PGO_OUT/load.txt"
       pgo_traces "${bins[$b]}" "$PGO_OUT/$b" 1 524288 5 "$scene"
     done
+    s=$((s + 1))
   done
   /usr/bin/python3 tools/pgo.py "$PGO_OUT" report \
     --honest "bench --seed 7 (other rays and primitives, 1 repetition of 0.01 s); traces of ${PGO_TRAIN_SCENES[*]} with ray seed 7, 131072 rays" \

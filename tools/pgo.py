@@ -4,8 +4,9 @@
 Usage: /usr/bin/python3 tools/pgo.py RESULTS OUT --honest TEXT --tuned TEXT [--minutes N]
 
 RESULTS holds one folder per build (normal, pgo, tuned), each with the kernel benchmark JSON of
-every round (bench-*.json, Google Benchmark, every repetition kept) and one JSON per trace
-(trace-*.json, `raybench trace --json`). Writes OUT/pgo.json, OUT/pgo.md and two charts, and
+every round (bench-N.json, Google Benchmark, every repetition kept; round N of each build ran back
+to back) and one JSON per trace (trace-*.json, `raybench trace --json`), and load.txt (the load
+average before each measured run). Writes OUT/pgo.json, OUT/pgo.md and two charts, and
 replaces the PGO section of OUT/index.md when that file exists.
 """
 import argparse
@@ -37,18 +38,30 @@ def load_json(path):
 
 
 def bench_reps(folder):
-    """Benchmark name -> list of tests/s, one per repetition, over every round."""
+    """Benchmark name -> {round file: list of tests/s, one per repetition}."""
     reps, context = {}, {}
     for path in sorted(glob.glob(os.path.join(folder, "bench-*.json"))):
         j = load_json(path)
         context = j.get("context", context)
+        rnd = os.path.basename(path)
         for b in j.get("benchmarks", []):
             if b.get("run_type") != "iteration":
                 continue
             rate = b.get("tests_per_s")
             if rate:
-                reps.setdefault(b["run_name"], []).append(rate)
+                reps.setdefault(b["run_name"], {}).setdefault(rnd, []).append(rate)
     return reps, context
+
+
+def flat(by_round):
+    return [x for r in sorted(by_round) for x in by_round[r]]
+
+
+def paired_ratio(base, other):
+    """Median over rounds of (other's median / base's median) in that round. The builds of one round
+    ran back to back, so a disturbance that hits one round moves one term, not the result."""
+    per = [statistics.median(other[r]) / statistics.median(base[r]) for r in sorted(base) if r in other]
+    return (statistics.median(per) if per else None), per
 
 
 def traces(folder):
@@ -93,14 +106,18 @@ def compare(results):
     for name in sorted(bench["normal"][0]):
         base = bench["normal"][0][name]
         row = {"benchmark": name, "kernel": name.split("/")[0], "variant": name.split("/")[2] if name.count("/") >= 2 else "",
-               "normal_median": statistics.median(base)}
+               "normal_median": statistics.median(flat(base))}
         for b in ("pgo", "tuned"):
             other = bench[b][0].get(name)
             if not other:
                 continue
-            row[f"{b}_median"] = statistics.median(other)
-            row[f"{b}_ratio"] = row[f"{b}_median"] / row["normal_median"]
-            row[f"{b}_p"] = utest(base, other)
+            ratio, per_round = paired_ratio(base, other)
+            if ratio is None:
+                continue
+            row[f"{b}_median"] = statistics.median(flat(other))
+            row[f"{b}_ratio"] = ratio
+            row[f"{b}_round_ratios"] = per_round
+            row[f"{b}_p"] = utest(flat(base), flat(other))
         rows.append(row)
     tr = {b: traces(os.path.join(results, b)) for b in BUILDS}
     trows = []
@@ -117,6 +134,15 @@ def compare(results):
         trows.append(row)
     flags = {b: bench[b][1].get("raybench_build_flags", "?") for b in BUILDS}
     return rows, trows, flags
+
+
+def machine_load(results):
+    """The 1-minute load averages `./run.sh pgo` recorded before each measured run."""
+    try:
+        with open(os.path.join(results, "load.txt")) as f:
+            return [float(line.split()[1]) for line in f if len(line.split()) > 1]
+    except (OSError, ValueError):
+        return []
 
 
 def group(rows, key, field):
@@ -167,15 +193,22 @@ def charts(out, rows, trows):
         plt.close(fig)
 
 
-def markdown(rows, trows, flags, args):
+def markdown(rows, trows, flags, args, load):
     md = ["## Profile-guided optimisation", ""]
     md.append(f"Measured by `./run.sh pgo` ({args.minutes} min). Three builds of the same source: **normal** (the release "
               "preset), **PGO** (trained on a workload apart from the measured one) and **tuned** (trained on the measured "
               "workload itself: a sensitivity check of how much a profile of the very benchmark flatters). The kernel "
-              "benchmarks ran in two interleaved rounds of 3 repetitions per build; the traces ran build after build for each "
-              "scene, ray set and packet size (5 repetitions, 1 thread). Ratios > 1 mean the PGO build is faster; p is the "
-              "two-sided Mann-Whitney U-test over the repetitions (as Google Benchmark's compare.py computes it).")
+              "benchmarks ran in three rounds of 2 repetitions per build, the three builds back to back in each round and their "
+              "order rotated from round to round; a benchmark's ratio is the median over the rounds of that round's ratio of "
+              "medians, so a disturbance of one round moves one term, not the result. The traces ran build after build for "
+              "each scene, ray set and packet size (5 repetitions, 1 thread), the build order rotated per scene. Ratios > 1 "
+              "mean the PGO build is faster; p is the two-sided Mann-Whitney U-test over all repetitions (as Google "
+              "Benchmark's compare.py computes it).")
     md.append("")
+    if load:
+        md.append(f"- Machine load (1-minute average, read before each measured run; the runs use one thread): "
+                  f"{min(load):.2f} to {max(load):.2f}." +
+                  (" **The machine was not idle: other work ran during the measurement.**" if max(load) > 1.6 else ""))
     md.append(f"- Honest training workload: {args.honest}.")
     md.append(f"- Tuned training workload: {args.tuned}.")
     for b in BUILDS:
@@ -249,7 +282,7 @@ def main():
         json.dump({"benchmarks": rows, "traces": trows, "flags": flags, "honest_training": args.honest,
                    "tuned_training": args.tuned}, f, indent=2)
     charts(args.out, rows, trows)
-    md = markdown(rows, trows, flags, args)
+    md = markdown(rows, trows, flags, args, machine_load(args.results))
     with open(os.path.join(args.out, "pgo.md"), "w") as f:
         f.write(md)
     index = os.path.join(args.out, "index.md")
