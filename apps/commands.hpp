@@ -20,8 +20,8 @@ struct Options;
 
 namespace rb::app {
 
-struct TraceRunOptions;
-struct RenderRunOptions;
+struct TraceRunOptions;   // apps/trace_options.hpp
+struct RenderRunOptions;  // apps/render_options.hpp
 
 // Where a subcommand's --json goes: `json` false without --json (the text table on stdout); with
 // --json, `file` empty or "-" means stdout.

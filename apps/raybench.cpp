@@ -4,9 +4,9 @@
 #include "apps/accuracy_run.hpp"
 #include "apps/commands.hpp"
 #include "apps/machine.hpp"
-#include "apps/render_run.hpp"
+#include "apps/render_options.hpp"
 #include "apps/report.hpp"
-#include "apps/trace_run.hpp"
+#include "apps/trace_options.hpp"
 #include "bench/ops_table.hpp"
 
 #include <CLI/CLI.hpp>
