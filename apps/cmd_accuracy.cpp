@@ -98,37 +98,20 @@ std::vector<acc::Row> run_accuracy(acc::Options o, const std::string& label) {
   return rows;
 }
 
-Command add_accuracy_command(CLI::App& app) {
-  auto o = std::make_shared<acc::Options>();
-  auto json_out = std::make_shared<std::string>();
-  auto list = std::make_shared<bool>(false);
-  auto* cmd = app.add_subcommand("accuracy",
-                                 "The accuracy lab: adversarial seeded rays per primitive family (edges and vertices of closed meshes, "
-                                 "far and grazing rays, planets, apexes, tangents, slab planes, spawned rays) against exact references "
-                                 "from the same float inputs; false hits/misses, leaks, t error in ulps, self-hits, ns per test");
-  cmd->add_flag("--full", o->full, "Every case with 100000 rays (default: 10000 rays per case, about ten seconds)");
-  cmd->add_option("--seed", o->seed, "Seed of every case generator")->capture_default_str();
-  cmd->add_option("--rays", o->rays, "Rays per case (overrides the mode's count)")->check(CLI::Range(std::size_t(8), std::size_t(1) << 24));
-  cmd->add_option("--filter", o->filter, "Only cases whose family/case contains this text (e.g. triangle/octa, torus/)");
-  cmd->add_flag("!--no-timing", o->timing, "Skip the ns-per-test timing");
-  cmd->add_flag("--list", *list, "List the cases and exit");
-  cmd->add_option("--json", *json_out, "Write the rows as JSON to this file (no argument or '-': stdout) instead of the table")
-      ->expected(0, 1);
-  return {cmd, [o, json_out, list, cmd]() -> int {
-    if (*list) {
-      for (const auto& c : acc::case_list()) std::cout << fmt::format("{:<10} {:<26} {}\n", c.family, c.name, c.what);
-      return 0;
-    }
-    std::size_t selected = 0;
-    for (const auto& c : acc::case_list()) selected += o->filter.empty() || (c.family + "/" + c.name).find(o->filter) != std::string::npos;
-    if (selected == 0) {
-      std::cerr << "raybench accuracy: --filter '" << o->filter << "' selects no case (see --list)\n";
-      return 2;
-    }
-    const auto rows = run_accuracy(*o, "raybench accuracy");
-    return write_result("accuracy", cmd->count("--json") > 0, *json_out, [&] { return accuracy_text(rows); },
-                        [&] { return accuracy_json(*o, rows); }, std::to_string(rows.size()) + " rows");
-  }};
+int run_accuracy_command(const acc::Options& o, bool list, const JsonOut& out) {
+  if (list) {
+    for (const auto& c : acc::case_list()) std::cout << fmt::format("{:<10} {:<26} {}\n", c.family, c.name, c.what);
+    return 0;
+  }
+  std::size_t selected = 0;
+  for (const auto& c : acc::case_list()) selected += o.filter.empty() || (c.family + "/" + c.name).find(o.filter) != std::string::npos;
+  if (selected == 0) {
+    std::cerr << "raybench accuracy: --filter '" << o.filter << "' selects no case (see --list)\n";
+    return 2;
+  }
+  const auto rows = run_accuracy(o, "raybench accuracy");
+  return write_result("accuracy", out.json, out.file, [&] { return accuracy_text(rows); }, [&] { return accuracy_json(o, rows); },
+                      std::to_string(rows.size()) + " rows");
 }
 
 }  // namespace rb::app

@@ -159,35 +159,22 @@ std::string scene_info_markdown(const json& j) {
   return o + "\n";
 }
 
-Command add_info_command(CLI::App& app) {
-  struct Opts {
-    std::string scene, json_out;
-  };
-  auto o = std::make_shared<Opts>();
-  auto* cmd = app.add_subcommand("info", "Describe a scene: primitive counts per kind, bounds, camera, lights, materials and memory "
-                                         "per batch (input form and SoA kernel batch)");
-  cmd->add_option("scene", o->scene, "A .obj/.ply/.nff file, a .json scene (CSG trees), spd:NAME[:SIZE] (balls gears mount rings teapot tetra tree), lecture:NAME or csg:NAME (spheres_minus lens die torus_box ellipsoid_minus_cylinder)")
-      ->required();
-  cmd->add_option("--json", o->json_out, "Write the description as JSON to this file instead of the table (no FILE or '-': stdout)")
-      ->expected(0, 1)
-      ->default_str("-");
-  return {cmd, [o]() -> int {
-            json j;
-            try {
-              const auto t0 = std::chrono::steady_clock::now();
-              const rb::scene::Scene s = rb::scene::load_scene(o->scene);
-              const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-              j = scene_info(s);
-              j["source"] = o->scene;
-              j["load_ms"] = ms;
-            } catch (const std::exception& e) {
-              // Loader errors name the file and line; a generator's name the scene.
-              const std::string what = e.what();
-              std::cerr << "raybench info: " << (what.find(o->scene) == std::string::npos ? o->scene + ": " : "") << what << "\n";
-              return 1;
-            }
-            return write_result("info", !o->json_out.empty(), o->json_out, [&] { return scene_info_text(j); }, [&] { return j; });
-          }};
+int run_info_command(const std::string& scene, const JsonOut& out) {
+  json j;
+  try {
+    const auto t0 = std::chrono::steady_clock::now();
+    const rb::scene::Scene s = rb::scene::load_scene(scene);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    j = scene_info(s);
+    j["source"] = scene;
+    j["load_ms"] = ms;
+  } catch (const std::exception& e) {
+    // Loader errors name the file and line; a generator's name the scene.
+    const std::string what = e.what();
+    std::cerr << "raybench info: " << (what.find(scene) == std::string::npos ? scene + ": " : "") << what << "\n";
+    return 1;
+  }
+  return write_result("info", out.json, out.file, [&] { return scene_info_text(j); }, [&] { return j; });
 }
 
 }  // namespace rb::app

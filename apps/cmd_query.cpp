@@ -7,7 +7,7 @@
 // t is in the units of the given direction (the engine works on the unit direction and divides
 // by |direction| on output), so a direction of length 2 halves t. A miss has "hit": false and
 // no t. Every method that applies to the primitive runs unless "method" names one.
-#include "apps/commands.hpp"
+#include "apps/query.hpp"
 #include "kernels/box.hpp"
 #include "kernels/cylinder_cone.hpp"
 #include "kernels/plane.hpp"
@@ -371,23 +371,6 @@ int run_query(std::istream& in, std::ostream& out, std::ostream& err, bool dbl) 
     out << o.dump() << "\n";
   }
   return errors ? 1 : 0;
-}
-
-Command add_query_command(CLI::App& app) {
-  auto* q = app.add_subcommand(
-      "query",
-      "One-off intersection queries: JSON lines on stdin, e.g.\n"
-      "  {\"primitive\": {\"type\":\"sphere\",\"center\":[0,0,5],\"radius\":1}, \"ray\": {\"origin\":[0,0,0],\"direction\":[0,0,1]}}\n"
-      "One JSON line out per query with hit, t, point, normal, uv for every method that applies (or \"method\": NAME).\n"
-      "Types: sphere(center,radius[,pole,equator]) triangle(v0,v1,v2) plane(point,normal[,u,v]) parallelogram(origin,u,v)\n"
-      "polygon(vertices) box(min,max) cylinder(base,axis,radius,height[,caps]) cone(apex,axis,angle|radius+height[,caps])\n"
-      "torus(center,axis,major,minor) quadric(coefficients: a b c d e f g h j k of seed 004).\n"
-      "CSG trees: union|intersection(children or left,right) difference(left,right) of sphere box polyhedron cylinder cone torus\n"
-      "ellipsoid quadric leaves, each node with an optional transform (the JSON scene format); their answer adds \"intervals\".\n"
-      "A malformed line gets {\"line\": N, \"error\": ...} (and a line on stderr); the exit status is 1 if any line failed.");
-  auto dbl = std::make_shared<bool>(false);
-  q->add_flag("--double", *dbl, "Run the kernels in double precision (on the same float-rounded primitive and ray)");
-  return {q, [dbl] { return run_query(std::cin, std::cout, std::cerr, *dbl); }};
 }
 
 }  // namespace rb::app

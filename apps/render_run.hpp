@@ -3,6 +3,7 @@
 // result as JSON and as a summary with Haines' published SPD statistics beside ours.
 #pragma once
 
+#include "apps/render_options.hpp"
 #include "render/render.hpp"
 
 #include <nlohmann/json.hpp>
@@ -16,18 +17,6 @@ class MpiSession;
 }
 
 namespace rb::app {
-
-struct RenderRunOptions {
-  std::string scene;
-  std::string out;              // PNG path ("" : no image)
-  int width = 0, height = 0;    // 0: 512 (or the scene's NFF resolution without --spd)
-  int depth = 5;
-  int threads = 1;
-  bool spd = false;
-  bool progress = true;
-  bool count_tests = true;
-  int secondary_packet = 1;
-};
 
 // Haines' published figures for a classical ray tracer on an SPD scene at its default size (eye
 // hits, reflection, refraction and shadow rays; his hierarchy's test counts where given).

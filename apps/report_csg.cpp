@@ -190,17 +190,9 @@ std::string report_section_csg(const ReportOptions& o, const std::filesystem::pa
   return csg_markdown(speed, rows);
 }
 
-Command add_csg_command(CLI::App& app) {
-  auto reps = std::make_shared<int>(5);
-  auto nrays = std::make_shared<std::size_t>(std::size_t(1) << 15);
-  auto* cmd = app.add_subcommand("csg", "CSG queries on the embedded CSG scenes: operations per query and queries per second, "
-                                        "scalar against 8-ray packets (the report's CSG section, as markdown)");
-  cmd->add_option("-r,--repetitions", *reps, "Timed runs (the median is quoted)")->check(CLI::Range(1, 100))->capture_default_str();
-  cmd->add_option("--rays", *nrays, "Rays per scene")->check(CLI::Range(std::size_t(8), std::size_t(1) << 24))->capture_default_str();
-  return {cmd, [reps, nrays]() -> int {
-    std::cout << csg_markdown(measure_csg_speed(*reps, *nrays), opstable::build());
-    return 0;
-  }};
+int run_csg_command(int repetitions, std::size_t rays) {
+  std::cout << csg_markdown(measure_csg_speed(repetitions, rays), opstable::build());
+  return 0;
 }
 
 }  // namespace rb::app

@@ -2,6 +2,7 @@
 // make the ray set, time both engines, compare them ray by ray and against brute force.
 #pragma once
 
+#include "apps/trace_options.hpp"
 #include "bench/embree_trace.hpp"
 #include "bench/trace.hpp"
 
@@ -12,20 +13,6 @@
 #include <string>
 
 namespace rb::app {
-
-struct TraceRunOptions {
-  std::string scene;
-  std::string ray_set = "primary";
-  int threads = 1;
-  int packet = 1;
-  std::string layout = "wide";
-  std::size_t count = std::size_t(1) << 20;
-  std::uint64_t seed = 1;
-  bool robust = false;
-  int repetitions = 5;
-  long long brute_rays = -1;  // -1: a budget by scene size; 0: none
-  bool embree = true;
-};
 
 // A scene with both engines built once (with `build_threads`), then any number of runs.
 class TraceSession {

@@ -1,0 +1,22 @@
+// The options of one `raybench render` run (also the report's Rendering section,
+// apps/render_run.hpp): a header of its own so that the command line (apps/raybench.cpp) does not
+// parse the renderer.
+#pragma once
+
+#include <string>
+
+namespace rb::app {
+
+struct RenderRunOptions {
+  std::string scene;
+  std::string out;              // PNG path ("" : no image)
+  int width = 0, height = 0;    // 0: 512 (or the scene's NFF resolution without --spd)
+  int depth = 5;
+  int threads = 1;
+  bool spd = false;
+  bool progress = true;
+  bool count_tests = true;
+  int secondary_packet = 1;
+};
+
+}  // namespace rb::app

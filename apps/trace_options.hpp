@@ -1,0 +1,25 @@
+// The options of one `raybench trace` run (also the report's Tracing section, apps/trace_run.hpp):
+// a header of its own so that the command line (apps/raybench.cpp) does not parse the tracer.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+namespace rb::app {
+
+struct TraceRunOptions {
+  std::string scene;
+  std::string ray_set = "primary";
+  int threads = 1;
+  int packet = 1;
+  std::string layout = "wide";
+  std::size_t count = std::size_t(1) << 20;
+  std::uint64_t seed = 1;
+  bool robust = false;
+  int repetitions = 5;
+  long long brute_rays = -1;  // -1: a budget by scene size; 0: none
+  bool embree = true;
+};
+
+}  // namespace rb::app
