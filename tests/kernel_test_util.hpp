@@ -145,8 +145,15 @@ void tally_lanes(const Batch& prims, const Rays& rays, Tally& rl, Tally& pl) {
     }
 }
 
-// Every number type a kernel is instantiated with.
+// Every number type a kernel is instantiated with: the first kernels' typed tests (end to end with
+// every Counted type) and the root lists.
 using AllNumbers = ::testing::Types<float, double, f8, d4, cfloat, cdouble, cf8, cd4>;
+// The value types: the typed tests of the planar, quadric and solver families. Counted<T> adds no
+// arithmetic of its own: it computes exactly what T computes (checked per operation for every T by
+// CountedValue in test_num.cpp), and every family kernel runs as Counted<float> and Counted<f8> in
+// the operations table (test_ops.cpp and the families' golden counts), under ASan and UBSan in the
+// `debug` preset. Under the sanitizers at -O0 each type added about 5 s of compile time per file.
+using ValueNumbers = ::testing::Types<float, double, f8, d4>;
 
 // The generic lambdas the typed tests run.
 #define RB_KERNEL(fn) [](const auto& kr_, const auto& kp_) { return fn(kr_, kp_); }
