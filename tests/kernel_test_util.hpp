@@ -1,7 +1,11 @@
 // The test-support header: helpers shared by the kernel tests. Run a kernel with any number type
 // on one float ray and primitive (broadcast to every lane) and read back lane results; measure
 // ulp distances; tally SIMD lanes against the scalar result in both SIMD mappings.
+// A classic include guard besides #pragma once: GCC may not honour #pragma once for a header
+// read from the precompiled test header (tests/test_pch.hpp) when a test includes it again.
 #pragma once
+#ifndef RB_TESTS_KERNEL_TEST_UTIL_HPP
+#define RB_TESTS_KERNEL_TEST_UTIL_HPP
 
 #include "bench/ops_table.hpp"
 #include "core/counted.hpp"
@@ -159,3 +163,5 @@ using ValueNumbers = ::testing::Types<float, double, f8, d4>;
 #define RB_KERNEL(fn) [](const auto& kr_, const auto& kp_) { return fn(kr_, kp_); }
 
 }  // namespace rb::test
+
+#endif  // RB_TESTS_KERNEL_TEST_UTIL_HPP
