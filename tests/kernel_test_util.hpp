@@ -1,7 +1,11 @@
 // The test-support header: helpers shared by the kernel tests. Run a kernel with any number type
 // on one float ray and primitive (broadcast to every lane) and read back lane results; measure
 // ulp distances; tally SIMD lanes against the scalar result in both SIMD mappings.
+// A classic include guard besides #pragma once: GCC may not honour #pragma once for a header
+// read from the precompiled test header (tests/test_pch.hpp) when a test includes it again.
 #pragma once
+#ifndef RB_TESTS_KERNEL_TEST_UTIL_HPP
+#define RB_TESTS_KERNEL_TEST_UTIL_HPP
 
 #include "bench/ops_table.hpp"
 #include "core/counted.hpp"
@@ -145,10 +149,19 @@ void tally_lanes(const Batch& prims, const Rays& rays, Tally& rl, Tally& pl) {
     }
 }
 
-// Every number type a kernel is instantiated with.
+// Every number type a kernel is instantiated with: the first kernels' typed tests (end to end with
+// every Counted type) and the root lists.
 using AllNumbers = ::testing::Types<float, double, f8, d4, cfloat, cdouble, cf8, cd4>;
+// The value types: the typed tests of the planar, quadric and solver families. Counted<T> adds no
+// arithmetic of its own: it computes exactly what T computes (checked per operation for every T by
+// CountedValue in test_num.cpp), and every family kernel runs as Counted<float> and Counted<f8> in
+// the operations table (test_ops.cpp and the families' golden counts), under ASan and UBSan in the
+// `debug` preset. Under the sanitizers at -O0 each type added about 5 s of compile time per file.
+using ValueNumbers = ::testing::Types<float, double, f8, d4>;
 
 // The generic lambdas the typed tests run.
 #define RB_KERNEL(fn) [](const auto& kr_, const auto& kp_) { return fn(kr_, kp_); }
 
 }  // namespace rb::test
+
+#endif  // RB_TESTS_KERNEL_TEST_UTIL_HPP

@@ -64,6 +64,71 @@ TEST(Counted, CountingWorksInTbbWorkers) {
   EXPECT_EQ(t.add, std::uint64_t(n));
 }
 
+// Counted<T> computes exactly what T computes: every operation a kernel may call gives T's value
+// bit for bit (NaN where T gives NaN), on values that include signed zeros, infinities and NaN. The
+// kernel families' typed tests therefore run the value types only; the first kernels run every
+// Counted type end to end (test_first_kernels.cpp).
+template <class T>
+struct CountedValue : ::testing::Test {};
+using CountedBases = ::testing::Types<float, double, f8, d4>;
+TYPED_TEST_SUITE(CountedValue, CountedBases);
+
+template <class T>
+bool same_bits(const T& a, const Counted<T>& b) {
+  for (int k = 0; k < lanes_v<T>; ++k) {
+    const auto x = lane(a, k), y = lane(b, k);
+    if (!(x == y || (std::isnan(x) && std::isnan(y))) || std::signbit(x) != std::signbit(y)) return false;
+  }
+  return true;
+}
+
+TYPED_TEST(CountedValue, EveryOperationGivesTheBaseValue) {
+  using T = TypeParam;
+  using S = scalar_t<T>;
+  using C = Counted<T>;
+  const S inf = std::numeric_limits<S>::infinity(), nan = std::numeric_limits<S>::quiet_NaN();
+  const S vals[] = {S(0), -S(0), S(1), S(-2.5), S(3) / S(7), S(1e-30), S(6.4e6), inf, -inf, nan};
+  // Each lane of a SIMD operand takes another value, so lanes also mix.
+  auto make = [&](std::size_t i) {
+    alignas(64) S b[8];
+    for (int k = 0; k < 8; ++k) b[k] = vals[(i + std::size_t(k) * 3) % std::size(vals)];
+    return load<T>(b);
+  };
+  const std::size_t n = std::size(vals);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n; ++j) {
+      const T a = make(i), b = make(j), c = make(i + j);
+      const C ca(a), cb(b), cc(c);
+      SCOPED_TRACE(testing::Message() << "values " << i << ", " << j);
+      EXPECT_TRUE(same_bits(a + b, ca + cb));
+      EXPECT_TRUE(same_bits(a - b, ca - cb));
+      EXPECT_TRUE(same_bits(a * b, ca * cb));
+      EXPECT_TRUE(same_bits(a / b, ca / cb));
+      EXPECT_TRUE(same_bits(T(-a), -ca));
+      EXPECT_TRUE(same_bits(vsqrt(a), vsqrt(ca)));
+      EXPECT_TRUE(same_bits(vabs(a), vabs(ca)));
+      EXPECT_TRUE(same_bits(vmin(a, b), vmin(ca, cb)));
+      EXPECT_TRUE(same_bits(vmax(a, b), vmax(ca, cb)));
+      EXPECT_TRUE(same_bits(vfma(a, b, c), vfma(ca, cb, cc)));
+      EXPECT_TRUE(same_bits(vcopysign(a, b), vcopysign(ca, cb)));
+      EXPECT_TRUE(same_bits(vrounded(a), vrounded(ca)));
+      EXPECT_TRUE(same_bits(vselect<T>(a < b, a, c), vselect<C>(ca < cb, ca, cc)));
+      EXPECT_TRUE(same_bits(vsin(a), vsin(ca)));
+      EXPECT_TRUE(same_bits(vcos(a), vcos(ca)));
+      EXPECT_TRUE(same_bits(vacos(a), vacos(ca)));
+      EXPECT_TRUE(same_bits(vatan2(a, b), vatan2(ca, cb)));
+      EXPECT_TRUE(same_bits(vcbrt(a), vcbrt(ca)));
+      const mask_t<T> masks[] = {a < b, a <= b, a > b, a >= b, a == b, a != b};
+      const mask_t<C> cmasks[] = {ca < cb, ca <= cb, ca > cb, ca >= cb, ca == cb, ca != cb};
+      for (int m = 0; m < 6; ++m) {
+        EXPECT_EQ(any_of<T>(masks[m]), any_of<C>(cmasks[m])) << m;
+        EXPECT_EQ(all_of<T>(masks[m]), all_of<C>(cmasks[m])) << m;
+        EXPECT_EQ(count_true<T>(masks[m]), count_true<C>(cmasks[m])) << m;
+        for (int k = 0; k < lanes_v<T>; ++k) EXPECT_EQ(lane_mask<T>(masks[m], k), lane_mask<C>(cmasks[m], k)) << m;
+      }
+    }
+}
+
 TEST(Num, MinMaxFollowMinpsNaNRule) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   // a < b ? a : b: a NaN in either argument returns the second argument.

@@ -1,7 +1,8 @@
 // The planar kernel family: plane with [u,v], parallelogram, triangle by Cramer's rule
 // and by Woop-Benthin-Wald, general polygon (crossing test), parallel planes, convex polyhedron
 // (halfspaces, slabs).
-//   - hand-worked hit / miss / t / [u,v] cases, typed over every number type;
+//   - hand-worked hit / miss / t / [u,v] cases, typed over the value types
+//     (float, double, f8, d4; Counted<T> computes what T computes: tests/kernel_test_util.hpp);
 //   - degenerate primitives and bad rays: a defined miss (t = +inf) or a construction error;
 //   - seeded random rays against an independent double-precision reference;
 //   - every SIMD lane equals the scalar result, in both mappings (bit for bit with
@@ -26,7 +27,7 @@ constexpr double kTol = 1e-5;
 
 template <class F>
 struct Planar : ::testing::Test {};
-TYPED_TEST_SUITE(Planar, AllNumbers);
+TYPED_TEST_SUITE(Planar, ValueNumbers);
 
 // Runs a kernel on one ray and one primitive of a batch (primitive broadcast to every lane).
 template <class F, class Soa, class Fn>

@@ -5,7 +5,10 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <sstream>
+#include <string>
+#include <vector>
 
 namespace rb::app {
 namespace {
@@ -133,6 +136,65 @@ TEST(Query, FailedLinesAreNamedOnStderrAndSetTheStatus) {
   std::ostringstream out2, err2;
   EXPECT_EQ(run_query(good, out2, err2, false), 0);
   EXPECT_TRUE(err2.str().empty());
+}
+
+
+// ---- reproducers of the release probe, through the query ------------------------------------------
+// (The kernels on the same rays, compiled with contraction on, are in test_release_robustness.cpp.)
+
+// One query line, float or double; the results array.
+json query(const std::string& line, bool dbl) {
+  const auto out = run(line + "\n", dbl);
+  EXPECT_EQ(out.size(), 1u);
+  if (out.empty()) return json::array();
+  EXPECT_FALSE(out[0].contains("error")) << out[0].dump();
+  return out[0]["results"];
+}
+
+bool finite_json(const json& r) {
+  for (const char* k : {"t", "point", "normal"}) {
+    if (!r.contains(k)) continue;
+    if (r[k].is_array()) {
+      for (const auto& v : r[k])
+        if (!v.is_number() || !std::isfinite(v.get<double>())) return false;
+    } else if (!r[k].is_number() || !std::isfinite(r[k].get<double>())) {
+      return false;
+    }
+  }
+  return true;
+}
+
+// A hit exactly on the apex of a capped cone (finite normal), and a ray through the apex into it
+// (entry at the apex: t = 8 in the direction's units, 18 in unit ones).
+TEST(Query, ConeApexReproducers) {
+  const std::string cone = R"({"type":"cone","apex":[0,0,0],"axis":[0,0,1],"radius":1,"height":1,"caps":true})";
+  for (bool dbl : {false, true}) {
+    SCOPED_TRACE(dbl ? "double" : "float");
+    auto r1 = query(R"({"primitive":)" + cone + R"(,"ray":{"origin":[0,0,-5],"direction":[0,0,1]}})", dbl);
+    ASSERT_EQ(r1.size(), 1u);
+    EXPECT_TRUE(r1[0]["hit"].get<bool>());
+    EXPECT_NEAR(r1[0]["t"].get<double>(), 5.0, 1e-5);
+    EXPECT_TRUE(finite_json(r1[0])) << r1[0].dump();
+    auto r2 = query(R"({"primitive":)" + cone + R"(,"ray":{"origin":[2,8,-16],"direction":[-0.25,-1,2]}})", dbl);
+    ASSERT_EQ(r2.size(), 1u);
+    EXPECT_TRUE(r2[0]["hit"].get<bool>()) << r2[0].dump();
+    EXPECT_NEAR(r2[0]["t"].get<double>(), 8.0, 1e-3);
+    EXPECT_TRUE(finite_json(r2[0])) << r2[0].dump();
+  }
+}
+
+// Origin inside the unit box: t is the exit (at x = 1), not 0, with both box methods.
+TEST(Query, BoxFromInsideReturnsTheExit) {
+  for (bool dbl : {false, true}) {
+    const auto res = query(R"({"primitive":{"type":"box","min":[-1,-1,-1],"max":[1,1,1]},"ray":{"origin":[0.25,0,0],"direction":[2,0,0]}})", dbl);
+    ASSERT_EQ(res.size(), 2u);  // slab, halfspaces
+    for (const auto& r : res) {
+      SCOPED_TRACE(r.dump());
+      EXPECT_TRUE(r["hit"].get<bool>());
+      EXPECT_NEAR(r["t"].get<double>(), 0.375, 1e-6);  // (1 - 0.25) / |direction| = 2
+      EXPECT_NEAR(r["normal"][0].get<double>(), 1.0, 1e-6);
+    }
+  }
 }
 
 }  // namespace

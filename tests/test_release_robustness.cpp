@@ -13,7 +13,6 @@
 //   - Box and convex polyhedron from inside: t is the exit surface, not the clamped tmin.
 //   - Planet: grazing rays at a sphere of radius 6.4e6 seen from 1 above the surface: the
 //     compensated float method classifies all of them as the exact reference does.
-#include "apps/query.hpp"
 #include "core/counted.hpp"
 #include "kernels/box.hpp"
 #include "kernels/cylinder_cone.hpp"
@@ -24,9 +23,6 @@
 #include "soa/rays.hpp"
 
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
-
-#include <sstream>
 
 #include <cmath>
 #include <algorithm>
@@ -243,31 +239,6 @@ TEST(ReleaseWoop, ClosedMeshesNoLeaks) {
   EXPECT_EQ(sph.d, 0u);
 }
 
-// ---- query reproducers ---------------------------------------------------------------------------
-
-// One query line, float or double; the results array.
-nlohmann::json query(const std::string& line, bool dbl) {
-  std::istringstream is(line + "\n");
-  std::ostringstream os;
-  (void)app::run_query(is, os, dbl);
-  const auto j = nlohmann::json::parse(os.str());
-  EXPECT_FALSE(j.contains("error")) << j.dump();
-  return j["results"];
-}
-
-bool finite_json(const nlohmann::json& r) {
-  for (const char* k : {"t", "point", "normal"}) {
-    if (!r.contains(k)) continue;
-    if (r[k].is_array()) {
-      for (const auto& v : r[k])
-        if (!v.is_number() || !std::isfinite(v.get<double>())) return false;
-    } else if (!r[k].is_number() || !std::isfinite(r[k].get<double>())) {
-      return false;
-    }
-  }
-  return true;
-}
-
 // ---- geometric sphere: |d| = 1 is not assumed -------------------------------------------------------
 
 // Rays at a small sphere far away, aimed within 1.5 R of its centre (about half hit). The reference
@@ -314,24 +285,10 @@ TEST(ReleaseSphere, GeometricFarSmallSphere) {
 
 // ---- cone apex ------------------------------------------------------------------------------------
 
-const char* kConeCaps = R"({"type":"cone","apex":[0,0,0],"axis":[0,0,1],"radius":1,"height":1,"caps":true})";
-
 // The probe's reproducers: a hit exactly on the apex (finite normal), and a ray through the apex
-// into the capped cone (entry at the apex: t = 8 in the direction's units, 18 in unit ones).
+// into the capped cone. The same two rays through `raybench query`: test_query.cpp (the query's own
+// file is compiled with the preset's contraction, so it runs in the `debug` preset only).
 TEST(ReleaseCone, ApexReproducers) {
-  for (bool dbl : {false, true}) {
-    SCOPED_TRACE(dbl ? "double" : "float");
-    auto r1 = query(std::string(R"({"primitive":)") + kConeCaps + R"(,"ray":{"origin":[0,0,-5],"direction":[0,0,1]}})", dbl);
-    ASSERT_EQ(r1.size(), 1u);
-    EXPECT_TRUE(r1[0]["hit"].get<bool>());
-    EXPECT_NEAR(r1[0]["t"].get<double>(), 5.0, 1e-5);
-    EXPECT_TRUE(finite_json(r1[0])) << r1[0].dump();
-    auto r2 = query(std::string(R"({"primitive":)") + kConeCaps + R"(,"ray":{"origin":[2,8,-16],"direction":[-0.25,-1,2]}})", dbl);
-    ASSERT_EQ(r2.size(), 1u);
-    EXPECT_TRUE(r2[0]["hit"].get<bool>()) << r2[0].dump();
-    EXPECT_NEAR(r2[0]["t"].get<double>(), 8.0, 1e-3);
-    EXPECT_TRUE(finite_json(r2[0])) << r2[0].dump();
-  }
   // The kernel itself (compiled here with contraction on): both through the apex.
   const Cone<float> c = make_capped_cone(Vec3f{0, 0, 0}, 0.f, 1.f);
   for (const Ray<float>& r : {make_ray(Vec3f{0, 0, -5}, Vec3f{0, 0, 1}), make_ray(Vec3f{2, 8, -16}, Vec3f{-0.25f, -1, 2})}) {
@@ -403,18 +360,8 @@ TEST(ReleaseCone, SteepRaysThroughAndNearTheApex) {
 
 // ---- box and convex polyhedron from inside: the exit surface ------------------------------------------
 
+// The probe's case through `raybench query` (origin inside the unit box): test_query.cpp.
 TEST(ReleaseClosed, BoxAndPolyhedronFromInsideReturnTheExit) {
-  // The probe's case through the query: origin inside the unit box, t = the exit (1), not 0.
-  for (bool dbl : {false, true}) {
-    const auto res = query(R"({"primitive":{"type":"box","min":[-1,-1,-1],"max":[1,1,1]},"ray":{"origin":[0.25,0,0],"direction":[2,0,0]}})", dbl);
-    ASSERT_EQ(res.size(), 2u);  // slab, halfspaces
-    for (const auto& r : res) {
-      SCOPED_TRACE(r.dump());
-      EXPECT_TRUE(r["hit"].get<bool>());
-      EXPECT_NEAR(r["t"].get<double>(), 0.375, 1e-6);  // (1 - 0.25) / |direction| = 2
-      EXPECT_NEAR(r["normal"][0].get<double>(), 1.0, 1e-6);
-    }
-  }
   // Seeded: random boxes (as a box, six halfspaces and three slabs), origins inside, random
   // directions: t is the exit in long double from the float inputs.
   Rng g(66);

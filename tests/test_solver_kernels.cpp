@@ -1,6 +1,7 @@
 // Root-solver kernels: torus (ferrari, robust), algebraic surfaces (derivative
 // isolation), implicit surfaces (sphere tracing, illinois), surfaces of revolution.
-// Typed tests run hand-worked cases on every number type; reference comparisons are scalar.
+// Typed tests run hand-worked cases on the value types (float, double, f8, d4); reference
+// comparisons are scalar.
 #include "kernels/algebraic.hpp"
 #include "kernels/implicit.hpp"
 #include "kernels/revolution.hpp"
@@ -20,7 +21,7 @@ namespace {
 
 template <class F>
 struct SolverKernels : ::testing::Test {};
-TYPED_TEST_SUITE(SolverKernels, AllNumbers);
+TYPED_TEST_SUITE(SolverKernels, ValueNumbers);
 
 // Ferrari in float is only good to ~1e-3 here (see the accuracy test); the others to 1e-4.
 template <class F> constexpr double tol_closed() { return std::is_same_v<scalar_t<F>, float> ? 5e-3 : 1e-6; }
