@@ -105,7 +105,8 @@ pgo() {
   declare -A bins=([normal]=build/release/apps/raybench [pgo]=build/pgo-use/apps/raybench [tuned]=build/pgo-tuned/apps/raybench)
   # Back to back: three rounds of 2 repetitions per build, the build order rotated each round, then
   # the traces build after build for each scene, ray set and packet size (order rotated per scene).
-  # The load average before each run goes to load.txt: the report says whether the machine was idle.
+  # The 1-minute load average after each run goes to load.txt: the report says whether the machine
+  # was idle while it ran (read before a run, it would still show the build that preceded it).
   local order=(normal pgo tuned) i
   mkdir -p "$PGO_OUT"
   for round in 1 2 3; do
@@ -113,8 +114,8 @@ pgo() {
       local b=${order[$(( (i + round - 1) % 3 ))]}
       echo "[pgo] kernel benchmarks, round $round of 3: $b build"
       mkdir -p "$PGO_OUT/$b"
-      echo "bench-$round-$b $(cut -d' ' -f1 /proc/loadavg)" >>"$PGO_OUT/load.txt"
       "${bins[$b]}" bench --repetitions 2 --min-time 0.05 --out "$PGO_OUT/$b/bench-$round.json" >/dev/null
+      echo "bench-$round-$b $(cut -d' ' -f1 /proc/loadavg)" >>"$PGO_OUT/load.txt"
     done
   done
   local s=0
@@ -122,8 +123,8 @@ pgo() {
     echo "[pgo] traces: $scene"
     for i in 0 1 2; do
       local b=${order[$(( (i + s) % 3 ))]}
-      echo "trace-$scene-$b $(cut -d' ' -f1 /proc/loadavg)" >>"$PGO_OUT/load.txt"
       pgo_traces "${bins[$b]}" "$PGO_OUT/$b" 1 524288 5 "$scene"
+      echo "trace-$scene-$b $(cut -d' ' -f1 /proc/loadavg)" >>"$PGO_OUT/load.txt"
     done
     s=$((s + 1))
   done

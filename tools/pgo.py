@@ -6,7 +6,7 @@ Usage: /usr/bin/python3 tools/pgo.py RESULTS OUT --honest TEXT --tuned TEXT [--m
 RESULTS holds one folder per build (normal, pgo, tuned), each with the kernel benchmark JSON of
 every round (bench-N.json, Google Benchmark, every repetition kept; round N of each build ran back
 to back) and one JSON per trace (trace-*.json, `raybench trace --json`), and load.txt (the load
-average before each measured run). Writes OUT/pgo.json, OUT/pgo.md and two charts, and
+average after each measured run). Writes OUT/pgo.json, OUT/pgo.md and two charts, and
 replaces the PGO section of OUT/index.md when that file exists.
 """
 import argparse
@@ -137,7 +137,7 @@ def compare(results):
 
 
 def machine_load(results):
-    """The 1-minute load averages `./run.sh pgo` recorded before each measured run."""
+    """The 1-minute load averages `./run.sh pgo` recorded after each measured run."""
     try:
         with open(os.path.join(results, "load.txt")) as f:
             return [float(line.split()[1]) for line in f if len(line.split()) > 1]
@@ -206,7 +206,7 @@ def markdown(rows, trows, flags, args, load):
               "Benchmark's compare.py computes it).")
     md.append("")
     if load:
-        md.append(f"- Machine load (1-minute average, read before each measured run; the runs use one thread): "
+        md.append(f"- Machine load (1-minute average, read after each measured run; the runs use one thread): "
                   f"{min(load):.2f} to {max(load):.2f}." +
                   (" **The machine was not idle: other work ran during the measurement.**" if max(load) > 1.6 else ""))
     md.append(f"- Honest training workload: {args.honest}.")
