@@ -296,7 +296,7 @@ std::string pgo_section(const fs::path& out) {
   } else {
     body = "## Profile-guided optimisation\n\nNot measured for this report: `./run.sh pgo` builds an instrumented binary, "
            "trains it on a workload apart from the measured one, rebuilds with the profile and compares every benchmark and "
-           "trace with the normal build back to back (19 min on this project's 2-core machine); it then fills this section.\n\n";
+           "trace with the normal build back to back (25 min on this project's 2-core machine); it then fills this section.\n\n";
   }
   return "<!-- pgo-section -->\n" + body + "<!-- /pgo-section -->\n\n";
 }
