@@ -28,8 +28,10 @@
 // tests check.
 #if defined(RB_FORCE_INLINE) && !defined(RB_SANITIZE)
 #define RB_INLINE inline __attribute__((always_inline))
+#define RB_INLINE_LAMBDA __attribute__((always_inline))  // after a lambda's parameter list
 #else
 #define RB_INLINE inline
+#define RB_INLINE_LAMBDA
 #endif
 
 namespace rb {
