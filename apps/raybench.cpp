@@ -36,8 +36,7 @@ int main(int argc, char** argv) {
   auto* ops = app.add_subcommand("ops", "Operations per intersection: the lecture's counts beside Counted<float> and per-lane "
                                         "Counted<simd8> measurements, with the reason for every difference");
   ops->add_option("--json", ops_json, "Write the rows as a JSON array to this file instead of the table (no FILE or '-': stdout)")
-      ->expected(0, 1)
-      ->default_str("-");
+      ->expected(0, 1);
 
   rb::app::BenchOptions bo;
   auto* bench = app.add_subcommand("bench", "Run the kernel benchmarks (Google Benchmark) and write their JSON, every repetition "
@@ -55,8 +54,7 @@ int main(int argc, char** argv) {
   info->add_option("scene", info_scene, "A .obj/.ply/.nff file, a .json scene (CSG trees), spd:NAME[:SIZE] (balls gears mount rings teapot tetra tree), lecture:NAME or csg:NAME (spheres_minus lens die torus_box ellipsoid_minus_cylinder)")
       ->required();
   info->add_option("--json", info_json, "Write the description as JSON to this file instead of the table (no FILE or '-': stdout)")
-      ->expected(0, 1)
-      ->default_str("-");
+      ->expected(0, 1);
 
   auto* query = app.add_subcommand(
       "query",
@@ -156,7 +154,7 @@ int main(int argc, char** argv) {
       if (rc == 0) std::cerr << "wrote " << bo.json_out << "\n";
       return rc;
     }
-    if (*info) return rb::app::run_info_command(info_scene, {!info_json.empty(), info_json});
+    if (*info) return rb::app::run_info_command(info_scene, {info->count("--json") > 0, info_json});
     if (*query) return rb::app::run_query(std::cin, std::cout, std::cerr, query_double);
     if (*trace) return rb::app::run_trace_command(to, {trace->count("--json") > 0, trace_json});
     if (*render) return rb::app::run_render_command(rdo, {render->count("--json") > 0, render_json});
