@@ -16,7 +16,7 @@ PACKAGES=(g++ cmake ninja-build git pkg-config
           googletest libgtest-dev libcli11-dev nlohmann-json3-dev libfmt-dev
           libtinyobjloader-dev libgmp-dev libmpfr-dev libembree-dev
           python3-matplotlib python3-scipy
-          libstb-dev openmpi-bin libopenmpi-dev)
+          libstb-dev openmpi-bin libopenmpi-dev lld)
 
 setup() {
   local missing=()
