@@ -464,7 +464,7 @@ TEST(CsgOps, TwoSphereQueryIsLeavesBoxesAndAFewComparesPerEnd) {
     }
     {
       const ops::Scope s;
-      (void)detail::csg_box_test(T.nodes[T.root], c, c.tmin, c.tmax);
+      (void)rb::detail::csg_box_test(T.nodes[T.root], c, c.tmin, c.tmax);
       box = s.elapsed();
     }
     OpCounts boxes;

@@ -53,7 +53,7 @@ const char* kPlyAscii =
     "ply\nformat ascii 1.0\ncomment seed\nelement vertex 5\nproperty float x\nproperty float y\nproperty double z\n"
     "element face 2\nproperty list uchar int vertex_indices\nelement tristrips 1\nproperty list int int vertex_indices\n"
     "end_header\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.5 0.5 1\n4 0 1 2 3\n3 0 1 4\n7 0 1 2 -1 2 3 4\n";
-const char* kNff =
+const char* kFuzzNff =
     "v\nfrom 1 2 3\nat 0 0 0\nup 0 0 1\nangle 45\nhither 0.5\nresolution 32 24\nb 0.1 0.2 0.3\nl 1 1 1\nl 2 2 2 0.5 0.5 0.5\n"
     "s 0 0 0 1\nf 1 0 0 0.7 0.3 20 0 1\nc\n0 0 0 1\n0 0 2 0.5\ns 3 0 0 0.5\np 4\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n"
     "f 0 1 0 0.7 0.3 20 0 1.5\np 3\n0 0 1\n1 0 1\n0 1 1\npp 3\n0 0 2 0 0 1\n1 0 2 0 0 1\n0 1 2 0 0.6 0.8\n"
@@ -176,7 +176,7 @@ TEST(LoaderFuzz, PlyBinary) {
       [](std::string_view s) { return parse_ply(s, "fuzz.ply"); }, kN, 3);
 }
 TEST(LoaderFuzz, Nff) {
-  run("nff", {kNff}, [](std::string_view s) { return parse_nff(s, "fuzz.nff"); }, kN, 4);
+  run("nff", {kFuzzNff}, [](std::string_view s) { return parse_nff(s, "fuzz.nff"); }, kN, 4);
 }
 // The seeds themselves load.
 TEST(LoaderFuzz, SeedsAreValid) {
@@ -184,5 +184,5 @@ TEST(LoaderFuzz, SeedsAreValid) {
   EXPECT_EQ(parse_ply(kPlyAscii, "s.ply").triangles.size(), 5u);
   EXPECT_EQ(parse_ply(ply_binary(false, false), "s.ply").triangles.size(), 6u);
   EXPECT_EQ(parse_ply(ply_binary(true, true), "s.ply").triangles.size(), 3u);
-  EXPECT_EQ(parse_nff(kNff, "s.nff").primitive_count(), 7u);
+  EXPECT_EQ(parse_nff(kFuzzNff, "s.nff").primitive_count(), 7u);
 }

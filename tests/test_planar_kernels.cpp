@@ -22,7 +22,7 @@
 namespace rb::test {
 namespace {
 
-constexpr double kTol = 1e-5;
+constexpr double kTolPlanar = 1e-5;
 
 
 template <class F>
@@ -74,15 +74,15 @@ TYPED_TEST(Planar, PlaneUV) {
   auto k = [](const auto& r, const auto& q, std::size_t) { return intersect_plane_uv(r, q, 2); };
   HitF h = run_soa<F>(k, s, 0, zray(2, 4));
   EXPECT_TRUE(h.hit);
-  EXPECT_NEAR(h.t, 5.0, kTol);
-  EXPECT_NEAR(h.u, 0.5, kTol);
-  EXPECT_NEAR(h.v, 0.5, kTol);
+  EXPECT_NEAR(h.t, 5.0, kTolPlanar);
+  EXPECT_NEAR(h.u, 0.5, kTolPlanar);
+  EXPECT_NEAR(h.v, 0.5, kTolPlanar);
   // Unbounded: u = -2, v = 1.5; from behind.
   h = run_soa<F>(k, s, 0, zray(-3, 8, 9, -1));
   EXPECT_TRUE(h.hit);
-  EXPECT_NEAR(h.t, 4.0, kTol);
-  EXPECT_NEAR(h.u, -2.0, kTol);
-  EXPECT_NEAR(h.v, 1.5, kTol);
+  EXPECT_NEAR(h.t, 4.0, kTolPlanar);
+  EXPECT_NEAR(h.u, -2.0, kTolPlanar);
+  EXPECT_NEAR(h.v, 1.5, kTolPlanar);
   // A frame in the plane x = 3 (dropped axis x): U = (0, 0, 2), V = (0, 1, 0), oblique ray.
   int ax = -1;
   const auto q = make_plane_uv(Vec3f{3, 0, 0}, Vec3f{0, 0, 2}, Vec3f{0, 1, 0}, ax);
@@ -92,9 +92,9 @@ TYPED_TEST(Planar, PlaneUV) {
   h = run_soa<F>([ax](const auto& r, const auto& p, std::size_t) { return intersect_plane_uv(r, p, ax); }, s2, 0,
                  make_ray(Vec3f{0, 1, 1}, Vec3f{3, 0, 4}));
   EXPECT_TRUE(h.hit);
-  EXPECT_NEAR(h.t, 5.0, kTol);
-  EXPECT_NEAR(h.u, 2.5, kTol);
-  EXPECT_NEAR(h.v, 1.0, kTol);
+  EXPECT_NEAR(h.t, 5.0, kTolPlanar);
+  EXPECT_NEAR(h.u, 2.5, kTolPlanar);
+  EXPECT_NEAR(h.v, 1.0, kTolPlanar);
   // Parallel, behind, beyond tmax.
   EXPECT_FALSE(run_soa<F>(k, s, 0, make_ray(Vec3f{0, 0, 0}, Vec3f{1, 1, 0})).hit);
   EXPECT_FALSE(run_soa<F>(k, s, 0, zray(0, 0, 0, -1)).hit);
@@ -111,8 +111,8 @@ TYPED_TEST(Planar, PlaneUV) {
   // [u,v] of a point alone.
   F u, v;
   plane_uv_of_point(s.template broadcast<F>(0), 2, Vec3<F>{F(3), F(6), F(5)}, u, v);
-  EXPECT_NEAR(double(lane(u, 0)), 1.0, kTol);
-  EXPECT_NEAR(double(lane(v, 0)), 1.0, kTol);
+  EXPECT_NEAR(double(lane(u, 0)), 1.0, kTolPlanar);
+  EXPECT_NEAR(double(lane(v, 0)), 1.0, kTolPlanar);
 }
 
 TYPED_TEST(Planar, Parallelogram) {
@@ -132,9 +132,9 @@ TYPED_TEST(Planar, Parallelogram) {
     const HitF h = run_soa<F>(k, s, 0, zray(c.x, c.y));
     EXPECT_EQ(h.hit, c.hit) << c.x << " " << c.y;
     if (c.hit) {
-      EXPECT_NEAR(h.t, 5.0, kTol);
-      EXPECT_NEAR(h.u, c.u, kTol);
-      EXPECT_NEAR(h.v, c.v, kTol);
+      EXPECT_NEAR(h.t, 5.0, kTolPlanar);
+      EXPECT_NEAR(h.u, c.u, kTolPlanar);
+      EXPECT_NEAR(h.v, c.v, kTolPlanar);
     }
   }
   // The same data through TriLectureSoA::build (R0, R0 + U, R0 + V).
@@ -160,19 +160,19 @@ TYPED_TEST(Planar, TriangleCramerAndWoop) {
   for (int m = 0; m < 2; ++m) {
     HitF h = run(m, zray(0.5f, 0.25f));
     EXPECT_TRUE(h.hit) << m;
-    EXPECT_NEAR(h.t, 5.0, kTol);
-    EXPECT_NEAR(h.u, 0.25, kTol);
-    EXPECT_NEAR(h.v, 0.125, kTol);
+    EXPECT_NEAR(h.t, 5.0, kTolPlanar);
+    EXPECT_NEAR(h.u, 0.25, kTolPlanar);
+    EXPECT_NEAR(h.v, 0.125, kTolPlanar);
     h = run(m, zray(0.5f, 0.25f, 8, -1));  // from behind
     EXPECT_TRUE(h.hit);
-    EXPECT_NEAR(h.t, 3.0, kTol);
-    EXPECT_NEAR(h.u, 0.25, kTol);
+    EXPECT_NEAR(h.t, 3.0, kTolPlanar);
+    EXPECT_NEAR(h.u, 0.25, kTolPlanar);
     // Oblique, x-dominant direction (Woop's kz = x): from (-5, 0.5, 0.25) to (0.5, 0.5, 5)... through P = (0.5, 0.5, 5).
     h = run(m, make_ray(Vec3f{-5.5f, 0.5f, 2.f}, Vec3f{6.f, 0.f, 3.f}));
     EXPECT_TRUE(h.hit) << m;
     EXPECT_NEAR(h.t, std::sqrt(45.0), 1e-5);
-    EXPECT_NEAR(h.u, 0.25, kTol);
-    EXPECT_NEAR(h.v, 0.25, kTol);
+    EXPECT_NEAR(h.u, 0.25, kTolPlanar);
+    EXPECT_NEAR(h.v, 0.25, kTolPlanar);
     // Exactly on edges and a vertex (inclusive; Woop takes its double fallback here).
     EXPECT_TRUE(run(m, zray(1.f, 0.f)).hit) << m;
     EXPECT_TRUE(run(m, zray(1.f, 1.f)).hit) << m;
@@ -226,7 +226,7 @@ TYPED_TEST(Planar, Polygon) {
     const HitF h = run_soa<F>(k, s, j0, zray(c.x, c.y));
     EXPECT_EQ(h.hit, c.hit) << c.x << " " << c.y;
     if (c.hit) {
-      EXPECT_NEAR(h.t, 5.0, kTol);
+      EXPECT_NEAR(h.t, 5.0, kTolPlanar);
     }
   }
   // From behind and obliquely: from (0.5, 0.5, 10) towards (2.5, 2.5, 5): t = |(2, 2, -5)|.
@@ -236,7 +236,7 @@ TYPED_TEST(Planar, Polygon) {
   // The x = 3 triangle: ray along +x.
   h = run_soa<F>(k, s, j1, make_ray(Vec3f{0, 1, 1}, Vec3f{1, 0, 0}));
   EXPECT_TRUE(h.hit);
-  EXPECT_NEAR(h.t, 3.0, kTol);
+  EXPECT_NEAR(h.t, 3.0, kTolPlanar);
   EXPECT_FALSE(run_soa<F>(k, s, j1, make_ray(Vec3f{0, 3, 3}, Vec3f{1, 0, 0})).hit);
   // Parallel, beyond tmax.
   EXPECT_FALSE(run_soa<F>(k, s, j0, make_ray(Vec3f{0.5f, 0.5f, 0}, Vec3f{1, 0, 0})).hit);
@@ -257,13 +257,13 @@ TYPED_TEST(Planar, ParallelPlanes) {
   auto k = [](const auto& r, const auto& p, std::size_t) { return intersect_parallel_planes(r, p); };
   HitF h = run_soa<F>(k, s, 0, zray(1, 2));
   EXPECT_TRUE(h.hit);
-  EXPECT_NEAR(h.t, 3.0, kTol);
+  EXPECT_NEAR(h.t, 3.0, kTolPlanar);
   h = run_soa<F>(k, s, 0, make_ray(Vec3f{1, 2, 0}, Vec3f{0, 0, 1}, 4.f, 100.f));
-  EXPECT_NEAR(h.t, 5.0, kTol);
+  EXPECT_NEAR(h.t, 5.0, kTolPlanar);
   h = run_soa<F>(k, s, 0, zray(0, 0, 10, -1));
-  EXPECT_NEAR(h.t, 3.0, kTol);
+  EXPECT_NEAR(h.t, 3.0, kTolPlanar);
   h = run_soa<F>(k, s, 0, make_ray(Vec3f{0, 0, 0}, Vec3f{0, 3, 4}));  // t = z / 0.8
-  EXPECT_NEAR(h.t, 3.75, kTol);
+  EXPECT_NEAR(h.t, 3.75, kTolPlanar);
   EXPECT_FALSE(run_soa<F>(k, s, 0, make_ray(Vec3f{0, 0, 4}, Vec3f{1, 0, 0})).hit);   // parallel
   EXPECT_FALSE(run_soa<F>(k, s, 0, zray(0, 0, 0, -1)).hit);                          // all behind
   EXPECT_FALSE(run_soa<F>(k, s, 0, make_ray(Vec3f{0, 0, 0}, Vec3f{0, 0, 1}, 7.5f, 9.f)).hit);
@@ -271,9 +271,9 @@ TYPED_TEST(Planar, ParallelPlanes) {
   F t[4];
   const auto m = parallel_planes_all(Ray<F>::broadcast(zray(0, 0)), s.template broadcast<F>(0), t);
   EXPECT_TRUE(lane_mask<F>(m, 0));
-  EXPECT_NEAR(double(lane(t[0], 0)), 5.0, kTol);
-  EXPECT_NEAR(double(lane(t[1], 0)), 7.0, kTol);
-  EXPECT_NEAR(double(lane(t[2], 0)), 3.0, kTol);
+  EXPECT_NEAR(double(lane(t[0], 0)), 5.0, kTolPlanar);
+  EXPECT_NEAR(double(lane(t[1], 0)), 7.0, kTolPlanar);
+  EXPECT_NEAR(double(lane(t[2], 0)), 3.0, kTolPlanar);
   EXPECT_TRUE(std::isnan(double(lane(t[3], 0))));  // unused slot
   // Zero normal: never; too many offsets: an error.
   EXPECT_FALSE(run_soa<F>(k, one<ParallelPlanes4>(make_parallel_planes<4>(Vec3f{0, 0, 0}, std::vector<float>{-5})), 0, zray(0, 0)).hit);
@@ -292,12 +292,12 @@ TYPED_TEST(Planar, Polyhedron) {
   auto k = [](const auto& r, const auto& p, std::size_t) { return intersect_polyhedron(r, p); };
   HitF h = run_soa<F>(k, s, 0, zray(0, 0, -5));
   EXPECT_TRUE(h.hit);
-  EXPECT_NEAR(h.t, 4.0, kTol);
+  EXPECT_NEAR(h.t, 4.0, kTolPlanar);
   h = run_soa<F>(k, s, 0, zray(0.5f, 0, -5));
-  EXPECT_NEAR(h.t, 4.5, kTol);
+  EXPECT_NEAR(h.t, 4.5, kTolPlanar);
   h = run_soa<F>(k, s, 0, make_ray(Vec3f{0.1f, 0.2f, 0}, Vec3f{0, 1, 0}));  // inside: the exit face
   EXPECT_TRUE(h.hit);
-  EXPECT_NEAR(h.t, 0.7, kTol);
+  EXPECT_NEAR(h.t, 0.7, kTolPlanar);
   EXPECT_FALSE(run_soa<F>(k, s, 0, make_ray(Vec3f{0.1f, 0.2f, 0}, Vec3f{0, 1, 0}, 0.f, 0.5f)).hit);  // exit beyond tmax
   EXPECT_FALSE(run_soa<F>(k, s, 0, zray(2, 0, -5)).hit);
   EXPECT_FALSE(run_soa<F>(k, s, 0, zray(0.6f, 0.6f, -5)).hit);
@@ -306,8 +306,8 @@ TYPED_TEST(Planar, Polyhedron) {
   // Roots: entry and exit of the line.
   const auto roots = polyhedron_roots(Ray<F>::broadcast(zray(0, 0, -5)), s.template broadcast<F>(0));
   EXPECT_TRUE(lane_mask<F>(roots.valid[0], 0));
-  EXPECT_NEAR(double(lane(roots.t[0], 0)), 4.0, kTol);
-  EXPECT_NEAR(double(lane(roots.t[1], 0)), 6.0, kTol);
+  EXPECT_NEAR(double(lane(roots.t[0], 0)), 4.0, kTolPlanar);
+  EXPECT_NEAR(double(lane(roots.t[1], 0)), 6.0, kTolPlanar);
   const auto none = polyhedron_roots(Ray<F>::broadcast(zray(2, 0, -5)), s.template broadcast<F>(0));
   EXPECT_FALSE(lane_mask<F>(none.valid[0], 0));
   // Normal at (0.25, 0.25, -0.5): the face (1, 1, -1) / sqrt 3.
@@ -318,10 +318,10 @@ TYPED_TEST(Planar, Polyhedron) {
   auto ks = [](const auto& r, const auto& p, std::size_t) { return intersect_slabs(r, p); };
   h = run_soa<F>(ks, sb, 0, zray(0.5f, 0.5f, -5));
   EXPECT_TRUE(h.hit);
-  EXPECT_NEAR(h.t, 4.0, kTol);
+  EXPECT_NEAR(h.t, 4.0, kTolPlanar);
   EXPECT_FALSE(run_soa<F>(ks, sb, 0, zray(1.5f, 0.5f, -5)).hit);
   const auto sr = slabs_roots(Ray<F>::broadcast(zray(0.5f, 0.5f, -5)), sb.template broadcast<F>(0));
-  EXPECT_NEAR(double(lane(sr.t[1], 0)), 6.0, kTol);
+  EXPECT_NEAR(double(lane(sr.t[1], 0)), 6.0, kTolPlanar);
   // Degenerate inputs: zero normal, inverted box, NaN bounds: never; too many halfspaces: an error.
   EXPECT_FALSE(run_soa<F>(k, one<Halfspaces8>(make_halfspaces<8>({{Vec3f{0, 0, 0}, Vec3f{0, 0, 0}}})), 0, zray(0, 0, -5)).hit);
   EXPECT_FALSE(run_soa<F>(k, one<Halfspaces8>(make_box_halfspaces(Vec3f{1, -1, -1}, Vec3f{-1, 1, 1})), 0, zray(0, 0, -5)).hit);

@@ -27,7 +27,7 @@ template <class F>
 struct QuadricKernels : ::testing::Test {};
 TYPED_TEST_SUITE(QuadricKernels, ValueNumbers);
 
-constexpr double kTol = 2e-5;  // on t for float data, hand cases (|t| <= 20)
+constexpr double kTolQuadric = 2e-5;  // on t for float data, hand cases (|t| <= 20)
 const double kSqrt2 = std::sqrt(2.0);
 
 Ray<float> ray(Vec3f o, Vec3f d, float t0 = 0.f, float t1 = kInfF) { return make_ray(o, d, t0, t1); }
@@ -63,16 +63,16 @@ TYPED_TEST(QuadricKernels, SphereStableAndHearnBaker) {
     };
     HitF h = run(ray({0, 0, 0}, {0, 0, 1}));
     EXPECT_TRUE(h.hit);
-    EXPECT_NEAR(h.t, 8.0, kTol);
+    EXPECT_NEAR(h.t, 8.0, kTolQuadric);
     h = run(ray({0, 0, 10}, {0, 1, 0}));  // inside: the far root
     EXPECT_TRUE(h.hit);
-    EXPECT_NEAR(h.t, 2.0, kTol);
+    EXPECT_NEAR(h.t, 2.0, kTolQuadric);
     h = run(ray({1.2f, 0, 0}, {0, 0, 1}));
     EXPECT_TRUE(h.hit);
-    EXPECT_NEAR(h.t, 8.4, kTol);
+    EXPECT_NEAR(h.t, 8.4, kTolQuadric);
     h = run(ray({0, 0, 20}, {0, 0, -1}));  // b > 0: the other sign branch of q
     EXPECT_TRUE(h.hit);
-    EXPECT_NEAR(h.t, 8.0, kTol);
+    EXPECT_NEAR(h.t, 8.0, kTolQuadric);
     EXPECT_FALSE(run(ray({3, 0, 0}, {0, 0, 1})).hit);
     EXPECT_FALSE(run(ray({0, 0, 0}, {0, 0, -1})).hit);
     EXPECT_FALSE(run(ray({0, 0, 0}, {0, 0, 1}, 0.f, 7.f)).hit);
@@ -86,12 +86,12 @@ TYPED_TEST(QuadricKernels, SphereStableAndHearnBaker) {
   bool v = false;
   auto [t0, t1] = lane_roots<F>(RB_KERNEL(sphere_roots), ray({0, 0, 0}, {0, 0, 1}), s, &v);
   EXPECT_TRUE(v);
-  EXPECT_NEAR(t0, 8.0, kTol);
-  EXPECT_NEAR(t1, 12.0, kTol);
+  EXPECT_NEAR(t0, 8.0, kTolQuadric);
+  EXPECT_NEAR(t1, 12.0, kTolQuadric);
   std::tie(t0, t1) = lane_roots<F>(RB_KERNEL(sphere_roots), ray({0, 0, 20}, {0, 0, 1}), s, &v);  // behind: still reported
   EXPECT_TRUE(v);
-  EXPECT_NEAR(t0, -12.0, kTol);
-  EXPECT_NEAR(t1, -8.0, kTol);
+  EXPECT_NEAR(t0, -12.0, kTolQuadric);
+  EXPECT_NEAR(t1, -8.0, kTolQuadric);
   std::tie(t0, t1) = lane_roots<F>(RB_KERNEL(sphere_roots), ray({3, 0, 0}, {0, 0, 1}), s, &v);
   EXPECT_FALSE(v);
   EXPECT_EQ(t0, kInfD);
@@ -106,7 +106,7 @@ TYPED_TEST(QuadricKernels, SphereUV) {
     const Vec3d c{0, 0, 10};
     const HitF h = run_one<F>(RB_KERNEL(intersect_sphere_uv), ray(to_float(c + N * 5.0), to_float(N * -1.0)), s);
     EXPECT_TRUE(h.hit);
-    EXPECT_NEAR(h.t, 3.0, kTol);
+    EXPECT_NEAR(h.t, 3.0, kTolQuadric);
     return std::pair<double, double>{h.u, h.v};
   };
   const double tol = 2e-6;
@@ -242,7 +242,7 @@ TYPED_TEST(QuadricKernels, DegenerateQuadrics) {
   const auto plane = make_quadric(QuadricCoeffs{0, 0, 0, 0, 0, 0, 0, 0, 0.5, -2});  // z = 2
   HitF h = run_one<F>(RB_KERNEL(intersect_quadric_coeffs10), r, plane);
   EXPECT_TRUE(h.hit);
-  EXPECT_NEAR(h.t, 7.0, kTol);
+  EXPECT_NEAR(h.t, 7.0, kTolQuadric);
   h = run_one<F>(RB_KERNEL(intersect_quadric_matrix), ray({0, 0, -5}, {1, 0, 0}), plane);  // parallel: A = B = 0
   EXPECT_FALSE(h.hit);
   EXPECT_EQ(h.t, kInfD);
@@ -261,7 +261,7 @@ TEST(QuadricKernelsScalar, QuadricConstruction) {
   const auto q = make_quadric(QuadricCoeffs{1e30, 1e30, 1e30, 0, 0, 0, 0, 0, 0, -4e30});
   const HitF h = run_one<float>(RB_KERNEL(intersect_quadric_coeffs10), ray({0, 0, -5}, {0, 0, 1}), q);
   EXPECT_TRUE(h.hit);
-  EXPECT_NEAR(h.t, 3.0, kTol);
+  EXPECT_NEAR(h.t, 3.0, kTolQuadric);
 }
 
 // ---- quadric of revolution ------------------------------------------------------------------------
@@ -272,17 +272,17 @@ TYPED_TEST(QuadricKernels, QuadricOfRevolution) {
   const auto s = make_quadric_rev(Vec3f{0, 0, 10}, 1.f, 0.f, -4.f);
   HitF h = run_one<F>(k, ray({0, 0, 0}, {0, 0, 1}), s);
   EXPECT_TRUE(h.hit);
-  EXPECT_NEAR(h.t, 8.0, kTol);
+  EXPECT_NEAR(h.t, 8.0, kTolQuadric);
   // Paraboloid x^2 + y^2 - z = 0 (a = 0, b = -1): axial ray, the linear case, hits z = 1.
   const auto p = make_quadric_rev(Vec3f{0, 0, 0}, 0.f, -1.f, 0.f);
   h = run_one<F>(k, ray({1, 0, 10}, {0, 0, -1}), p);
   EXPECT_TRUE(h.hit);
-  EXPECT_NEAR(h.t, 9.0, kTol);
+  EXPECT_NEAR(h.t, 9.0, kTolQuadric);
   // Hyperboloid of one sheet x^2 + y^2 - z^2 - 1 = 0 (a = -1): ray along x at z = 0.
   const auto hy = make_quadric_rev(Vec3f{0, 0, 0}, -1.f, 0.f, -1.f);
   h = run_one<F>(k, ray({-10, 0, 0}, {1, 0, 0}), hy);
   EXPECT_TRUE(h.hit);
-  EXPECT_NEAR(h.t, 9.0, kTol);
+  EXPECT_NEAR(h.t, 9.0, kTolQuadric);
   EXPECT_FALSE(run_one<F>(k, ray({0, 0, -10}, {0, 0, 1}), hy).hit);
   // Normals.
   Vec3d n = lane_vec<F>(RB_KERNEL(quadric_rev_normal), s, Vec3f{0, 0, 8});
@@ -301,36 +301,36 @@ TYPED_TEST(QuadricKernels, Cylinder) {
   auto capped = [&](const Ray<float>& r) { return run_one<F>(RB_KERNEL(intersect_cylinder_capped), r, c); };
   HitF a = open(ray({-5, 0, 0}, {1, 0, 0})), b = capped(ray({-5, 0, 0}, {1, 0, 0}));
   EXPECT_TRUE(a.hit && b.hit);
-  EXPECT_NEAR(a.t, 4.0, kTol);
-  EXPECT_NEAR(b.t, 4.0, kTol);
+  EXPECT_NEAR(a.t, 4.0, kTolQuadric);
+  EXPECT_NEAR(b.t, 4.0, kTolQuadric);
   // Along the axis (A = 0): the tube is missed, the capped solid is hit on its bottom cap.
   EXPECT_FALSE(open(ray({0.5f, 0, -5}, {0, 0, 1})).hit);
   b = capped(ray({0.5f, 0, -5}, {0, 0, 1}));
   EXPECT_TRUE(b.hit);
-  EXPECT_NEAR(b.t, 4.0, kTol);
+  EXPECT_NEAR(b.t, 4.0, kTolQuadric);
   EXPECT_FALSE(capped(ray({1.5f, 0, -5}, {0, 0, 1})).hit);  // parallel, outside
   // Above the height range; from inside (the exit).
   EXPECT_FALSE(open(ray({-5, 0, 1.5f}, {1, 0, 0})).hit);
   EXPECT_FALSE(capped(ray({-5, 0, 1.5f}, {1, 0, 0})).hit);
   a = open(ray({0, 0, 0}, {1, 0, 0}));
   b = capped(ray({0, 0, 0}, {1, 0, 0}));
-  EXPECT_NEAR(a.t, 1.0, kTol);
-  EXPECT_NEAR(b.t, 1.0, kTol);
+  EXPECT_NEAR(a.t, 1.0, kTolQuadric);
+  EXPECT_NEAR(b.t, 1.0, kTolQuadric);
   // Oblique (1, 0, 1)/sqrt 2 from (-2, 0, -3): the tube is first met at x = 1, z = 0 (u = 3);
   // the solid is entered through the bottom cap at z = -1, x = 0 (u = 2).
   a = open(ray({-2, 0, -3}, {1, 0, 1}));
   b = capped(ray({-2, 0, -3}, {1, 0, 1}));
-  EXPECT_NEAR(a.t, 3 * kSqrt2, kTol);
-  EXPECT_NEAR(b.t, 2 * kSqrt2, kTol);
+  EXPECT_NEAR(a.t, 3 * kSqrt2, kTolQuadric);
+  EXPECT_NEAR(b.t, 2 * kSqrt2, kTolQuadric);
   bool v = false;
   auto [t0, t1] = lane_roots<F>(RB_KERNEL(cylinder_roots), ray({-2, 0, -3}, {1, 0, 1}), c, &v);
   EXPECT_TRUE(v);
-  EXPECT_NEAR(t0, 2 * kSqrt2, kTol);
-  EXPECT_NEAR(t1, 3 * kSqrt2, kTol);
+  EXPECT_NEAR(t0, 2 * kSqrt2, kTolQuadric);
+  EXPECT_NEAR(t1, 3 * kSqrt2, kTolQuadric);
   std::tie(t0, t1) = lane_roots<F>(RB_KERNEL(cylinder_roots), ray({0.5f, 0, -5}, {0, 0, 1}), c, &v);
   EXPECT_TRUE(v);
-  EXPECT_NEAR(t0, 4.0, kTol);
-  EXPECT_NEAR(t1, 6.0, kTol);
+  EXPECT_NEAR(t0, 4.0, kTolQuadric);
+  EXPECT_NEAR(t1, 6.0, kTolQuadric);
   std::tie(t0, t1) = lane_roots<F>(RB_KERNEL(cylinder_roots), ray({-5, 0, 1.5f}, {1, 0, 0}), c, &v);
   EXPECT_FALSE(v);
   EXPECT_EQ(t0, kInfD);
@@ -345,9 +345,9 @@ TYPED_TEST(QuadricKernels, Cylinder) {
   EXPECT_VEC_NEAR(n, 0.0, 1.0, 0.0, 1e-6);
   // An infinite cylinder (no caps in reach) and a translated, wider one.
   const auto inf = make_cylinder(0.f, 0.f, 1.f, -kInfF, kInfF);
-  EXPECT_NEAR((run_one<F>(RB_KERNEL(intersect_cylinder), ray({-5, 0, 1e3f}, {1, 0, 0}), inf).t), 4.0, kTol);
-  EXPECT_NEAR((run_one<F>(RB_KERNEL(intersect_cylinder_capped), ray({-5, 0, 1e3f}, {1, 0, 0}), inf).t), 4.0, kTol);
-  EXPECT_NEAR((run_one<F>(RB_KERNEL(intersect_cylinder), ray({0, 0, 0}, {1, 0, 0}), make_cylinder(5.f, 0.f, 2.f, -1.f, 1.f)).t), 3.0, kTol);
+  EXPECT_NEAR((run_one<F>(RB_KERNEL(intersect_cylinder), ray({-5, 0, 1e3f}, {1, 0, 0}), inf).t), 4.0, kTolQuadric);
+  EXPECT_NEAR((run_one<F>(RB_KERNEL(intersect_cylinder_capped), ray({-5, 0, 1e3f}, {1, 0, 0}), inf).t), 4.0, kTolQuadric);
+  EXPECT_NEAR((run_one<F>(RB_KERNEL(intersect_cylinder), ray({0, 0, 0}, {1, 0, 0}), make_cylinder(5.f, 0.f, 2.f, -1.f, 1.f)).t), 3.0, kTolQuadric);
   // Degenerate: r = 0, r < 0, zero height, inverted, NaN: never() -> miss.
   for (const auto& d : {make_cylinder(0.f, 0.f, 0.f, -1.f, 1.f), make_cylinder(0.f, 0.f, -1.f, -1.f, 1.f), make_cylinder(0.f, 0.f, 1.f, 1.f, 1.f),
                         make_cylinder(0.f, 0.f, 1.f, 1.f, -1.f), make_cylinder(kNaNF, 0.f, 1.f, -1.f, 1.f), make_cylinder(0.f, 0.f, 1.f, kNaNF, 1.f)}) {
@@ -367,38 +367,38 @@ TYPED_TEST(QuadricKernels, Cone) {
   auto capped = [&](const Ray<float>& r, const Cone<float>& c) { return run_one<F>(RB_KERNEL(intersect_cone_capped), r, c); };
   HitF h = open(ray({-5, 0, 1}, {1, 0, 0}), dbl);
   EXPECT_TRUE(h.hit);
-  EXPECT_NEAR(h.t, 4.0, kTol);
+  EXPECT_NEAR(h.t, 4.0, kTolQuadric);
   h = open(ray({0.5f, 0, -5}, {0, 0, 1}), dbl);  // A < 0: lower nappe first, at z = -0.5
   EXPECT_TRUE(h.hit);
-  EXPECT_NEAR(h.t, 4.5, kTol);
+  EXPECT_NEAR(h.t, 4.5, kTolQuadric);
   // Parallel to a generator (A = 0): the linear root, on the upper nappe at (-1.5, 0, 1.5).
   h = open(ray({-3, 0, 0}, {1, 0, 1}), dbl);
   EXPECT_TRUE(h.hit);
-  EXPECT_NEAR(h.t, 1.5 * kSqrt2, kTol);
+  EXPECT_NEAR(h.t, 1.5 * kSqrt2, kTolQuadric);
   // Frustum z in [1, 2] (radius 1..2), closed.
   const auto fr = make_capped_cone(Vec3f{0, 0, 0}, 1.f, 2.f);
   h = capped(ray({-5, 0, 1.5f}, {1, 0, 0}), fr);
   EXPECT_TRUE(h.hit);
-  EXPECT_NEAR(h.t, 3.5, kTol);
+  EXPECT_NEAR(h.t, 3.5, kTolQuadric);
   h = capped(ray({0.5f, 0, -5}, {0, 0, 1}), fr);  // steeper than the cone: the bottom cap at z = 1
   EXPECT_TRUE(h.hit);
-  EXPECT_NEAR(h.t, 6.0, kTol);
+  EXPECT_NEAR(h.t, 6.0, kTolQuadric);
   EXPECT_FALSE(open(ray({0.5f, 0, -5}, {0, 0, 1}), fr).hit);  // the shell is met only outside [1, 2]
   h = capped(ray({0, 0, 5}, {0, 0, -1}), fr);  // from above: the top cap
-  EXPECT_NEAR(h.t, 3.0, kTol);
+  EXPECT_NEAR(h.t, 3.0, kTolQuadric);
   h = capped(ray({-3, 0, 0}, {1, 0, 1}), fr);  // A = 0: enters the lateral surface at z = 1.5
   EXPECT_TRUE(h.hit);
-  EXPECT_NEAR(h.t, 1.5 * kSqrt2, kTol);
+  EXPECT_NEAR(h.t, 1.5 * kSqrt2, kTolQuadric);
   EXPECT_FALSE(capped(ray({-5, 0, 0.5f}, {1, 0, 0}), fr).hit);  // below the frustum
   // Lower nappe frustum z in [-2, -1] from below along the axis: bottom cap z = -2.
   h = capped(ray({0.2f, 0, -5}, {0, 0, 1}), make_capped_cone(Vec3f{0, 0, 0}, -2.f, -1.f));
   EXPECT_TRUE(h.hit);
-  EXPECT_NEAR(h.t, 3.0, kTol);
+  EXPECT_NEAR(h.t, 3.0, kTolQuadric);
   bool v = false;
   auto [t0, t1] = lane_roots<F>(RB_KERNEL(cone_roots), ray({0.5f, 0, -5}, {0, 0, 1}), fr, &v);
   EXPECT_TRUE(v);
-  EXPECT_NEAR(t0, 6.0, kTol);
-  EXPECT_NEAR(t1, 7.0, kTol);
+  EXPECT_NEAR(t0, 6.0, kTolQuadric);
+  EXPECT_NEAR(t1, 7.0, kTolQuadric);
   // Normals.
   Vec3d n = lane_vec<F>(RB_KERNEL(cone_normal), fr, Vec3f{1.5f, 0, 1.5f});
   EXPECT_VEC_NEAR(n, 1 / kSqrt2, 0.0, -1 / kSqrt2, 1e-6);
@@ -432,11 +432,11 @@ TYPED_TEST(QuadricKernels, Transformed) {
   auto x = make_transformed(Affine3d::translate({0, 0, 10}) * Affine3d::scale({2, 2, 2}), unit);
   HitF h = run_one<F>(sph, ray({0, 0, 0}, {0, 0, 1}), x);
   EXPECT_TRUE(h.hit);
-  EXPECT_NEAR(h.t, 8.0, kTol);
+  EXPECT_NEAR(h.t, 8.0, kTolQuadric);
   EXPECT_FALSE((run_one<F>(sph, ray({0, 0, 0}, {0, 0, 1}, 0.f, 7.f), x).hit));  // tmax in world units
   // Non-uniform: ellipsoid with semi-axis 3 along z; rotated so that semi-axis lies along x.
   x = make_transformed(Affine3d::translate({0, 0, 10}) * Affine3d::scale({1, 1, 3}), unit);
-  EXPECT_NEAR((run_one<F>(sph, ray({0, 0, 0}, {0, 0, 1}), x).t), 7.0, kTol);
+  EXPECT_NEAR((run_one<F>(sph, ray({0, 0, 0}, {0, 0, 1}), x).t), 7.0, kTolQuadric);
   x = make_transformed(Affine3d::translate({0, 0, 10}) * Affine3d::rotate({0, 1, 0}, M_PI / 2) * Affine3d::scale({1, 1, 3}), unit);
   EXPECT_NEAR((run_one<F>(sph, ray({0, 0, 0}, {0, 0, 1}), x).t), 9.0, 1e-4);
   EXPECT_NEAR((run_one<F>(sph, ray({-10, 0, 10}, {1, 0, 0}), x).t), 7.0, 1e-4);

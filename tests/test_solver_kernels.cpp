@@ -241,14 +241,14 @@ TEST(SolverDegenerate, ConstructionErrorsAndNever) {
 // ---- seeded random rays against references (scalar) -----------------------------------------------
 
 using Rng = std::mt19937;
-float uf(Rng& g, float a, float b) { return std::uniform_real_distribution<float>(a, b)(g); }
+float uniform_f(Rng& g, float a, float b) { return std::uniform_real_distribution<float>(a, b)(g); }
 
 // Rays from a sphere of radius `dist` about c towards a random point near c.
 Ray<float> aimed_ray(Rng& g, Vec3f c, float dist, float spread) {
-  Vec3f dir{uf(g, -1, 1), uf(g, -1, 1), uf(g, -1, 1)};
+  Vec3f dir{uniform_f(g, -1, 1), uniform_f(g, -1, 1), uniform_f(g, -1, 1)};
   const float l = std::sqrt(dir.x * dir.x + dir.y * dir.y + dir.z * dir.z);
   const Vec3f o = c + dir * (dist / l);
-  const Vec3f target = c + Vec3f{uf(g, -spread, spread), uf(g, -spread, spread), uf(g, -spread, spread)};
+  const Vec3f target = c + Vec3f{uniform_f(g, -spread, spread), uniform_f(g, -spread, spread), uniform_f(g, -spread, spread)};
   return make_ray(o, target - o);
 }
 
