@@ -189,8 +189,8 @@ std::vector<Ray<float>> aimed_rays(const Mesh& m, bool vertices, std::size_t n, 
   for (const Vec3f& v : m.v) size = std::max(size, norm(to_double(v) - m.centre));
   while (rs.size() < n) {
     const Vec3d P = mesh_target(m, vertices, false, g);
-    const Vec3d Q = m.centre + unit_rand(g) * (size * inner * urand(g, 0, 1));
-    Vec3d d = Q - P;
+    const Vec3d aim = m.centre + unit_rand(g) * (size * inner * urand(g, 0, 1));
+    Vec3d d = aim - P;
     d = d * (1.0 / norm(d));
     const Vec3d O = P - d * dist;
     rs.push_back(make_ray(O, d));

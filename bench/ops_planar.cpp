@@ -6,7 +6,7 @@ namespace rb::opstable {
 namespace {
 // (kernel, method, case, the slide's count or std::nullopt, note explaining every difference)
 // Where a row's slide count differs from the measurement, the note names each difference.
-const Entry kEntries[] = {
+const Entry kPlanarEntries[] = {
     {"plane", "uv", "hit", Lecture{13, 14, 3, 0, 0},
      "slide total = plane positive case 5+-6*1/ + point [x,y,z] 3+-3* + [u,v] solve 5+-5*2/; "
      "-1+- -1*: only the two kept coordinates of [x,y,z] are formed (the dropped axis is not needed); "
@@ -115,7 +115,7 @@ void add_soa_rows(std::span<const Entry> e, std::vector<Row>& rows, const char* 
 }  // namespace
 
 void add_planar_rows(std::vector<Row>& rows) {
-  const std::span<const Entry> e = kEntries;
+  const std::span<const Entry> e = kPlanarEntries;
   using namespace bench;
   add_spec_rows<PlaneUVSpec>(e, rows);
   // [u,v] of the hit point alone (the point, 3+- 3*, is formed before the counting scope).

@@ -5,7 +5,7 @@
 namespace rb::opstable {
 namespace {
 // (kernel, method, case, the slide's count or std::nullopt, note explaining every difference)
-const Entry kEntries[] = {
+const Entry kQuadricEntries[] = {
     // Spheres: the slides count only the geometric method (ops_table.cpp); these are measured.
     {"sphere", "stable", "miss", std::nullopt,
      "f = P0 - C 3+-; a = d.d 2+- 3*, b = f.d (half b) 2+- 3*, c = f.f - R^2 3+- 3*; disc = b^2 - a c 1+- 2*; 1 cmp. "
@@ -91,7 +91,7 @@ const Entry kEntries[] = {
 }  // namespace
 
 void add_quadric_rows(std::vector<Row>& rows) {
-  const std::span<const Entry> e = kEntries;
+  const std::span<const Entry> e = kQuadricEntries;
   bench::for_each_spec_quadric([&]<class Spec>() { add_spec_rows<Spec>(e, rows); });
   add_extra_rows<bench::SphereUVSpec>(e, rows, "sphere", "uv_map", [](const auto& r, const auto& s) {
     (void)sphere_uv_map(r.d, s.P, s.E, s.PxE);

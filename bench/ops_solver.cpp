@@ -17,7 +17,7 @@ namespace {
   "is the packet maximum and the speedup over scalar is bounded by mean/max iterations across the packet."
 
 // (kernel, method, case, the slide's count or std::nullopt, note explaining every difference)
-const Entry kEntries[] = {
+const Entry kSolverEntries[] = {
     {"torus", "ferrari", "hit", std::nullopt,
      "closed form: bounding sphere, quartic at the ray origin, depressed quartic, Schwarze resolvent cubic "
      "(Cardano or trigonometric largest root), two quadratics, 4-root sort; no iterations, every lane does the same work"},
@@ -105,7 +105,7 @@ void add_solver_spec(std::span<const Entry> e, std::vector<Row>& rows) {
 }  // namespace
 
 void add_solver_rows(std::vector<Row>& rows) {
-  const std::span<const Entry> e = kEntries;
+  const std::span<const Entry> e = kSolverEntries;
   add_solver_spec<bench::TorusFerrariSpec>(e, rows);
   add_solver_spec<bench::TorusRobustSpec>(e, rows);
   add_solver_spec<bench::AlgebraicD4Spec>(e, rows);

@@ -10,7 +10,7 @@ namespace {
 
 // Notes state every difference from the slide and its reason (tests/test_ops.cpp checks that a
 // row with a difference has a note).
-const Entry kEntries[] = {
+const Entry kBasicEntries[] = {
     {"plane", "lecture", "miss", Lecture{2, 3, 0, 0, 0},
      "miss = ray parallel to the plane (n.p1 == 0): +1 cmp, the parallel test the slide leaves uncounted"},
     {"plane", "lecture", "hit", Lecture{5, 6, 1, 0, 0},
@@ -45,7 +45,7 @@ const Entry kEntries[] = {
 }  // namespace
 
 void add_basic_rows(std::vector<Row>& rows) {
-  const std::span<const Entry> e = kEntries;
+  const std::span<const Entry> e = kBasicEntries;
   add_spec_rows<bench::PlaneSpec>(e, rows);
   add_spec_rows<bench::TriangleLectureSpec>(e, rows);
   add_spec_rows<bench::TriangleMTSpec>(e, rows);
