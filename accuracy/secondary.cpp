@@ -1,6 +1,6 @@
 // Secondary rays: a ray spawned at a computed hit point, leaving the surface on the side it came
 // from, must not hit the same primitive again. Self-hits per million spawned rays, with the spawn
-// point as computed and with two offset schemes:
+// point as computed and with two offset schemes (core/spawn.hpp, which the tracer uses too):
 //   - Waechter and Binder's integer offset (Ray Tracing Gems, chapter 6): move the point along the
 //     geometric normal by a number of float ulps proportional to the normal, or by a fixed small
 //     distance near the origin;
@@ -14,6 +14,7 @@
 // ns_per_test is the cost of one spawned test including the scheme's work, so the rows show what
 // each scheme costs.
 #include "accuracy/common.hpp"
+#include "core/spawn.hpp"
 #include "kernels/box.hpp"
 #include "kernels/cylinder_cone.hpp"
 #include "kernels/sphere.hpp"
@@ -30,38 +31,10 @@ namespace rb::acc {
 
 namespace {
 
-// Waechter-Binder: origin 1/32, float_scale 1/65536, int_scale 256 (the published constants).
-inline float wb_one(float p, float n) {
-  const int of = int(256.0f * n);
-  const float pi = std::bit_cast<float>(std::bit_cast<int>(p) + (p < 0 ? -of : of));
-  return std::fabs(p) < 1.0f / 32.0f ? p + (1.0f / 65536.0f) * n : pi;
-}
-inline Vec3f wb_offset(const Vec3f& p, const Vec3f& n) { return {wb_one(p.x, n.x), wb_one(p.y, n.y), wb_one(p.z, n.z)}; }
-
-// gamma_n = n u / (1 - n u), u = 2^-24: the bound of n float roundings (Higham).
-constexpr float gamma_f(int n) {
-  const float u = 0x1p-24f;
-  return float(n) * u / (1.0f - float(n) * u);
-}
-inline Vec3f vabs3(const Vec3f& v) { return {std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}; }
-
-// The error-bound offset: p (within err of the surface, per coordinate) moved along the unit
-// normal n (on the outgoing side) by |n| . err, each moved coordinate rounded one float further.
-// The next float up or down by its bit pattern (finite inputs; -0 is taken as +0 going up and
-// +0 as -0 going down): an integer step, no library call.
-inline float next_up(float v) {
-  if (v == 0.0f) return std::bit_cast<float>(1);
-  const int b = std::bit_cast<int>(v);
-  return std::bit_cast<float>(v > 0 ? b + 1 : b - 1);
-}
-inline float next_down(float v) { return -next_up(-v); }
-inline float away(float po, float off) { return off > 0 ? next_up(po) : off < 0 ? next_down(po) : po; }
-inline Vec3f bound_offset(const Vec3f& p, const Vec3f& err, const Vec3f& n) {
-  const float d = std::fabs(n.x) * err.x + std::fabs(n.y) * err.y + std::fabs(n.z) * err.z;
-  const Vec3f off = n * d;
-  const Vec3f po = p + off;
-  return {away(po.x, off.x), away(po.y, off.y), away(po.z, off.z)};
-}
+using spawn::bound_offset;
+using spawn::gamma_f;
+using spawn::vabs3;
+using spawn::wb_offset;
 
 // One spawned test: point p, outgoing unit direction d, unit geometric normal n on d's side;
 // u, v: the primary hit's barycentrics (triangles).

@@ -2,7 +2,7 @@
 #include "apps/commands.hpp"
 #include "apps/scene_info.hpp"
 #include "kernels/csg.hpp"
-#include "scene/batches.hpp"
+#include "tracer/plan.hpp"
 #include "scene/sources.hpp"
 
 #include <fmt/format.h>
@@ -17,7 +17,8 @@ namespace rb::app {
 
 namespace {
 using nlohmann::json;
-json vec(const Vec3f& v) { return json::array({v.x, v.y, v.z}); }
+template <class T>
+json vec(const Vec3<T>& v) { return json::array({v.x, v.y, v.z}); }
 double status_mib(const char* key) {
   std::ifstream f("/proc/self/status");
   std::string line;
@@ -50,67 +51,70 @@ json scene_info(const rb::scene::Scene& s) {
   j["lights"] = s.lights.size();
   j["materials"] = s.materials.size();
   j["primitives"] = s.primitive_count();
+  // Every kind of the table (tracer/kinds.hpp), with the kernel batch the tracer stores for it:
+  // the bytes of its primitives in float (and in double where the plan stores the kind in double).
+  const tracer::Plan plan = tracer::make_plan(s, tracer::Model::automatic);
   json kinds = json::array();
-  // Every batch comes from scene/batches.hpp, the builder the BVH uses too.
-  // Spheres: PrimSoA<Sphere> (c, r^2, 1/r).
-  if (!s.spheres.empty()) {
-    const auto soa = rb::scene::sphere_batch(s);
-    kinds.push_back({{"kind", "sphere"}, {"count", s.spheres.size()}, {"input_bytes", s.spheres.size() * sizeof(rb::scene::SphereIn)},
-                     {"batches", json::array({{{"batch", "PrimSoA<Sphere>"}, {"bytes", soa.prims.bytes()}}})}});
-  }
-  // NFF cones and cylinders (open shells between two circles): placed instances of the unit
-  // cylinder or unit cone, PrimSoA<Transformed<Cylinder|Cone>::T> (12 inverse-matrix floats each).
-  if (!s.cones.empty()) {
-    const auto cyl = rb::scene::cylinder_batch(s);
-    const auto cone = rb::scene::cone_batch(s);
-    json batches = json::array();
-    if (cyl.prims.size()) batches.push_back({{"batch", fmt::format("PrimSoA<Transformed<Cylinder>> ({} equal radii)", cyl.prims.count)}, {"bytes", cyl.prims.bytes()}});
-    if (cone.prims.size()) batches.push_back({{"batch", fmt::format("PrimSoA<Transformed<Cone>> ({} frusta)", cone.prims.count)}, {"bytes", cone.prims.bytes()}});
-    kinds.push_back({{"kind", "cone"}, {"count", s.cones.size()}, {"input_bytes", s.cones.size() * sizeof(rb::scene::ConeIn)},
-                     {"batches", batches}});
-  }
-  // Polygons: PolygonSoA (plane per polygon and projected vertices interleaved per group of 8).
-  if (!s.polygons.empty()) {
-    const PolygonSoA soa = rb::scene::polygon_batch(s);
-    kinds.push_back({{"kind", "polygon"}, {"count", s.polygons.size()}, {"vertices", s.poly_verts.size()},
-                     {"input_bytes", s.polygons.size() * sizeof(rb::scene::PolygonIn) + (s.poly_verts.size() + s.poly_normals.size()) * sizeof(Vec3f)},
-                     {"batches", json::array({{{"batch", fmt::format("PolygonSoA ({} degenerate kept as never-hit slots)", soa.degenerate)},
-                                               {"bytes", soa.bytes()}}})}});
-  }
-  if (!s.triangles.empty()) {
-    const auto mt = rb::scene::triangle_mt_batch(s);
-    const auto woop = rb::scene::triangle_verts_batch(s);
-    const TriLectureSoA lec = rb::scene::triangle_lecture_batch(s);
-    const std::size_t lec_bytes = lec.prims.bytes() + lec.axis.size() * sizeof(std::int8_t) + lec.id.size() * sizeof(std::uint32_t);
-    kinds.push_back({{"kind", "triangle"}, {"count", s.triangles.size()}, {"vertices", s.verts.size()},
-                     {"vertex_normals", !s.vert_normals.empty()},
-                     {"input_bytes", s.triangles.size() * sizeof(rb::scene::TriangleIn) + (s.verts.size() + s.vert_normals.size()) * sizeof(Vec3f)},
-                     {"batches", json::array({{{"batch", "PrimSoA<Triangle> (Moller-Trumbore)"}, {"bytes", mt.prims.bytes()}},
-                                              {{"batch", "PrimSoA<TriVerts> (Woop, watertight)"}, {"bytes", woop.prims.bytes()}},
-                                              {{"batch", "TriLectureSoA (lecture, by dropped axis)"}, {"bytes", lec_bytes}}})}});
-  }
-  // CSG objects: each a tree (kernels/csg.hpp) of nodes with world boxes and leaves with their
-  // composed inverse transforms; no SoA batch (a tree is queried as a whole).
-  if (!s.csgs.empty()) {
-    std::size_t nodes = 0, leaves = 0, tree_bytes = 0;
-    int depth = 0;
-    std::map<std::string, std::size_t> by_kind;
-    for (const auto& obj : s.csgs) {
-      nodes += obj.tree->nodes.size();
-      leaves += obj.tree->leaves.size();
-      tree_bytes += obj.tree->bytes();
-      depth = std::max(depth, obj.tree->depth);
-      for (const auto& l : obj.tree->leaves) ++by_kind[std::string(csg_leaf_name(l.kind)) + (l.placed ? " (transformed)" : "")];
+  kinds::AllKinds::each([&]<class K>() {
+    const std::size_t n = K::count(s);
+    if (!n) return;
+    const tracer::KindPlan& kp = plan.kinds[std::size_t(K::id)];
+    json k{{"kind", K::name}, {"count", n}};
+    std::size_t input = 0, batch = 0;
+    std::string what;
+    if constexpr (std::is_same_v<K, kinds::TriangleKind>) {
+      k["vertices"] = s.verts.size();
+      k["vertex_normals"] = !s.vert_normals.empty();
+      input = n * sizeof(rb::scene::TriangleIn) + s.verts.size() * sizeof(Vec3d) + s.vert_normals.size() * sizeof(Vec3f);
+    } else if constexpr (std::is_same_v<K, kinds::SphereKind>) {
+      input = n * sizeof(rb::scene::SphereIn);
+    } else if constexpr (std::is_same_v<K, kinds::CylinderKind> || std::is_same_v<K, kinds::ConeKind>) {
+      input = n * sizeof(rb::scene::ConeIn);
+    } else if constexpr (std::is_same_v<K, kinds::TorusKind>) {
+      input = n * sizeof(rb::scene::TorusIn);
+    } else if constexpr (std::is_same_v<K, kinds::PolygonKind>) {
+      k["vertices"] = s.poly_verts.size();
+      input = n * sizeof(rb::scene::PolygonIn) + s.poly_verts.size() * sizeof(Vec3d) + s.poly_normals.size() * sizeof(Vec3f);
+      std::vector<std::vector<Vec3d>> polys;
+      for (std::uint32_t i = 0; i < n; ++i) polys.push_back(K::vertices(s, i));
+      const PolygonSoA soa = PolygonSoA::build(polys);
+      batch = soa.bytes();
+      what = fmt::format("PolygonSoA ({} degenerate kept as never-hit slots)", soa.degenerate);
+    } else if constexpr (std::is_same_v<K, kinds::CsgKind>) {
+      // Each a tree (kernels/csg.hpp) of nodes with world boxes and leaves with their composed
+      // inverse transforms; no SoA batch (a tree is queried as a whole).
+      std::size_t nodes = 0, leaves = 0;
+      int depth = 0;
+      std::map<std::string, std::size_t> by_kind;
+      for (const auto& obj : s.csgs) {
+        nodes += obj.tree->nodes.size();
+        leaves += obj.tree->leaves.size();
+        batch += obj.tree->bytes();
+        depth = std::max(depth, obj.tree->depth);
+        for (const auto& l : obj.tree->leaves) ++by_kind[std::string(csg_leaf_name(l.kind)) + (l.placed ? " (transformed)" : "")];
+      }
+      std::string mix;
+      for (const auto& [kk, nn] : by_kind) mix += fmt::format("{}{} {}", mix.empty() ? "" : ", ", nn, kk);
+      k["nodes"] = nodes;
+      k["leaves"] = leaves;
+      k["depth"] = depth;
+      k["leaf_kinds"] = by_kind;
+      input = n * sizeof(rb::scene::CsgIn) + batch;
+      what = fmt::format("CSG trees ({} nodes, depth {}; leaves: {})", nodes, depth, mix);
     }
-    std::string mix;
-    for (const auto& [k, n] : by_kind) mix += fmt::format("{}{} {}", mix.empty() ? "" : ", ", n, k);
-    kinds.push_back({{"kind", "csg"}, {"count", s.csgs.size()}, {"nodes", nodes}, {"leaves", leaves}, {"depth", depth},
-                     {"leaf_kinds", by_kind}, {"input_bytes", s.csgs.size() * sizeof(rb::scene::CsgIn) + tree_bytes},
-                     {"batches", json::array({{{"batch", fmt::format("CSG trees ({} nodes, depth {}; leaves: {})", nodes, depth, mix)},
-                                               {"bytes", tree_bytes}}})}});
-  }
+    if constexpr (!K::custom) {
+      // One slot per primitive (the BVH's leaves pad each group of 8; `trace` reports that).
+      const bool d = kp.f64_storage;
+      batch = n * (d ? sizeof(typename K::template Prim<double>) : sizeof(typename K::template Prim<float>));
+      what = fmt::format("PrimSoA<{}> in {}", K::name, d ? "double" : "float");
+    }
+    k["input_bytes"] = input;
+    k["batches"] = json::array({{{"batch", what}, {"bytes", batch}}});
+    kinds.push_back(k);
+  });
   j["kinds"] = kinds;
   j["input_bytes"] = s.memory_bytes();
+  j["plan"] = plan.json();
   return j;
 }
 

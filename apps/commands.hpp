@@ -35,6 +35,7 @@ int run_trace_command(const TraceRunOptions& o, const JsonOut& out);            
 int run_render_command(const RenderRunOptions& o, const JsonOut& out);            // cmd_render.cpp: raybench render SCENE
 int run_accuracy_command(const acc::Options& o, bool list, const JsonOut& out);   // cmd_accuracy.cpp: raybench accuracy
 int run_csg_command(int repetitions, std::size_t rays);                            // report_csg.cpp: raybench csg
+int run_plan_command(const std::string& scene, const std::string& model, bool verify, const JsonOut& out);  // cmd_plan.cpp: raybench plan
 // raybench query: run_query (apps/query.hpp, cmd_query.cpp) on stdin/stdout/stderr.
 
 // A subcommand's result: without --json (`json` false) the text table on stdout; with --json the

@@ -72,19 +72,22 @@ int main(int argc, char** argv) {
 
   rb::app::TraceRunOptions to;
   std::string trace_json;
-  auto* trace = app.add_subcommand("trace", "Trace a whole scene through the BVH (binary or 8-wide, single rays or packets, TBB threads) "
+  auto* trace = app.add_subcommand("trace", "Trace a whole scene through the 8-wide BVH (single rays or packets, TBB threads) "
                                             "beside Embree on the same rays: Mrays/s, build time, memory, traversal cost, mismatch rate");
   trace->add_option("scene", to.scene, "A .obj/.ply/.nff/.json file, spd:NAME[:SIZE], lecture:NAME or csg:NAME (as `raybench info`)")->required();
   trace->add_option("--rays", to.ray_set, "Ray set: primary, shadow, diffuse or random")
       ->check(CLI::IsMember({"primary", "shadow", "diffuse", "random"}))->capture_default_str();
   trace->add_option("--threads", to.threads, "Threads for tracing (TBB) and for both builds")->check(CLI::Range(1, 256))->capture_default_str();
   trace->add_option("--packet", to.packet, "Rays per packet: 1 (single rays), 8 or 16")->check(CLI::IsMember({1, 8, 16}))->capture_default_str();
-  trace->add_option("--layout", to.layout, "BVH layout: wide (8-wide SoA nodes) or binary (single rays only)")
-      ->check(CLI::IsMember({"wide", "binary"}))->capture_default_str();
   trace->add_option("--count", to.count, "About this many rays (primary: the nearest square image of 4x4 tiles)")
       ->check(CLI::Range(std::size_t(1), std::size_t(1) << 28))->capture_default_str();
   trace->add_option("--seed", to.seed, "Seed of the ray set")->capture_default_str();
-  trace->add_flag("--robust", to.robust, "Robust slab test (Ize 2013: far distance scaled by 1 + 2 gamma(3)) instead of the FMA form");
+  trace->add_option("--model", to.model, "How the scene is modelled: auto (what it needs, see `raybench plan`), fast (world "
+                                         "coordinates, the cheapest method of every kind in float) or exact (the most accurate of everything)")
+      ->check(CLI::IsMember({"auto", "fast", "exact"}))->capture_default_str();
+  trace->add_option("--slab", to.slab, "Slab test: plan (the model's), conservative (fast test on widened boxes, robust for far origins), "
+                                       "fast (on boxes as built) or robust (Ize 2013: far distance scaled by 1 + 2 gamma(3))")
+      ->check(CLI::IsMember({"plan", "conservative", "fast", "robust"}))->capture_default_str();
   trace->add_option("-r,--repetitions", to.repetitions, "Timed runs (the median is quoted)")->check(CLI::Range(1, 100))->capture_default_str();
   trace->add_option("--brute", to.brute_rays, "Rays checked against the brute-force loop over all objects (-1: a budget by scene size)")
       ->capture_default_str();
@@ -113,6 +116,8 @@ int main(int argc, char** argv) {
   render->add_option("--secondary-packet", rdo.secondary_packet,
                      "Reflection, refraction and shadow rays: 1 one by one, 8 sorted by direction octant and traced as 8-ray packets")
       ->check(CLI::IsMember({1, 8}))->capture_default_str();
+  render->add_option("--model", rdo.model, "How the scene is modelled: auto (what it needs, see `raybench plan`), fast or exact")
+      ->check(CLI::IsMember({"auto", "fast", "exact"}))->capture_default_str();
   render->add_option("--json", render_json, "Write the result as JSON to this file (no argument or '-': stdout) instead of the summary")
       ->expected(0, 1);
 
@@ -139,6 +144,18 @@ int main(int argc, char** argv) {
   csg->add_option("-r,--repetitions", csg_reps, "Timed runs (the median is quoted)")->check(CLI::Range(1, 100))->capture_default_str();
   csg->add_option("--rays", csg_rays, "Rays per scene")->check(CLI::Range(std::size_t(8), std::size_t(1) << 24))->capture_default_str();
 
+  std::string plan_scene, plan_json, plan_model = "auto";
+  bool plan_verify = false;
+  auto* plan = app.add_subcommand(
+      "plan",
+      "How a scene is modelled for tracing (model no more than it needs): its numerical profile per primitive kind (sizes, "
+      "coordinates against them, how far away each kind is seen), then the frame of reference, each kind's method, precision and "
+      "storage, the slab test and the spawn offset of secondary rays, each with its reason and the accuracy-lab cases it rests on");
+  plan->add_option("scene", plan_scene, "A scene (as `raybench info`)")->required();
+  plan->add_option("--model", plan_model, "auto (the default), fast or exact")->check(CLI::IsMember({"auto", "fast", "exact"}))->capture_default_str();
+  plan->add_flag("--verify", plan_verify, "Run the lab cases each choice rests on and show their failure figures (a few seconds)");
+  plan->add_option("--json", plan_json, "Write the profile and plan as JSON to this file (no FILE or '-': stdout)")->expected(0, 1);
+
   auto* mach = app.add_subcommand("machine", "Print the machine and build description recorded with every result (JSON)");
 
   CLI11_PARSE(app, argc, argv);
@@ -160,6 +177,7 @@ int main(int argc, char** argv) {
     if (*render) return rb::app::run_render_command(rdo, {render->count("--json") > 0, render_json});
     if (*accuracy) return rb::app::run_accuracy_command(ao, accuracy_list, {accuracy->count("--json") > 0, accuracy_json});
     if (*csg) return rb::app::run_csg_command(csg_reps, csg_rays);
+    if (*plan) return rb::app::run_plan_command(plan_scene, plan_model, plan_verify, {plan->count("--json") > 0, plan_json});
     if (*mach) { std::cout << rb::app::machine().json().dump(2) << "\n"; return 0; }
   } catch (const std::exception& e) {
     std::cerr << "raybench: " << e.what() << "\n";

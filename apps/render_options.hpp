@@ -17,6 +17,7 @@ struct RenderRunOptions {
   bool progress = true;
   bool count_tests = true;
   int secondary_packet = 1;
+  std::string model = "auto";  // auto | fast | exact (tracer/plan.hpp)
 };
 
 }  // namespace rb::app

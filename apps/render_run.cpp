@@ -46,10 +46,13 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
   scene::Scene s = scene::load_scene(o.scene);
   const double load_ms = ms_since(t0);
 
-  bvh::Accel accel;
+  const auto tp = std::chrono::steady_clock::now();
+  const tracer::Plan plan = tracer::make_plan(s, tracer::parse_model(o.model));
+  const double plan_ms = ms_since(tp);
+  tracer::SceneAccel accel;
   {
-    trace::ThreadScope ts(o.threads);
-    ts.run([&] { accel = bvh::Accel::build(s); });
+    tracer::ThreadScope ts(o.threads);
+    ts.run([&] { accel = tracer::SceneAccel::build(s, plan); });
   }
   const double build_ms = accel.build_ms;
 
@@ -90,7 +93,7 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
   if (!o.out.empty()) render::write_png(o.out, w, h, img);
 
   json prim = json::object();
-  for (int k = 0; k < scene::kKinds; ++k) prim[scene::kind_name(scene::Kind(k))] = st.cost.kind_prims[k];
+  for (int k = 0; k < kinds::kKinds; ++k) prim[kinds::kind_name(kinds::Kind(k))] = st.cost.kind_prims[k];
   const double rays = double(st.rays());
   json j{{"scene", o.scene},
          {"scene_name", s.name},
@@ -114,8 +117,11 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
          {"box_tests", st.cost.boxes},
          {"prim_tests", prim},
          {"load_ms", load_ms},
+         {"model", o.model},
+         {"plan", plan.json()},
+         {"plan_ms", plan_ms},
          {"build_ms", build_ms},
-         {"preprocess_ms", load_ms + build_ms},
+         {"preprocess_ms", load_ms + plan_ms + build_ms},
          {"trace_ms", trace_ms},
          {"mrays_per_s", trace_ms > 0 ? rays / (trace_ms * 1e3) : 0.0}};
   if (!o.out.empty()) j["image"] = o.out;
@@ -166,9 +172,11 @@ std::string render_text(const json& j) {
       ref = fmt::format("   Haines {:>12.0f} (polygons)", j["haines"]["polygon_tests"].get<double>());
     t += fmt::format("  {:<16} {:>14}{}\n", k, v.get<std::uint64_t>(), ref);
   }
-  t += fmt::format("time: preprocess {:.1f} ms (load {:.1f}, BVH {:.1f}), trace {:.1f} ms, {:.2f} Mrays/s\n",
-                   j["preprocess_ms"].get<double>(), j["load_ms"].get<double>(), j["build_ms"].get<double>(), j["trace_ms"].get<double>(),
-                   j["mrays_per_s"].get<double>());
+  t += fmt::format("model: {} (frame {}; `raybench plan` explains the choices)\n", j["model"].get<std::string>(),
+                   j["plan"]["frame"]["kind"].get<std::string>());
+  t += fmt::format("time: preprocess {:.1f} ms (load {:.1f}, plan {:.1f}, BVH {:.1f}), trace {:.1f} ms, {:.2f} Mrays/s\n",
+                   j["preprocess_ms"].get<double>(), j["load_ms"].get<double>(), j["plan_ms"].get<double>(), j["build_ms"].get<double>(),
+                   j["trace_ms"].get<double>(), j["mrays_per_s"].get<double>());
   if (j.contains("image")) t += fmt::format("wrote {}\n", j["image"].get<std::string>());
   return t;
 }

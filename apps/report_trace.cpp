@@ -28,7 +28,7 @@ rb::scene::Scene height_field(std::uint32_t nx, std::uint32_t ny) {
   for (std::uint32_t y = 0; y <= ny; ++y)
     for (std::uint32_t x = 0; x <= nx; ++x) {
       const double u = 2.0 * x / nx - 1, v = 2.0 * y / ny - 1;
-      s.verts.push_back(to_float(Vec3d{u, 0.15 * std::sin(7 * u) * std::cos(5 * v) + 0.05 * std::sin(31 * u * v), v}));
+      s.verts.push_back(Vec3d{u, 0.15 * std::sin(7 * u) * std::cos(5 * v) + 0.05 * std::sin(31 * u * v), v});
     }
   auto id = [&](std::uint32_t x, std::uint32_t y) { return y * (nx + 1) + x; };
   for (std::uint32_t y = 0; y < ny; ++y)
@@ -53,7 +53,7 @@ std::string report_section_tracing(const ReportOptions& o, const fs::path& out, 
   const int reps = 3;
   json rows = json::array(), scaling = json::array(), builds = json::array();
   std::string md = "## Tracing whole scenes\n\n";
-  md += "Goal: answer \"how many rays per second on my mesh, against Embree?\". One binned-SAH build (TBB) gives a binary BVH and an "
+  md += "Goal: answer \"how many rays per second on my mesh, against Embree?\". One binned-SAH build (TBB) gives an "
         "8-wide BVH whose nodes hold their 8 child boxes as structure of arrays (one 8-lane slab test per node, in the FMA form "
         "t = box * (1/d) - o * (1/d) with o * (1/d) precomputed per ray); every leaf is one 8-slot lane group of its kind's "
         "kernel batch, reordered at build time, so a leaf is one call of the SIMD kernel (watertight triangle test for meshes) "
@@ -75,23 +75,21 @@ std::string report_section_tracing(const ReportOptions& o, const fs::path& out, 
   {
     rb::scene::Scene s = rb::scene::load_scene(bunny);
     TraceSession sess(std::move(s), "stanford-bunny.obj", 2, true);
-    md += "### The bunny (69,451 triangles): every ray set, layout, packet size and thread count\n\n";
-    md += "| rays | layout | packet | threads | raybench Mrays/s | Embree Mrays/s | raybench / Embree | brute force Mrays/s | boxes/ray | "
-          "prims/ray | mismatch vs Embree |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-    struct Mode { const char* layout; int packet; };
+    md += "### The bunny (69,451 triangles): every ray set, packet size and thread count\n\n";
+    md += "| rays | packet | threads | raybench Mrays/s | Embree Mrays/s | raybench / Embree | brute force Mrays/s | boxes/ray | "
+          "prims/ray | mismatch vs Embree |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const char* set : {"primary", "shadow", "diffuse", "random"})
-      for (Mode m : {Mode{"binary", 1}, Mode{"wide", 1}, Mode{"wide", 8}, Mode{"wide", 16}})
+      for (int packet : {1, 8, 16})
         for (int th : {1, 2}) {
           TraceRunOptions t;
           t.ray_set = set;
-          t.layout = m.layout;
-          t.packet = m.packet;
+          t.packet = packet;
           t.threads = th;
           t.count = count;
           t.repetitions = reps;
-          t.brute_rays = (th == 1 && m.packet == 1 && std::string(m.layout) == "wide") ? -1 : 0;
+          t.brute_rays = (th == 1 && packet == 1) ? -1 : 0;
           json j = sess.run(t, true);
-          md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {:.1f} | {:.1f} | {} |\n", set, m.layout, m.packet, th,
+          md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {:.1f} | {:.1f} | {} |\n", set, packet, th,
                             f2(j["mrays_per_s"]), f2(j["embree_mrays_per_s"]), ratio(j["mrays_per_s"], j["embree_mrays_per_s"]),
                             j["brute_mrays_per_s"].is_null() ? "" : fmt::format("{:.4f}", j["brute_mrays_per_s"].get<double>()),
                             j["box_tests_per_ray"].get<double>(), j["prim_tests_per_ray"].get<double>(),
@@ -102,13 +100,13 @@ std::string report_section_tracing(const ReportOptions& o, const fs::path& out, 
         }
     md += "\n";
     // Thread scaling.
-    md += "Thread scaling (two threads over one, same rays):\n\n| rays | layout | packet | raybench | Embree |\n|---|---|---:|---:|---:|\n";
+    md += "Thread scaling (two threads over one, same rays):\n\n| rays | packet | raybench | Embree |\n|---|---:|---:|---:|\n";
     for (std::size_t i = 0; i + 1 < rows.size(); i += 2) {
       const json& a = rows[i];
       const json& b = rows[i + 1];
-      md += fmt::format("| {} | {} | {} | {} | {} |\n", a["ray_set"].get<std::string>(), a["layout"].get<std::string>(), a["packet"].get<int>(),
+      md += fmt::format("| {} | {} | {} | {} |\n", a["ray_set"].get<std::string>(), a["packet"].get<int>(),
                         ratio(b["mrays_per_s"], a["mrays_per_s"]), ratio(b["embree_mrays_per_s"], a["embree_mrays_per_s"]));
-      scaling.push_back({{"ray_set", a["ray_set"]}, {"layout", a["layout"]}, {"packet", a["packet"]},
+      scaling.push_back({{"ray_set", a["ray_set"]}, {"packet", a["packet"]},
                          {"ours", a["mrays_per_s"].is_null() ? json(nullptr) : json(b["mrays_per_s"].get<double>() / a["mrays_per_s"].get<double>())}});
     }
     md += "\n";
@@ -138,10 +136,10 @@ std::string report_section_tracing(const ReportOptions& o, const fs::path& out, 
     const json ens = j["embree_mrays_per_s"].is_null() ? json(nullptr) : json(1e3 / j["embree_mrays_per_s"].get<double>());
     md += fmt::format("| {} | {} | {:.1f} | {} | {:.1f} | {} | {:.1f} | {} | {} |\n", src.label, j["primitives"].get<std::size_t>(), ns,
                       ens.is_null() ? "-" : fmt::format("{:.1f}", ens.get<double>()), j["build_ms"].get<double>(), f2(j["embree_build_ms"]),
-                      j["bytes_per_prim_wide"].get<double>(), f2(j["embree_bytes_per_prim"]),
+                      j["bytes_per_prim"].get<double>(), f2(j["embree_bytes_per_prim"]),
                       j["mismatch_rate"].is_null() ? "-" : fmt::format("{:.4f} %", 100 * j["mismatch_rate"].get<double>()));
     builds.push_back({{"scene", src.label}, {"primitives", j["primitives"]}, {"ns_per_ray", ns}, {"embree_ns_per_ray", ens},
-                      {"build_ms", j["build_ms"]}, {"embree_build_ms", j["embree_build_ms"]}, {"bytes_per_prim", j["bytes_per_prim_wide"]},
+                      {"build_ms", j["build_ms"]}, {"embree_build_ms", j["embree_build_ms"]}, {"bytes_per_prim", j["bytes_per_prim"]},
                       {"embree_bytes_per_prim", j["embree_bytes_per_prim"]}});
   }
   md += "\nBuild times are one-thread builds here (the bunny matrix above used two); raybench's memory is the wide nodes plus the "

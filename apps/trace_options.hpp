@@ -13,10 +13,10 @@ struct TraceRunOptions {
   std::string ray_set = "primary";
   int threads = 1;
   int packet = 1;
-  std::string layout = "wide";
   std::size_t count = std::size_t(1) << 20;
   std::uint64_t seed = 1;
-  bool robust = false;
+  std::string model = "auto";  // auto | fast | exact (tracer/plan.hpp)
+  std::string slab = "plan";   // plan (the model's) | conservative | fast | robust
   int repetitions = 5;
   long long brute_rays = -1;  // -1: a budget by scene size; 0: none
   bool embree = true;

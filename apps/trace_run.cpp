@@ -14,11 +14,12 @@ namespace rb::app {
 
 using nlohmann::json;
 
-TraceSession::TraceSession(rb::scene::Scene s, std::string source, int build_threads, bool embree)
+TraceSession::TraceSession(rb::scene::Scene s, std::string source, int build_threads, bool embree, const std::string& model)
     : scene_(std::move(s)), source_(std::move(source)) {
+  const tracer::Plan plan = tracer::make_plan(scene_, tracer::parse_model(model));
   trace::ThreadScope ts(build_threads);
-  ts.run([&] { accel_ = bvh::Accel::build(scene_); });
-  if (embree) embree_ = trace::embree_build(scene_, build_threads);
+  ts.run([&] { accel_ = tracer::SceneAccel::build(scene_, plan); });
+  if (embree) embree_ = trace::embree_build(accel_, build_threads);
   else embree_.why = "skipped (--no-embree)";
 }
 
@@ -38,21 +39,22 @@ json TraceSession::build_json() const {
   const auto& st = accel_.bin.stats;
   json hist = json::array();
   for (std::size_t n = 1; n < st.leaf_hist.size(); ++n) hist.push_back(st.leaf_hist[n]);
-  const double prims = double(std::max<std::size_t>(1, accel_.scene_prims));
-  json j{{"build_ms", accel_.build_ms},
+  const double prims = double(std::max<std::size_t>(1, accel_.scene_prims()));
+  json j{{"model", tracer::model_name(accel_.plan().model)},
+         {"frame", tracer::frame_name(accel_.plan().frame)},
+         {"build_ms", accel_.build_ms},
          {"sah_build_ms", st.build_ms},
          {"reorder_ms", accel_.reorder_ms},
          {"collapse_ms", accel_.wide.collapse_ms},
          {"nodes_binary", accel_.bin.nodes.size()},
          {"nodes_wide", accel_.wide.nodes.size()},
+         {"depth_wide", accel_.wide.depth},
          {"leaves", st.leaves},
          {"depth", st.depth},
          {"sah_cost", st.sah_cost},
          {"leaf_size_histogram", hist},
-         {"bytes_wide", accel_.bytes(bvh::Layout::wide)},
-         {"bytes_binary", accel_.bytes(bvh::Layout::binary)},
-         {"bytes_per_prim_wide", double(accel_.bytes(bvh::Layout::wide)) / prims},
-         {"bytes_per_prim_binary", double(accel_.bytes(bvh::Layout::binary)) / prims},
+         {"bytes", accel_.bytes()},
+         {"bytes_per_prim", double(accel_.bytes()) / prims},
          {"embree", embree_.ok},
          {"embree_why", embree_.why},
          {"embree_build_ms", embree_.ok ? json(embree_.build_ms) : json(nullptr)},
@@ -63,16 +65,18 @@ json TraceSession::build_json() const {
 
 json TraceSession::run(const TraceRunOptions& o, bool progress) {
   const trace::RaySet set = trace::parse_ray_set(o.ray_set);
-  if (o.packet != 1 && o.layout != "wide") throw std::invalid_argument("packets traverse the wide layout; use --packet 1 with --layout binary");
   trace::RaySetInfo info;
   const RaySoA& rays = this->rays(set, o.count, o.seed, info);
   const std::size_t n = rays.count;
   const bool any = set == trace::RaySet::shadow;
-  bvh::TraceOptions to;
-  to.layout = o.layout == "wide" ? bvh::Layout::wide : bvh::Layout::binary;
+  tracer::TraceOptions to;
   to.packet = o.packet;
-  to.robust = o.robust;
   to.any = any;
+  if (o.slab != "plan") {
+    to.slab_given = true;
+    to.slab = o.slab == "conservative" ? bvh::Slab::conservative : o.slab == "fast" ? bvh::Slab::fast : bvh::Slab::robust;
+  }
+  const bvh::Slab slab = to.slab_given ? to.slab : accel_.plan().slab;
 
   trace::ThreadScope ts(o.threads);
   const int steps = o.repetitions * (embree_.ok ? 2 : 1) + 2;
@@ -96,7 +100,7 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
 
   json j;
   j["scene"] = source_;
-  j["primitives"] = accel_.scene_prims;
+  j["primitives"] = accel_.scene_prims();
   j["rays"] = n;
   j["ray_set"] = o.ray_set;
   j["camera"] = info.camera;
@@ -104,8 +108,7 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   j["seed"] = o.seed;
   j["threads"] = o.threads;
   j["packet"] = o.packet;
-  j["layout"] = o.layout;
-  j["robust"] = o.robust;
+  j["slab"] = bvh::slab_name(slab);
   j["repetitions"] = o.repetitions;
   j["mrays_per_s"] = mrays;
   j["seconds"] = secs;
@@ -140,16 +143,15 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
 
   // The brute-force loop over all objects on a prefix of the rays: the oracle and the baseline.
   std::size_t nb = 0;
-  if (o.brute_rays < 0) nb = std::min<std::size_t>(n, std::max<std::size_t>(64, std::size_t(4e8 / double(std::max<std::size_t>(1, accel_.scene_prims)))));
+  if (o.brute_rays < 0) nb = std::min<std::size_t>(n, std::max<std::size_t>(64, std::size_t(4e8 / double(std::max<std::size_t>(1, accel_.scene_prims())))));
   else nb = std::min<std::size_t>(n, std::size_t(o.brute_rays));
   nb = nb / 16 * 16;
   if (nb > 0) {
-    bvh::BruteForce bf(scene_);
     std::vector<bvh::HitRec> brute(nb);
     const auto t0 = std::chrono::steady_clock::now();
     ts.run([&] {
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nb / 16), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin() * 16; i < r.end() * 16; ++i) brute[i] = bf.trace(rays.get(i), any);
+        for (std::size_t i = r.begin() * 16; i < r.end() * 16; ++i) brute[i] = accel_.brute_force(rays.get(i), any);
       });
     });
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -172,7 +174,7 @@ json run_trace(const TraceRunOptions& o, bool progress) {
   const auto t0 = std::chrono::steady_clock::now();
   rb::scene::Scene s = rb::scene::load_scene(o.scene);
   const double load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  TraceSession session(std::move(s), o.scene, o.threads, o.embree);
+  TraceSession session(std::move(s), o.scene, o.threads, o.embree, o.model);
   json j = session.run(o, progress);
   j["load_ms"] = load_ms;
   return j;
@@ -197,12 +199,11 @@ std::string trace_text(const json& j) {
   o += fmt::format("bvh        {} binary nodes, {} wide nodes, {} leaves (sizes 1..8: {}), depth {}, SAH cost {:.2f}\n",
                    j["nodes_binary"].get<std::size_t>(), j["nodes_wide"].get<std::size_t>(), j["leaves"].get<std::size_t>(), hist,
                    j["depth"].get<int>(), j["sah_cost"].get<double>());
-  o += fmt::format("memory     raybench {:.1f} B/prim ({} layout: nodes + leaf-ordered batches); Embree {} B/prim (BVH)\n",
-                   j[j["layout"] == "wide" ? "bytes_per_prim_wide" : "bytes_per_prim_binary"].get<double>(), j["layout"].get<std::string>(),
-                   num_or_dash(j["embree_bytes_per_prim"], "{:.1f}"));
-  o += fmt::format("trace      raybench {} layout, packet {}, {} thread(s){}: {:.2f} Mrays/s (median of {})\n", j["layout"].get<std::string>(),
-                   j["packet"].get<int>(), j["threads"].get<int>(), j["robust"].get<bool>() ? ", robust slabs" : "",
-                   j["mrays_per_s"].get<double>(), j["repetitions"].get<int>());
+  o += fmt::format("memory     raybench {:.1f} B/prim (8-wide nodes + leaf-ordered batches); Embree {} B/prim (BVH)\n",
+                   j["bytes_per_prim"].get<double>(), num_or_dash(j["embree_bytes_per_prim"], "{:.1f}"));
+  o += fmt::format("model      {} (frame {}; `raybench plan` explains the choices)\n", j["model"].get<std::string>(), j["frame"].get<std::string>());
+  o += fmt::format("trace      raybench packet {}, {} thread(s), {} slab test: {:.2f} Mrays/s (median of {})\n", j["packet"].get<int>(),
+                   j["threads"].get<int>(), j["slab"].get<std::string>(), j["mrays_per_s"].get<double>(), j["repetitions"].get<int>());
   o += fmt::format("           {:.2f} nodes, {:.2f} box tests, {:.2f} primitive tests per ray\n", j["nodes_per_ray"].get<double>(),
                    j["box_tests_per_ray"].get<double>(), j["prim_tests_per_ray"].get<double>());
   if (!j["embree_mrays_per_s"].is_null()) {

@@ -17,16 +17,19 @@ namespace rb::app {
 // A scene with both engines built once (with `build_threads`), then any number of runs.
 class TraceSession {
  public:
-  TraceSession(rb::scene::Scene s, std::string source, int build_threads, bool embree);
+  // The scene traced under `model` (auto | fast | exact): the plan, the BVH and Embree's scene in
+  // the plan's frame.
+  TraceSession(rb::scene::Scene s, std::string source, int build_threads, bool embree, const std::string& model = "auto");
   nlohmann::json run(const TraceRunOptions& o, bool progress);
   nlohmann::json build_json() const;
-  const bvh::Accel& accel() const { return accel_; }
+  const tracer::SceneAccel& accel() const { return accel_; }
+  const tracer::Plan& plan() const { return accel_.plan(); }
   const rb::scene::Scene& scene() const { return scene_; }
 
  private:
   rb::scene::Scene scene_;
   std::string source_;
-  bvh::Accel accel_;
+  tracer::SceneAccel accel_;
   trace::EmbreeBuild embree_;
   std::map<std::string, std::pair<RaySoA, trace::RaySetInfo>> rays_;
   const RaySoA& rays(trace::RaySet set, std::size_t count, std::uint64_t seed, trace::RaySetInfo& info);

@@ -32,10 +32,15 @@ bool monitor(void* user, ssize_t bytes, bool) {
 }
 }  // namespace
 
-EmbreeBuild embree_build(const scene::Scene& s, int threads) {
+EmbreeBuild embree_build(const tracer::SceneAccel& a, int threads) {
   EmbreeBuild b;
-  if (!s.cones.empty() || !s.polygons.empty() || !s.csgs.empty()) {
-    b.why = "the scene has cones, cylinders, polygons or CSG objects, which Embree does not model";
+  const scene::Scene& s = a.scene();
+  std::string missing;
+  kinds::AllKinds::each([&]<class K>() {
+    if (K::embree == kinds::EmbreeType::none && K::count(s) > 0) missing += std::string(missing.empty() ? "" : ", ") + K::name;
+  });
+  if (!missing.empty()) {
+    b.why = "the scene has primitives Embree does not model (" + missing + ")";
     return b;
   }
   auto e = std::make_shared<EmbreeScene>();
@@ -47,27 +52,40 @@ EmbreeBuild embree_build(const scene::Scene& s, int threads) {
   }
   rtcSetDeviceMemoryMonitorFunction(e->device, monitor, e.get());
   e->scene = rtcNewScene(e->device);
-  if (!s.triangles.empty()) {
-    RTCGeometry g = rtcNewGeometry(e->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), s.verts.size()));
-    for (std::size_t i = 0; i < s.verts.size(); ++i) { v[3 * i] = s.verts[i].x; v[3 * i + 1] = s.verts[i].y; v[3 * i + 2] = s.verts[i].z; }
-    auto* ix = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), s.triangles.size()));
-    for (std::size_t i = 0; i < s.triangles.size(); ++i)
-      for (int k = 0; k < 3; ++k) ix[3 * i + std::size_t(k)] = s.triangles[i].v[std::size_t(k)];
-    rtcCommitGeometry(g);
-    rtcAttachGeometryByID(e->scene, g, 0);
-    rtcReleaseGeometry(g);
-  }
-  if (!s.spheres.empty()) {
-    RTCGeometry g = rtcNewGeometry(e->device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
-    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), s.spheres.size()));
-    for (std::size_t i = 0; i < s.spheres.size(); ++i) {
-      v[4 * i] = s.spheres[i].c.x; v[4 * i + 1] = s.spheres[i].c.y; v[4 * i + 2] = s.spheres[i].c.z; v[4 * i + 3] = s.spheres[i].r;
+  kinds::AllKinds::each([&]<class K>() {
+    const std::size_t n = K::count(s);
+    if (!n) return;
+    if constexpr (K::embree == kinds::EmbreeType::triangle) {
+      const std::vector<Vec3d>& verts = K::mesh_vertices(s);
+      RTCGeometry g = rtcNewGeometry(e->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+      auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), verts.size()));
+      for (std::size_t i = 0; i < verts.size(); ++i) {
+        const Vec3f f = a.to_frame(verts[i]);
+        v[3 * i] = f.x; v[3 * i + 1] = f.y; v[3 * i + 2] = f.z;
+      }
+      auto* ix = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), n));
+      for (std::uint32_t i = 0; i < n; ++i) {
+        const auto t = K::mesh_indices(s, i);
+        for (int k = 0; k < 3; ++k) ix[3 * std::size_t(i) + std::size_t(k)] = t[std::size_t(k)];
+      }
+      rtcCommitGeometry(g);
+      rtcAttachGeometryByID(e->scene, g, unsigned(K::id));
+      rtcReleaseGeometry(g);
+    } else if constexpr (K::embree == kinds::EmbreeType::sphere) {
+      RTCGeometry g = rtcNewGeometry(e->device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+      auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), n));
+      for (std::uint32_t i = 0; i < n; ++i) {
+        Vec3d c;
+        double r;
+        K::sphere_of(s, i, c, r);
+        const Vec3f f = a.to_frame(c);
+        v[4 * i] = f.x; v[4 * i + 1] = f.y; v[4 * i + 2] = f.z; v[4 * i + 3] = float(r);
+      }
+      rtcCommitGeometry(g);
+      rtcAttachGeometryByID(e->scene, g, unsigned(K::id));
+      rtcReleaseGeometry(g);
     }
-    rtcCommitGeometry(g);
-    rtcAttachGeometryByID(e->scene, g, 1);
-    rtcReleaseGeometry(g);
-  }
+  });
   const long long before = e->bytes.load();
   const auto t0 = std::chrono::steady_clock::now();
   rtcCommitScene(e->scene);
@@ -84,8 +102,14 @@ EmbreeBuild embree_build(const scene::Scene& s, int threads) {
 }
 
 namespace {
-inline std::uint32_t code(unsigned geom, unsigned prim) {
-  return bvh::prim_code(geom == 0 ? scene::Kind::triangle : scene::Kind::sphere, prim);
+inline std::uint32_t code(unsigned geom, unsigned prim) { return bvh::prim_code(int(geom), prim); }
+// Embree asserts on rays outside its valid range (origin and direction finite and below 1.844e18 in
+// magnitude, 0 <= tnear <= tfar): such a ray is a miss here, never a call.
+constexpr float kEmbreeLarge = 1.844e18f;
+inline bool fits(float x) { return x > -kEmbreeLarge && x < kEmbreeLarge; }
+inline bool embree_valid(const RaySoA& r, std::size_t i) {
+  return r.tmin[i] <= r.tmax[i] && r.tmin[i] >= 0.0f && fits(r.tmin[i]) && fits(r.ox[i]) && fits(r.oy[i]) && fits(r.oz[i]) &&
+         fits(r.dx[i]) && fits(r.dy[i]) && fits(r.dz[i]) && (r.dx[i] != 0.0f || r.dy[i] != 0.0f || r.dz[i] != 0.0f);
 }
 }  // namespace
 
@@ -98,14 +122,14 @@ void embree_trace(const EmbreeScene& e, const RaySoA& rays, std::size_t begin, s
   if (packet == 1) {
     for (std::size_t i = begin; i < end; ++i) {
       out[i] = {inf, kNoPrim};
-      if (!(rays.tmin[i] <= rays.tmax[i])) continue;
+      if (!embree_valid(rays, i)) continue;
       if (any) {
         RTCRay r{};
         r.org_x = rays.ox[i]; r.org_y = rays.oy[i]; r.org_z = rays.oz[i];
         r.dir_x = rays.dx[i]; r.dir_y = rays.dy[i]; r.dir_z = rays.dz[i];
         r.tnear = rays.tmin[i]; r.tfar = rays.tmax[i]; r.mask = 0xFFFFFFFFu; r.flags = 0;
         rtcOccluded1(e.scene, &ctx, &r);
-        if (r.tfar == -inf) out[i] = {0.f, bvh::prim_code(scene::Kind::triangle, 0)};
+        if (r.tfar == -inf) out[i] = {0.f, bvh::prim_code(0, 0)};
       } else {
         RTCRayHit rh{};
         auto& r = rh.ray;
@@ -121,7 +145,7 @@ void embree_trace(const EmbreeScene& e, const RaySoA& rays, std::size_t begin, s
   }
   for (std::size_t i = begin; i < end; i += 8) {
     alignas(32) int valid[8];
-    for (int l = 0; l < 8; ++l) valid[l] = rays.tmin[i + std::size_t(l)] <= rays.tmax[i + std::size_t(l)] ? -1 : 0;
+    for (int l = 0; l < 8; ++l) valid[l] = embree_valid(rays, i + std::size_t(l)) ? -1 : 0;
     if (any) {
       RTCRay8 r;
       for (int l = 0; l < 8; ++l) {
@@ -133,7 +157,7 @@ void embree_trace(const EmbreeScene& e, const RaySoA& rays, std::size_t begin, s
       }
       rtcOccluded8(valid, e.scene, &ctx, &r);
       for (int l = 0; l < 8; ++l)
-        out[i + std::size_t(l)] = valid[l] && r.tfar[l] == -inf ? HitRec{0.f, bvh::prim_code(scene::Kind::triangle, 0)} : HitRec{inf, kNoPrim};
+        out[i + std::size_t(l)] = valid[l] && r.tfar[l] == -inf ? HitRec{0.f, bvh::prim_code(0, 0)} : HitRec{inf, kNoPrim};
     } else {
       RTCRayHit8 rh;
       for (int l = 0; l < 8; ++l) {

@@ -1,13 +1,10 @@
 #include "bench/trace.hpp"
 
+#include "scene/camera.hpp"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
-#include <tbb/task_scheduler_observer.h>
-
-#include <pmmintrin.h>
 #include <unistd.h>
-#include <xmmintrin.h>
 
 #include <algorithm>
 #include <chrono>
@@ -19,7 +16,6 @@
 
 namespace rb::trace {
 
-using bvh::HitRec;
 using bvh::kNoPrim;
 
 const char* ray_set_name(RaySet s) {
@@ -38,75 +34,41 @@ RaySet parse_ray_set(const std::string& s) {
 }
 
 namespace {
-void set_ftz() {
-  _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
-  _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
-}
-
-struct Frame {
-  Vec3d from, u, v, w;  // w: view direction; u, v: image plane axes scaled to the half-size at distance 1
-};
-
-bool has_camera(const scene::Scene& s) {
-  const scene::Camera d{};
-  const auto& c = s.camera;
-  return !(c.from.x == d.from.x && c.from.y == d.from.y && c.from.z == d.from.z && c.at.x == d.at.x && c.at.y == d.at.y &&
-           c.at.z == d.at.z);
-}
-
 Vec3d unit(Vec3d a) { return a * (1.0 / std::sqrt(dot(a, a))); }
 }  // namespace
 
-RaySoA make_rays(const scene::Scene& s, const bvh::Accel& accel, RaySet set, std::size_t count, std::uint64_t seed, RaySetInfo* info) {
+RaySoA make_rays(const scene::Scene& s, const tracer::SceneAccel& accel, RaySet set, std::size_t count, std::uint64_t seed,
+                 RaySetInfo* info) {
   RaySoA rays;
   const scene::Bounds b = s.bounds();
   if (b.empty() || count == 0) {
     rays.push(Vec3f{0, 0, 0}, Vec3f{0, 0, 1});  // one ray into an empty scene: a defined miss
     return rays;
   }
-  const Vec3d lo = to_double(b.lo), hi = to_double(b.hi);
+  const Vec3d lo = b.lo, hi = b.hi;
   const Vec3d centre = (lo + hi) * 0.5;
   const double R = std::max(1e-30, 0.5 * std::sqrt(dot(hi - lo, hi - lo)));
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> U(0.0, 1.0);
   RaySetInfo local;
   RaySetInfo& inf = info ? *info : local;
+  auto push = [&](RaySoA& soa, const Vec3d& o, const Vec3d& d, double tmin = 0, double tmax = std::numeric_limits<double>::infinity()) {
+    soa.push(accel.frame_ray(o, d, tmin, tmax));
+  };
 
   if (set == RaySet::random) {
     rays.reserve(count);
     for (std::size_t i = 0; i < count; ++i) {
       const Vec3d o{lo.x + (hi.x - lo.x) * U(rng), lo.y + (hi.y - lo.y) * U(rng), lo.z + (hi.z - lo.z) * U(rng)};
       const double z = 2 * U(rng) - 1, ph = 2 * M_PI * U(rng), rr = std::sqrt(std::max(0.0, 1 - z * z));
-      rays.push(to_float(o), to_float(Vec3d{rr * std::cos(ph), rr * std::sin(ph), z}));
+      push(rays, o, Vec3d{rr * std::cos(ph), rr * std::sin(ph), z});
     }
     return rays;
   }
 
-  // The camera.
-  Frame f;
-  double angle;
-  if (has_camera(s)) {
-    inf.camera = "scene";
-    f.from = to_double(s.camera.from);
-    f.w = unit(to_double(s.camera.at) - f.from);
-    angle = double(s.camera.angle);
-    Vec3d up = to_double(s.camera.up);
-    f.u = cross(f.w, up);
-    if (dot(f.u, f.u) == 0) f.u = cross(f.w, Vec3d{0, 1, 0});
-    f.u = unit(f.u);
-    f.v = cross(f.u, f.w);
-  } else {
-    inf.camera = "stated";
-    angle = 45;
-    const Vec3d dir = unit(Vec3d{0.3, 0.4, -1.0});
-    // The bounding box's largest half extent h fills the view: distance h / tan(angle / 2) + h.
-    const double h = 0.5 * std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
-    f.from = centre + dir * (h / std::tan(angle * M_PI / 360.0) + h);
-    f.w = dir * -1.0;
-    f.u = unit(cross(f.w, Vec3d{0, 1, 0}));
-    f.v = cross(f.u, f.w);
-  }
-  const double half = std::tan(angle * M_PI / 360.0);
+  // The camera (scene/camera.hpp): jittered pixel centres of a square image, in 4x4 pixel tiles.
+  const scene::View view = scene::view_of(s);
+  inf.camera = view.stated ? "stated" : "scene";
   int side = int(std::ceil(std::sqrt(double(count)) / 4.0)) * 4;
   side = std::max(side, 4);
   inf.width = inf.height = side;
@@ -116,21 +78,21 @@ RaySoA make_rays(const scene::Scene& s, const bvh::Accel& accel, RaySet set, std
     for (int tx = 0; tx < side; tx += 4)
       for (int y = ty; y < ty + 4; ++y)
         for (int x = tx; x < tx + 4; ++x) {
-          const double px = (2 * (x + U(rng)) / side - 1) * half, py = (1 - 2 * (y + U(rng)) / side) * half;
-          prim.push(to_float(f.from), to_float(f.w + f.u * px + f.v * py));
+          const double px = 2 * (x + U(rng)) / side - 1, py = 1 - 2 * (y + U(rng)) / side;
+          push(prim, view.from, view.dir(px, py));
         }
   if (set == RaySet::primary) return prim;
 
   // Primary hits.
   std::vector<HitRec> hits(prim.size());
-  bvh::TraceOptions o;
+  tracer::TraceOptions o;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, prim.size() / 16), [&](const tbb::blocked_range<std::size_t>& r) {
     accel.trace(prim, r.begin() * 16, r.end() * 16, hits.data(), o);
   });
   Vec3d light;
   if (!s.lights.empty()) {
     inf.light = "scene";
-    light = to_double(s.lights[0].pos);
+    light = s.lights[0].pos;
   } else {
     inf.light = "stated";
     light = centre + unit(Vec3d{0.5, 1.0, -0.7}) * (2 * R);
@@ -140,25 +102,16 @@ RaySoA make_rays(const scene::Scene& s, const bvh::Accel& accel, RaySet set, std
   for (std::size_t i = 0; i < prim.count; ++i) {
     if (hits[i].prim == kNoPrim) continue;
     const Ray<float> r = prim.get(i);
-    const Vec3d p = to_double(r.o) + to_double(r.d) * double(hits[i].t);
+    const Vec3d p = accel.world_point(r, hits[i].t);
     if (set == RaySet::shadow) {
       const Vec3d d = light - p;
       const double len = std::sqrt(dot(d, d));
       if (!(len > 2 * eps)) continue;
-      rays.push(to_float(p), to_float(d * (1.0 / len)), float(eps), float(len * 0.9999));
+      push(rays, p, d * (1.0 / len), eps, len * 0.9999);
       continue;
     }
-    // diffuse: geometric normal facing the incoming ray.
-    Vec3d n = to_double(r.d) * -1.0;
-    const auto kind = scene::Kind(hits[i].prim >> bvh::kKindShift);
-    const std::uint32_t idx = hits[i].prim & bvh::kGroupMask;
-    if (kind == scene::Kind::triangle) {
-      const auto& t = s.triangles[idx];
-      const Vec3d a = to_double(s.verts[t.v[0]]);
-      n = cross(to_double(s.verts[t.v[1]]) - a, to_double(s.verts[t.v[2]]) - a);
-    } else if (kind == scene::Kind::sphere) {
-      n = p - to_double(s.spheres[idx].c);
-    }
+    // diffuse: about the geometric normal facing the incoming ray.
+    Vec3d n = to_double(accel.surface(hits[i].prim, r, hits[i].t).ng);
     if (!(dot(n, n) > 0)) n = to_double(r.d) * -1.0;
     n = unit(n);
     if (dot(n, to_double(r.d)) > 0) n = n * -1.0;
@@ -166,36 +119,10 @@ RaySoA make_rays(const scene::Scene& s, const bvh::Accel& accel, RaySet set, std
     const Vec3d t2 = cross(n, t1);
     const double u1 = U(rng), u2 = U(rng), rr = std::sqrt(u1), ph = 2 * M_PI * u2;
     const Vec3d d = t1 * (rr * std::cos(ph)) + t2 * (rr * std::sin(ph)) + n * std::sqrt(std::max(0.0, 1 - u1));
-    rays.push(to_float(p), to_float(d), float(eps));
+    push(rays, p, d, eps);
   }
   if (rays.count == 0) rays.push(Vec3f{0, 0, 0}, Vec3f{0, 0, 0});  // no hits: one invalid ray
   return rays;
-}
-
-namespace {
-struct FtzObserver : tbb::task_scheduler_observer {
-  explicit FtzObserver(tbb::task_arena& a) : tbb::task_scheduler_observer(a) { observe(true); }
-  ~FtzObserver() override { observe(false); }
-  void on_scheduler_entry(bool) override { set_ftz(); }
-};
-}  // namespace
-
-struct ThreadScope::Impl {
-  tbb::task_arena arena;
-  std::unique_ptr<FtzObserver> obs;
-  explicit Impl(int threads) : arena(threads) {
-    arena.initialize();
-    obs = std::make_unique<FtzObserver>(arena);
-  }
-};
-
-ThreadScope::ThreadScope(int threads) : impl(new Impl(std::max(1, threads))) { set_ftz(); }
-ThreadScope::~ThreadScope() { delete impl; }
-void ThreadScope::run_fn(const std::function<void()>& f) {
-  impl->arena.execute([&] {
-    set_ftz();
-    f();
-  });
 }
 
 std::vector<double> time_runs(ThreadScope& ts, const Tracer& t, std::size_t rays, std::vector<HitRec>& out, int reps, std::size_t tile,

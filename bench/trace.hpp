@@ -11,12 +11,14 @@
 //            lights, a stated light at centre + 2 R (0.5, 1, -0.7)/|...|, R the bounds' radius),
 //            segment [1e-4 R, 0.9999 |L - P|]: any-hit queries
 //   diffuse  from each primary hit point, cosine-weighted about the geometric normal facing the
-//            incoming ray (triangles, spheres; other kinds: about the reversed incoming ray),
-//            tmin 1e-4 R
+//            incoming ray (the kind's surface rule, tracer/kinds.hpp), tmin 1e-4 R
 //   random   origin uniform in the bounds, direction uniform on the sphere
+// Rays are made in world coordinates (double) and stored in the accel's frame (tracer/plan.hpp):
+// both engines trace the same float rays against the same float geometry.
 #pragma once
 
-#include "bvh/accel.hpp"
+#include "tracer/accel.hpp"
+#include "tracer/parallel.hpp"
 
 #include <cstdint>
 #include <functional>
@@ -38,31 +40,18 @@ struct RaySetInfo {
 // About `count` rays of the set (primary: a width x height image of about count pixels; shadow
 // and diffuse: one per primary hit of an image of about count pixels). Uses `accel` for the
 // primary hits.
-RaySoA make_rays(const scene::Scene& s, const bvh::Accel& accel, RaySet set, std::size_t count, std::uint64_t seed,
+RaySoA make_rays(const scene::Scene& s, const tracer::SceneAccel& accel, RaySet set, std::size_t count, std::uint64_t seed,
                  RaySetInfo* info = nullptr);
 
-// Sets flush-to-zero and denormals-are-zero on every thread of `threads` while alive, and on the
-// calling thread.
-struct ThreadScope {
-  explicit ThreadScope(int threads);
-  ~ThreadScope();
-  ThreadScope(const ThreadScope&) = delete;
-  ThreadScope& operator=(const ThreadScope&) = delete;
-  template <class Fn>
-  void run(Fn&& f);  // runs f inside the arena
-  struct Impl;
-  Impl* impl;
-  void run_fn(const std::function<void()>& f);
-};
-template <class Fn>
-void ThreadScope::run(Fn&& f) { run_fn(std::function<void()>(std::forward<Fn>(f))); }
+using tracer::ThreadScope;
+using bvh::HitRec;
 
 // A tracer: traces rays [begin, end) into out (begin a multiple of 16).
-using Tracer = std::function<void(std::size_t begin, std::size_t end, bvh::HitRec* out)>;
+using Tracer = std::function<void(std::size_t begin, std::size_t end, HitRec* out)>;
 
 // Times `reps` runs of the tracer over all rays with TBB parallel_for over tiles of `tile` rays;
 // returns the seconds of each run. `progress(done, total)` after each run.
-std::vector<double> time_runs(ThreadScope& ts, const Tracer& t, std::size_t rays, std::vector<bvh::HitRec>& out, int reps,
+std::vector<double> time_runs(ThreadScope& ts, const Tracer& t, std::size_t rays, std::vector<HitRec>& out, int reps,
                               std::size_t tile, const std::function<void(int, int)>& progress = {});
 
 double median(std::vector<double> v);
@@ -74,7 +63,7 @@ struct Compare {
   std::size_t rays = 0, mismatches = 0, other_prim = 0;
   double rate() const { return rays ? double(mismatches) / double(rays) : 0.0; }
 };
-Compare compare(const std::vector<bvh::HitRec>& a, const std::vector<bvh::HitRec>& b, std::size_t n, bool any, float rel_tol = 1e-4f);
+Compare compare(const std::vector<HitRec>& a, const std::vector<HitRec>& b, std::size_t n, bool any, float rel_tol = 1e-4f);
 
 // A progress bar on stderr (only when stderr is a terminal).
 struct Progress {

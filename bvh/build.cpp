@@ -316,14 +316,19 @@ Bvh8 collapse8(const Bvh2& b) {
     const float dx = n.hi[0] - n.lo[0], dy = n.hi[1] - n.lo[1], dz = n.hi[2] - n.lo[2];
     return dx * dy + dy * dz + dz * dx;
   };
-  // Work list: (binary node, wide node index to fill).
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> work;
+  // Work list: (binary node, wide node index to fill, its depth).
+  struct Work {
+    std::uint32_t bi, wi;
+    int depth;
+  };
+  std::vector<Work> work;
   w.nodes.reserve(b.nodes.size() / 4 + 1);
   w.nodes.emplace_back();
-  work.push_back({0u, 0u});
+  work.push_back({0u, 0u, 1});
   while (!work.empty()) {
-    const auto [bi, wi] = work.back();
+    const auto [bi, wi, depth] = work.back();
     work.pop_back();
+    w.depth = std::max(w.depth, depth);
     std::uint32_t kids[8];
     int nk = 0;
     if (b.nodes[bi].leaf()) {
@@ -355,7 +360,7 @@ Bvh8 collapse8(const Bvh2& b) {
         const auto ci = std::uint32_t(w.nodes.size());
         w.nodes.emplace_back();
         node.child[k] = ci;
-        work.push_back({kids[k], ci});
+        work.push_back({kids[k], ci, depth + 1});
       }
     }
     w.nodes[wi] = node;
@@ -363,6 +368,26 @@ Bvh8 collapse8(const Bvh2& b) {
   w.root = 0;
   w.collapse_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return w;
+}
+
+void make_conservative(Bvh8& t, float origin_bound) {
+  const double u = 0x1p-24, O = double(origin_bound);
+  for (WNode& n : t.nodes)
+    for (int a = 0; a < 3; ++a)
+      for (int c = 0; c < 8; ++c) {
+        if (n.child[c] == kEmpty) continue;
+        float& lo = n.b[2 * a][c];
+        float& hi = n.b[2 * a + 1][c];
+        const double dl = 4 * u * (std::fabs(double(lo)) + O), dh = 4 * u * (std::fabs(double(hi)) + O);
+        // Widened in double, rounded outward to float (a float below/above the double value).
+        const double l = double(lo) - dl, h = double(hi) + dh;
+        float fl = float(l), fh = float(h);
+        if (double(fl) > l) fl = std::nextafter(fl, -kInfF);
+        if (double(fh) < h) fh = std::nextafter(fh, kInfF);
+        lo = fl;
+        hi = fh;
+      }
+  t.origin_bound = origin_bound;
 }
 
 }  // namespace rb::bvh

@@ -1,5 +1,7 @@
 // The BVH as plain data: a binary tree of slabs (BNode) and the 8-wide tree collapsed from it
-// (WNode, SoA child boxes). Builders (bvh/build.cpp) and traversals (bvh/accel.hpp) are separate.
+// (WNode, SoA child boxes). Builders (bvh/build.cpp) and the traversal (bvh/traverse.hpp) are
+// separate, and neither knows what a primitive is: the builder sees boxes with a small kind tag,
+// the traversal calls a leaf source (bvh/traverse.hpp) with a leaf's reference.
 //
 // Node byte budgets: BNode 32 bytes (box 24 + child-or-leaf 4 + count/kind 4); WNode 224 bytes
 // (six arrays of 8 floats: lo_x hi_x lo_y hi_y lo_z hi_z, then 8 child references).
@@ -88,7 +90,46 @@ struct Bvh8 {
   std::vector<WNode> nodes;  // root 0 (when the tree is not empty)
   std::uint32_t root = kEmpty;  // a leaf reference when the whole tree is one leaf
   double collapse_ms = 0;
+  int depth = 0;  // wide nodes on the longest root-to-leaf path
+  // Conservative boxes (make_conservative): the bound on |ray origin| (max norm, in the tree's
+  // coordinates) up to which the fast slab test cannot cull a box that the exact ray meets; 0
+  // when the boxes are as built.
+  float origin_bound = 0;
+  // Entries the single-ray traversal stack can hold at most: a node visit pushes at most 7 of
+  // its 8 children, once per level.
+  std::size_t stack_entries() const { return std::size_t(7) * std::size_t(depth) + 1; }
 };
 Bvh8 collapse8(const Bvh2& b);
+
+// Widens every child box of the wide tree outward so that the fast slab test of bvh/traverse.hpp
+// (t = box * (1/d) - o * (1/d), one FMA) is conservative for every ray whose origin has
+// max(|o.x|, |o.y|, |o.z|) <= origin_bound: it never culls a box the exact ray meets. Each
+// coordinate c moves out by 4 u (|c| + origin_bound) (u = 2^-24), rounded up (derivation in
+// docs/DESIGN.md section 12). Rays from farther away use the robust test (the traversal decides
+// per ray). Sets t.origin_bound.
+void make_conservative(Bvh8& t, float origin_bound);
+
+// ---- what the traversal returns and counts -------------------------------------------------------
+// A hit: t (+inf when none) and the primitive as kind << kKindShift | index within its kind (kNoPrim).
+struct HitRec {
+  float t;
+  std::uint32_t prim;
+};
+inline constexpr std::uint32_t kNoPrim = 0xFFFFFFFFu;
+inline constexpr int kMaxKinds = 8;  // 3 bits of a leaf reference
+inline std::uint32_t prim_code(int kind, std::uint32_t index) { return std::uint32_t(kind) << kKindShift | index; }
+inline int prim_kind(std::uint32_t code) { return int(code >> kKindShift); }
+inline std::uint32_t prim_index(std::uint32_t code) { return code & kGroupMask; }
+
+// Traversal cost, summed over rays: nodes visited, box tests, primitive tests (real slots), and the
+// primitive tests split by kind.
+struct TraceCounters {
+  std::uint64_t nodes = 0, boxes = 0, prims = 0;
+  std::uint64_t kind_prims[kMaxKinds] = {};
+  void add(const TraceCounters& o) {
+    nodes += o.nodes; boxes += o.boxes; prims += o.prims;
+    for (int k = 0; k < kMaxKinds; ++k) kind_prims[k] += o.kind_prims[k];
+  }
+};
 
 }  // namespace rb::bvh

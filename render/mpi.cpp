@@ -40,13 +40,13 @@ RenderStats render_tiles_mpi(const MpiSession& mpi, const Renderer& r, std::vect
   if (mpi.rank() == 0) samples.swap(all);
   // Counts.
   std::vector<std::uint64_t> c = {st.eye, st.eye_hit, st.reflect, st.refract, st.shadow, st.cost.nodes, st.cost.boxes, st.cost.prims};
-  for (int k = 0; k < scene::kKinds; ++k) c.push_back(st.cost.kind_prims[k]);
+  for (int k = 0; k < bvh::kMaxKinds; ++k) c.push_back(st.cost.kind_prims[k]);
   std::vector<std::uint64_t> sum(c.size());
   MPI_Reduce(c.data(), sum.data(), int(c.size()), MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
   if (mpi.rank() == 0) {
     st.eye = sum[0]; st.eye_hit = sum[1]; st.reflect = sum[2]; st.refract = sum[3]; st.shadow = sum[4];
     st.cost.nodes = sum[5]; st.cost.boxes = sum[6]; st.cost.prims = sum[7];
-    for (int k = 0; k < scene::kKinds; ++k) st.cost.kind_prims[k] = sum[8 + std::size_t(k)];
+    for (int k = 0; k < bvh::kMaxKinds; ++k) st.cost.kind_prims[k] = sum[8 + std::size_t(k)];
   }
   return st;
 }

@@ -1,19 +1,15 @@
 #include "render/render.hpp"
 
 #include "render/optics.hpp"
-#include "render/surface.hpp"
+#include "tracer/parallel.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
-#include <xmmintrin.h>
-#include <pmmintrin.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <limits>
-#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -22,20 +18,7 @@ namespace rb::render {
 
 namespace {
 
-constexpr float kInfF = std::numeric_limits<float>::infinity();
 constexpr int kMaxCrossings = 16;  // transmitting occluders followed per shadow ray
-
-Vec3d unit_d(const Vec3d& a) {
-  const double l = std::sqrt(dot(a, a));
-  return l > 0 ? a * (1.0 / l) : a;
-}
-
-bool has_camera(const scene::Scene& s) {
-  const scene::Camera d{};
-  const auto& c = s.camera;
-  return !(c.from.x == d.from.x && c.from.y == d.from.y && c.from.z == d.from.z && c.at.x == d.at.x && c.at.y == d.at.y &&
-           c.at.z == d.at.z);
-}
 
 // Writes rays into a RaySoA in one go (RaySoA::push appends one at a time), padded to 8 lanes with
 // invalid rays.
@@ -89,7 +72,24 @@ void sort_by_octant(std::vector<Ray<float>>& rays, std::vector<P>& payload, std:
   payload.swap(tmp_p);
 }
 
+void add_to(float* samples, std::uint32_t sample, const Vec3f& c) {
+  float* px = samples + 3 * std::size_t(sample);
+  px[0] += c.x; px[1] += c.y; px[2] += c.z;
+}
+
 }  // namespace
+
+// A tile's rays in flight, reused from tile to tile on each thread (allocation churn cost more
+// than shading).
+struct Renderer::Work {
+  std::vector<Ray<float>> rays, next_rays, srays, more, tmp_r;
+  std::vector<PathRay> path, next_path, tmp_path;
+  std::vector<ShadowRay> shadow, tmp_shadow;
+  std::vector<bvh::HitRec> hits;
+  std::vector<float> pass;
+  std::vector<std::uint32_t> live, more_live;
+  RaySoA soa;
+};
 
 RenderOptions spd_options(const scene::Scene& s, int width, int height, int depth) {
   RenderOptions o;
@@ -102,7 +102,15 @@ RenderOptions spd_options(const scene::Scene& s, int width, int height, int dept
   return o;
 }
 
-Renderer::Renderer(const scene::Scene& s, const bvh::Accel& a, const RenderOptions& o) : s_(s), a_(a), o_(o) {
+Vec3f surface_color(const scene::Material& m, const Vec3d& p) {
+  if (!(m.checker > 0)) return m.color;
+  const double c = double(m.checker);
+  const auto cell = [&](double x) { return static_cast<long long>(std::floor(x / c)); };
+  const long long parity = cell(p.x) + cell(p.y) + cell(p.z);
+  return (parity & 1) ? m.color2 : m.color;
+}
+
+Renderer::Renderer(const scene::Scene& s, const tracer::SceneAccel& a, const RenderOptions& o) : s_(s), a_(a), o_(o) {
   if (o.width < 1 || o.height < 1 || o.width > 16384 || o.height > 16384)
     throw std::invalid_argument("image size " + std::to_string(o.width) + " x " + std::to_string(o.height) +
                                 " is outside 1 .. 16384");
@@ -112,45 +120,13 @@ Renderer::Renderer(const scene::Scene& s, const bvh::Accel& a, const RenderOptio
   gh_ = o.height + (o.spd ? 1 : 0);
   tx_ = (gw_ + o.tile - 1) / o.tile;
   ty_ = (gh_ + o.tile - 1) / o.tile;
-
-  // Camera: the scene's (NFF `v`: angle is the full field of view across the larger image side),
-  // or for scenes without one the stated camera of `raybench trace`.
-  const scene::Bounds b = s.bounds();
-  Vec3d lo{-1, -1, -1}, hi{1, 1, 1};
-  if (!b.empty()) lo = to_double(b.lo), hi = to_double(b.hi);
-  const Vec3d centre = (lo + hi) * 0.5;
-  double angle;
-  if (has_camera(s)) {
-    from_ = to_double(s.camera.from);
-    w_ = unit_d(to_double(s.camera.at) - from_);
-    angle = double(s.camera.angle);
-    Vec3d u = cross(w_, to_double(s.camera.up));
-    if (dot(u, u) == 0) u = cross(w_, Vec3d{0, 1, 0});
-    if (dot(u, u) == 0) u = cross(w_, Vec3d{1, 0, 0});
-    u_ = unit_d(u);
-  } else {
-    angle = 45;
-    const Vec3d dir = unit_d(Vec3d{0.3, 0.4, -1.0});
-    const double h = 0.5 * std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
-    from_ = centre + dir * (h / std::tan(angle * M_PI / 360.0) + h);
-    w_ = dir * -1.0;
-    u_ = unit_d(cross(w_, Vec3d{0, 1, 0}));
-  }
-  if (!(angle > 0 && angle < 180)) angle = 45;
-  v_ = cross(u_, w_);
-  // Image plane at distance 1: the larger side spans 2 tan(angle / 2) from pixel edge to edge
-  // (centres) or from the first to the last corner (SPD).
-  const double half = std::tan(angle * M_PI / 360.0);
-  const double step = 2.0 * half / double(std::max(o.width, o.height));
-  u_ = u_ * step;
-  v_ = v_ * -step;  // rows go down
+  // The camera (scene/camera.hpp). Image plane at distance 1: the larger side spans 2 tan(angle / 2)
+  // from pixel edge to edge (centres) or from the first to the last corner (SPD).
+  view_ = scene::view_of(s);
+  step_ = 2.0 / double(std::max(o.width, o.height));
   const double off = o.spd ? 0.0 : 0.5;
   x0_ = off - 0.5 * double(o.width);
   y0_ = off - 0.5 * double(o.height);
-
-  const double ext = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z, std::fabs(lo.x), std::fabs(lo.y), std::fabs(lo.z),
-                               std::fabs(hi.x), std::fabs(hi.y), std::fabs(hi.z)});
-  eps_ = float(std::max(1e-5 * ext, 1e-7));
 
   mats_ = s.materials;
   if (mats_.empty()) mats_.push_back(scene::Material{});
@@ -164,185 +140,163 @@ Renderer::Renderer(const scene::Scene& s, const bvh::Accel& a, const RenderOptio
     light_col_.push_back(L.color * li);
   }
   if (s.lights.empty()) {
-    light_pos_.push_back(to_float(from_));
+    light_pos_.push_back(view_.from);
     light_col_.push_back(Vec3f{1, 1, 1});
   }
+}
+
+// Eye rays, row-major in the tile: 8 neighbours on a row form a packet. NFF's hither plane is for
+// scan converters: not used.
+void Renderer::eye_rays(int x0, int y0, int x1, int y1, Work& w) const {
+  w.rays.clear();
+  w.path.clear();
+  w.rays.reserve(std::size_t(x1 - x0) * std::size_t(y1 - y0));
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x) {
+      const Vec3d d = view_.dir((x0_ + double(x)) * step_, -(y0_ + double(y)) * step_);
+      w.rays.push_back(a_.frame_ray(view_.from, d));
+      w.path.push_back({std::uint32_t(y * gw_ + x), 1, Vec3f{1, 1, 1}});
+    }
+}
+
+// RT_trace for a batch: the closest (or any) hit of every ray.
+void Renderer::trace(Work& w, const std::vector<Ray<float>>& rays, bool any, bool secondary, RenderStats& st) const {
+  fill(w.soa, rays);
+  w.hits.resize(w.soa.size());
+  tracer::TraceOptions to;
+  to.packet = !secondary || o_.secondary_packet == 8 ? 8 : 1;
+  to.any = any;
+  if (o_.count_tests) a_.trace_counted(w.soa, 0, w.soa.size(), w.hits.data(), to, st.cost);
+  else a_.trace(w.soa, 0, w.soa.size(), w.hits.data(), to);
+}
+
+// RT_shade for every ray of the generation: background on a miss; else the ambient term, one
+// shadow ray per light the surface faces (their light is added by shadows()), and below the
+// depth limit the reflection and refraction rays of the next generation.
+void Renderer::shade(float* samples, Work& w, RenderStats& st) const {
+  w.next_path.clear();
+  w.next_rays.clear();
+  w.shadow.clear();
+  w.srays.clear();
+  for (std::size_t i = 0; i < w.rays.size(); ++i) {
+    const PathRay& pr = w.path[i];
+    const Ray<float>& r = w.rays[i];
+    if (w.hits[i].prim == bvh::kNoPrim) {
+      add_to(samples, pr.sample, mul(pr.w, s_.background));
+      continue;
+    }
+    if (pr.depth == 1) ++st.eye_hit;
+    const kinds::Surface sf = a_.surface(w.hits[i].prim, r, w.hits[i].t);
+    const scene::Material& m = mats_[sf.mat < mats_.size() ? sf.mat : 0];
+    const Vec3f base = surface_color(m, sf.p);
+    const bool front = dot(sf.ng, r.d) <= 0.0f;  // the ray arrives on the side ng points to
+    const Vec3f ng_in = front ? sf.ng : -sf.ng;  // normals turned towards the incoming ray
+    const Vec3f ns_in = front ? sf.ns : -sf.ns;
+    // The normal of the light test: one-sided opaque surfaces keep theirs.
+    const bool two = o_.two_sided || m.t > 0;
+    const Vec3f nl = two ? ns_in : sf.ns;
+    const Vec3f ngl = two ? ng_in : sf.ng;
+
+    // Ambient.
+    add_to(samples, pr.sample, mul(pr.w, base * (o_.ambient * m.kd)));
+    // Lights: Lambert + Phong, each behind a shadow ray from the surface (on the light test's
+    // side) to the light, in the frame.
+    const Vec3f view = -r.d;
+    for (std::size_t l = 0; l < light_pos_.size(); ++l) {
+      const Vec3d to = light_pos_[l] - sf.p;
+      const double dist = std::sqrt(dot(to, to));
+      if (!(dist > 0.0)) continue;
+      const Vec3f L = to_float(to * (1.0 / dist));
+      const float ndl = dot(nl, L);
+      if (!(ndl > 0.0f)) continue;
+      float spec = 0.0f;
+      if (m.ks > 0.0f) {
+        const float rv = dot(reflect(-L, nl), view);
+        if (rv > 0.0f) spec = m.ks * std::pow(rv, m.shine);
+      }
+      const Vec3f local = base * (m.kd * ndl) + Vec3f{spec, spec, spec};
+      const Vec3f o = a_.spawn_point(sf, ngl);
+      w.shadow.push_back({pr.sample, mul(mul(pr.w, light_col_[l]), local)});
+      w.srays.push_back(make_ray(o, a_.to_frame(light_pos_[l]) - o, 0.0f, 1.0f - 1e-6f));
+    }
+    // Reflection and refraction below the depth limit.
+    if (pr.depth >= o_.depth) continue;
+    const bool reflective = m.ks > 0.0f, transmits = m.t > 0.0f;
+    bool tir = false;
+    if (transmits) {
+      const float eta_i = front ? 1.0f : m.ior, eta_t = front ? m.ior : 1.0f;
+      const auto dt = refract(r.d, ns_in, eta_i, eta_t);
+      if (dt) {
+        const Vec3f o = a_.spawn_point(sf, dot(*dt, ng_in) < 0.0f ? -ng_in : ng_in);
+        w.next_rays.push_back(make_ray(o, *dt));
+        w.next_path.push_back({pr.sample, pr.depth + 1, pr.w * m.t});
+        ++st.refract;
+      } else {
+        tir = true;
+      }
+    }
+    const float kr = m.ks + (tir ? m.t : 0.0f);
+    if (o_.spd ? (reflective || transmits) : kr > 0.0f) {
+      const Vec3f dr = reflect(r.d, ns_in);
+      const Vec3f o = a_.spawn_point(sf, dot(dr, ng_in) < 0.0f ? -ng_in : ng_in);
+      w.next_rays.push_back(make_ray(o, dr));
+      w.next_path.push_back({pr.sample, pr.depth + 1, pr.w * kr});
+      ++st.reflect;
+    }
+  }
+}
+
+// The shadow rays of a generation: any hit blocks, unless the scene has transmitting materials:
+// then the closest occluder is found, a transmitting one scales the light by its T and the ray
+// goes on from beyond it.
+void Renderer::shadows(float* samples, Work& w, RenderStats& st) const {
+  st.shadow += w.srays.size();
+  if (o_.secondary_packet == 8) sort_by_octant(w.srays, w.shadow, w.tmp_r, w.tmp_shadow);
+  auto& cur = w.srays;
+  w.pass.assign(w.srays.size(), 1.0f);
+  w.live.resize(w.srays.size());
+  for (std::size_t i = 0; i < w.srays.size(); ++i) w.live[i] = std::uint32_t(i);
+  for (int round = 0; !cur.empty(); ++round) {
+    trace(w, cur, !transparent_, true, st);
+    w.more.clear();
+    w.more_live.clear();
+    for (std::size_t k = 0; k < cur.size(); ++k) {
+      const std::uint32_t j = w.live[k];
+      if (w.hits[k].prim == bvh::kNoPrim) continue;
+      if (!transparent_) { w.pass[j] = 0.0f; continue; }
+      const kinds::Surface sf = a_.surface(w.hits[k].prim, cur[k], w.hits[k].t);
+      const scene::Material& m = mats_[sf.mat < mats_.size() ? sf.mat : 0];
+      w.pass[j] *= m.t;
+      if (!(m.t > 0.0f) || round + 1 >= kMaxCrossings) { w.pass[j] = m.t > 0.0f ? w.pass[j] : 0.0f; continue; }
+      // Go on from just beyond the occluder to the light.
+      const Vec3f end = cur[k].o + cur[k].d * cur[k].tmax;
+      const Vec3f o = a_.spawn_point(sf, cur[k].d);
+      const Vec3f d = end - o;
+      if (!(dot(d, cur[k].d) > 0.0f)) continue;
+      w.more.push_back(make_ray(o, d, 0.0f, 1.0f));
+      w.more_live.push_back(j);
+    }
+    cur.swap(w.more);
+    w.live.swap(w.more_live);
+  }
+  for (std::size_t i = 0; i < w.shadow.size(); ++i)
+    if (w.pass[i] > 0.0f) add_to(samples, w.shadow[i].sample, w.shadow[i].add * w.pass[i]);
 }
 
 void Renderer::render_tile(std::size_t t, float* samples, RenderStats& st) const {
   const int tx = int(t % std::size_t(tx_)), ty = int(t / std::size_t(tx_));
   const int x0 = tx * o_.tile, y0 = ty * o_.tile;
   const int x1 = std::min(gw_, x0 + o_.tile), y1 = std::min(gh_, y0 + o_.tile);
-
-  // Per-thread scratch arrays, reused from tile to tile (allocation churn cost more than shading).
-  struct Scratch {
-    std::vector<Ray<float>> rays, next_rays, srays, more;
-    std::vector<PathRay> path, next_path;
-    std::vector<ShadowRay> shadow;
-    std::vector<bvh::HitRec> hits;
-    std::vector<float> pass;
-    std::vector<std::uint32_t> live, more_live;
-    std::vector<Ray<float>> tmp_r;
-    std::vector<PathRay> tmp_path;
-    std::vector<ShadowRay> tmp_shadow;
-    RaySoA soa;
-  };
-  thread_local Scratch sc;
-  auto& rays = sc.rays;
-  auto& next_rays = sc.next_rays;
-  auto& srays = sc.srays;
-  auto& path = sc.path;
-  auto& next_path = sc.next_path;
-  auto& shadow = sc.shadow;
-  auto& hits = sc.hits;
-  auto& soa = sc.soa;
-  rays.clear();
-  path.clear();
-  rays.reserve(std::size_t(x1 - x0) * std::size_t(y1 - y0));
-
-  // Eye rays, row-major in the tile: 8 neighbours on a row form a packet.
-  for (int y = y0; y < y1; ++y)
-    for (int x = x0; x < x1; ++x) {
-      const Vec3d d = w_ + u_ * (x0_ + double(x)) + v_ * (y0_ + double(y));
-      rays.push_back(make_ray(to_float(from_), to_float(d)));  // NFF's hither plane is for scan converters: not used
-      path.push_back({std::uint32_t(y * gw_ + x), 1, Vec3f{1, 1, 1}});
-    }
-  st.eye += rays.size();
-
-  bvh::TraceOptions closest;
-  closest.packet = 8;
-  bvh::TraceOptions second = closest;
-  second.packet = o_.secondary_packet == 8 ? 8 : 1;
-  const bool sort = second.packet == 8;
-  bvh::TraceOptions any = second;
-  any.any = true;
-
-  auto trace = [&](const RaySoA& batch, std::vector<bvh::HitRec>& out, const bvh::TraceOptions& to, RenderStats& s) {
-    if (o_.count_tests) a_.trace_counted(batch, 0, batch.size(), out.data(), to, s.cost);
-    else a_.trace(batch, 0, batch.size(), out.data(), to);
-  };
-  auto add = [&](std::uint32_t sample, const Vec3f& c) {
-    float* px = samples + 3 * std::size_t(sample);
-    px[0] += c.x; px[1] += c.y; px[2] += c.z;
-  };
-
-  while (!rays.empty()) {
-    fill(soa, rays);
-    hits.resize(soa.size());
-    trace(soa, hits, path.empty() || path[0].depth == 1 ? closest : second, st);
-    next_path.clear();
-    next_rays.clear();
-    shadow.clear();
-    srays.clear();
-    for (std::size_t i = 0; i < rays.size(); ++i) {
-      const PathRay& pr = path[i];
-      const Ray<float>& r = rays[i];
-      if (hits[i].prim == bvh::kNoPrim) {
-        add(pr.sample, mul(pr.w, s_.background));
-        continue;
-      }
-      if (pr.depth == 1) ++st.eye_hit;
-      const Surface sf = surface_at(s_, hits[i].prim, r, hits[i].t);
-      const scene::Material& m = mats_[sf.mat < mats_.size() ? sf.mat : 0];
-      const Vec3f base = surface_color(m, sf.p);
-      const bool front = dot(sf.ng, r.d) <= 0.0f;  // the ray arrives on the side ng points to
-      const Vec3f ng_in = front ? sf.ng : -sf.ng;  // normals turned towards the incoming ray
-      const Vec3f ns_in = front ? sf.ns : -sf.ns;
-      // The normal of the light test: one-sided opaque surfaces keep theirs.
-      const bool two = o_.two_sided || m.t > 0;
-      const Vec3f nl = two ? ns_in : sf.ns;
-      const Vec3f ngl = two ? ng_in : sf.ng;
-
-      // Ambient.
-      add(pr.sample, mul(pr.w, base * (o_.ambient * m.kd)));
-      // Lights: Lambert + Phong, each behind a shadow ray.
-      const Vec3f view = -r.d;
-      for (std::size_t l = 0; l < light_pos_.size(); ++l) {
-        const Vec3f to = light_pos_[l] - sf.p;
-        const float dist = length(to);
-        if (!(dist > 0.0f)) continue;
-        const Vec3f L = to * (1.0f / dist);
-        const float ndl = dot(nl, L);
-        if (!(ndl > 0.0f)) continue;
-        float spec = 0.0f;
-        if (m.ks > 0.0f) {
-          const float rv = dot(reflect(-L, nl), view);
-          if (rv > 0.0f) spec = m.ks * std::pow(rv, m.shine);
-        }
-        const Vec3f local = base * (m.kd * ndl) + Vec3f{spec, spec, spec};
-        const Vec3f o = sf.p + ngl * eps_;
-        shadow.push_back({pr.sample, mul(mul(pr.w, light_col_[l]), local)});
-        srays.push_back(make_ray(o, light_pos_[l] - o, 0.0f, 1.0f - 1e-6f));
-      }
-      // Reflection and refraction below the depth limit.
-      if (pr.depth >= o_.depth) continue;
-      const bool reflective = m.ks > 0.0f, transmits = m.t > 0.0f;
-      bool tir = false;
-      if (transmits) {
-        const float eta_i = front ? 1.0f : m.ior, eta_t = front ? m.ior : 1.0f;
-        const auto dt = refract(r.d, ns_in, eta_i, eta_t);
-        if (dt) {
-          const Vec3f o = sf.p + (dot(*dt, ng_in) < 0.0f ? -ng_in : ng_in) * eps_;
-          next_rays.push_back(make_ray(o, *dt));
-          next_path.push_back({pr.sample, pr.depth + 1, pr.w * m.t});
-          ++st.refract;
-        } else {
-          tir = true;
-        }
-      }
-      const float kr = m.ks + (tir ? m.t : 0.0f);
-      if (o_.spd ? (reflective || transmits) : kr > 0.0f) {
-        const Vec3f dr = reflect(r.d, ns_in);
-        const Vec3f o = sf.p + (dot(dr, ng_in) < 0.0f ? -ng_in : ng_in) * eps_;
-        next_rays.push_back(make_ray(o, dr));
-        next_path.push_back({pr.sample, pr.depth + 1, pr.w * kr});
-        ++st.reflect;
-      }
-    }
-
-    // Shadow rays: any hit blocks, unless the scene has transmitting materials: then the closest
-    // occluder is found, a transmitting one scales the light by its T and the ray goes on.
-    st.shadow += srays.size();
-    if (sort) sort_by_octant(srays, shadow, sc.tmp_r, sc.tmp_shadow);
-    auto& pass = sc.pass;
-    auto& live = sc.live;
-    auto& cur = srays;
-    auto& more = sc.more;
-    auto& more_live = sc.more_live;
-    pass.assign(srays.size(), 1.0f);
-    live.resize(srays.size());
-    for (std::size_t i = 0; i < srays.size(); ++i) live[i] = std::uint32_t(i);
-    for (int round = 0; !cur.empty(); ++round) {
-      fill(soa, cur);
-      hits.resize(soa.size());
-      trace(soa, hits, transparent_ ? second : any, st);
-      more.clear();
-      more_live.clear();
-      for (std::size_t k = 0; k < cur.size(); ++k) {
-        const std::uint32_t j = live[k];
-        if (hits[k].prim == bvh::kNoPrim) continue;
-        if (!transparent_) { pass[j] = 0.0f; continue; }
-        const Surface sf = surface_at(s_, hits[k].prim, cur[k], hits[k].t);
-        const scene::Material& m = mats_[sf.mat < mats_.size() ? sf.mat : 0];
-        pass[j] *= m.t;
-        if (!(m.t > 0.0f) || round + 1 >= kMaxCrossings) { pass[j] = m.t > 0.0f ? pass[j] : 0.0f; continue; }
-        // Go on from just beyond the occluder to the light.
-        const Vec3f end = cur[k].o + cur[k].d * cur[k].tmax;
-        const Vec3f o = sf.p + cur[k].d * eps_;
-        const Vec3f d = end - o;
-        if (!(dot(d, cur[k].d) > 0.0f)) continue;
-        more.push_back(make_ray(o, d, 0.0f, 1.0f));
-        more_live.push_back(j);
-      }
-      cur.swap(more);
-      live.swap(more_live);
-    }
-    for (std::size_t i = 0; i < shadow.size(); ++i)
-      if (pass[i] > 0.0f) add(shadow[i].sample, shadow[i].add * pass[i]);
-
-    rays.swap(next_rays);
-    path.swap(next_path);
-    if (sort) sort_by_octant(rays, path, sc.tmp_r, sc.tmp_path);
+  thread_local Work w;
+  eye_rays(x0, y0, x1, y1, w);
+  st.eye += w.rays.size();
+  for (bool first = true; !w.rays.empty(); first = false) {
+    trace(w, w.rays, false, !first, st);
+    shade(samples, w, st);
+    shadows(samples, w, st);
+    w.rays.swap(w.next_rays);
+    w.path.swap(w.next_path);
+    if (o_.secondary_packet == 8) sort_by_octant(w.rays, w.path, w.tmp_r, w.tmp_path);
   }
 }
 
@@ -368,12 +322,9 @@ RenderStats render_tiles(const Renderer& r, std::vector<float>& samples, int thr
   std::vector<RenderStats> per(mine.size());
   std::atomic<std::size_t> done{0};
   const auto caller = std::this_thread::get_id();
-  tbb::task_arena arena(std::max(1, threads));
-  arena.execute([&] {
+  tracer::ThreadScope ts(threads);
+  ts.run([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mine.size(), 1), [&](const tbb::blocked_range<std::size_t>& br) {
-      // The same floating-point environment on every thread (as `raybench trace` sets it).
-      _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
-      _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
       for (std::size_t i = br.begin(); i != br.end(); ++i) {
         r.render_tile(mine[i], samples.data(), per[i]);
         const std::size_t d = ++done;

@@ -1,4 +1,4 @@
-// The lecture's recursive ray tracer (RT_trace / RT_shade) over the BVH, with Haines' SPD
+// The lecture's recursive ray tracer (RT_trace / RT_shade) over the scene tracer, with Haines' SPD
 // statistics.
 //
 // RT_trace: the closest hit through the BVH; the background colour on a miss. RT_shade: an ambient
@@ -15,10 +15,15 @@
 // pixel (the product of Ks and T along its path), so the sum equals the recursion's result. A
 // tile's result depends on nothing but the tile, which makes the image the same for any thread
 // count or any split of the tiles between processes.
+//
+// The tracer's plan (tracer/plan.hpp) decides the frame rays are traced in and where secondary rays
+// start (its spawn offset); shading works on world points in double, so a scene far from the
+// origin shades as it does at the origin.
 #pragma once
 
-#include "bvh/accel.hpp"
+#include "scene/camera.hpp"
 #include "scene/scene.hpp"
+#include "tracer/accel.hpp"
 
 #include <cstdint>
 #include <functional>
@@ -65,7 +70,7 @@ RenderOptions spd_options(const scene::Scene& s, int width = 512, int height = 5
 class Renderer {
  public:
   // Throws std::invalid_argument on absurd sizes (width/height outside [1, 16384], depth < 1).
-  Renderer(const scene::Scene& s, const bvh::Accel& a, const RenderOptions& o);
+  Renderer(const scene::Scene& s, const tracer::SceneAccel& a, const RenderOptions& o);
 
   int grid_w() const { return gw_; }  // sample grid (SPD: pixel corners)
   int grid_h() const { return gh_; }
@@ -79,17 +84,26 @@ class Renderer {
 
   const RenderOptions& options() const { return o_; }
 
+  struct Work;  // a tile's rays and payloads (render.cpp)
+
  private:
   const scene::Scene& s_;
-  const bvh::Accel& a_;
+  const tracer::SceneAccel& a_;
   RenderOptions o_;
   int gw_, gh_, tx_, ty_;
-  Vec3d from_, u_, v_, w_;  // camera frame: u, v scaled to one sample step on the image plane
-  double x0_, y0_;          // image-plane coordinate of sample (0, 0)
-  float eps_;               // offset of secondary ray origins from the surface
+  scene::View view_;
+  double step_;             // image-plane distance between samples, in units of view_.half
+  double x0_, y0_;          // image-plane coordinate of sample (0, 0), in samples
   bool transparent_;        // the scene has a transmitting material (shadow rays see through)
   std::vector<scene::Material> mats_;
-  std::vector<Vec3f> light_pos_, light_col_;
+  std::vector<Vec3d> light_pos_;  // world
+  std::vector<Vec3f> light_col_;
+
+  // The steps of one generation (RT_trace / RT_shade), in the order render_tile runs them.
+  void eye_rays(int x0, int y0, int x1, int y1, Work& w) const;                                // spawn the first generation
+  void trace(Work& w, const std::vector<Ray<float>>& rays, bool any, bool secondary, RenderStats& st) const;  // RT_trace
+  void shade(float* samples, Work& w, RenderStats& st) const;                                  // RT_shade: local light, next generation
+  void shadows(float* samples, Work& w, RenderStats& st) const;                                // the shadow rays of this generation
 };
 
 // Renders the tiles t with t % parts == part (all tiles: part 0 of 1) on `threads` TBB threads
@@ -97,6 +111,9 @@ class Renderer {
 // `progress(done, total)` is called from the calling thread's tiles now and then.
 RenderStats render_tiles(const Renderer& r, std::vector<float>& samples, int threads, int part = 0, int parts = 1,
                          const std::function<void(std::size_t, std::size_t)>& progress = {});
+
+// The surface colour at p (world): Material::color, or the checkerboard's two colours by cell parity.
+Vec3f surface_color(const scene::Material& m, const Vec3d& p);
 
 // 8-bit sRGB-less PNG (values clamped to [0, 1], x 255, rounded). Throws on a write failure.
 void write_png(const std::string& path, int width, int height, const std::vector<float>& rgb);

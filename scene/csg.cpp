@@ -412,15 +412,15 @@ Scene build_scene(const json& root, const std::string& name) {
   if (root.contains("camera")) {
     const json& c = root["camera"];
     if (!c.is_object()) fail("camera", "expected an object");
-    if (c.contains("from")) s.camera.from = to_float(vec(c, "camera", "from"));
-    if (c.contains("at")) s.camera.at = to_float(vec(c, "camera", "at"));
-    if (c.contains("up")) s.camera.up = to_float(nonzero(c, "camera", "up"));
+    if (c.contains("from")) s.camera.from = vec(c, "camera", "from");
+    if (c.contains("at")) s.camera.at = vec(c, "camera", "at");
+    if (c.contains("up")) s.camera.up = nonzero(c, "camera", "up");
     if (c.contains("angle")) {
       const double a = num(c, "camera", "angle");
       if (!(a > 0 && a < 180)) fail("camera.angle", "expected degrees in (0, 180)");
-      s.camera.angle = float(a);
+      s.camera.angle = a;
     }
-    if (c.contains("hither")) s.camera.hither = float(num(c, "camera", "hither"));
+    if (c.contains("hither")) s.camera.hither = num(c, "camera", "hither");
     for (const char* k : {"width", "height"})
       if (c.contains(k)) {
         const json& v = c[k];
@@ -437,7 +437,7 @@ Scene build_scene(const json& root, const std::string& name) {
       const std::string p = "lights[" + std::to_string(i) + "]";
       if (!l[i].is_object()) fail(p, "expected {\"position\": [..], \"color\": [..]}");
       Light L;
-      L.pos = to_float(vec(l[i], p, "position"));
+      L.pos = vec(l[i], p, "position");
       if (l[i].contains("color")) L.color = to_float(vec(l[i], p, "color"));
       s.lights.push_back(L);
     }
@@ -465,7 +465,23 @@ Scene build_scene(const json& root, const std::string& name) {
     if (type == "sphere" && !o.contains("transform")) {
       const Vec3d c = vec(o, p, "center");
       const double r = positive(o, p, "radius");
-      s.spheres.push_back({to_float(c), float(r), mat});
+      s.spheres.push_back({c, r, mat});
+      continue;
+    }
+    if (type == "torus" && !o.contains("transform")) {
+      // A plain torus (a primitive kind of its own); with a transform it is a one-leaf CSG object.
+      // The same checks as the CSG leaf: a ring torus (R > r) with a non-zero axis.
+      for (auto it = o.begin(); it != o.end(); ++it)
+        if (it.key() != "type" && it.key() != "center" && it.key() != "axis" && it.key() != "major" && it.key() != "minor" &&
+            it.key() != "material")
+          fail(p + "." + it.key(), "unknown key (center, axis, major, minor, material)");
+      const Vec3d c = vec(o, p, "center"), w = nonzero(o, p, "axis");
+      const double R = positive(o, p, "major"), r = positive(o, p, "minor");
+      if (!(R > r)) fail(key_path(p, "minor"), "expected a number below \"major\" (a ring torus)");
+      std::string why;
+      make_torus(c, w, R, r, Vec3d{1, 0, 0}, &why);
+      if (!why.empty()) fail(p, why);
+      s.tori.push_back({c, w, R, r, mat});
       continue;
     }
     if (type == "polygon") {
@@ -473,12 +489,22 @@ Scene build_scene(const json& root, const std::string& name) {
       const std::string vp = p + ".vertices";
       if (!v.is_array() || v.size() < 3 || v.size() > 100000) fail(vp, "expected an array of 3 to 100000 points");
       PolygonIn pg{std::uint32_t(s.poly_verts.size()), std::uint32_t(v.size()), mat};
-      for (std::size_t k = 0; k < v.size(); ++k) s.poly_verts.push_back(to_float(vec3(v[k], vp + "[" + std::to_string(k) + "]")));
+      for (std::size_t k = 0; k < v.size(); ++k) s.poly_verts.push_back(vec3(v[k], vp + "[" + std::to_string(k) + "]"));
       s.polygons.push_back(pg);
       continue;
     }
     const std::uint32_t root_id = b.node(o, p, Affine3d{}, mat, 1);
-    s.csgs.push_back({std::make_shared<const CsgTree>(b.finish(root_id)), mat});
+    // The same tree relative to a frame origin: the root placed by translate(-origin), composed
+    // in double into every leaf's placement before it is rounded (the JSON is checked already).
+    auto node = std::make_shared<const json>(o);
+    auto names = std::make_shared<const std::map<std::string, std::uint32_t>>(mats);
+    auto in_frame = [node, names, p, mat](const Vec3d& origin) {
+      Builder fb;
+      fb.materials = names.get();
+      const std::uint32_t r = fb.node(*node, p, Affine3d::translate(origin * -1.0), mat, 1);
+      return std::make_shared<const CsgTree>(fb.finish(r));
+    };
+    s.csgs.push_back({std::make_shared<const CsgTree>(b.finish(root_id)), mat, in_frame});
   }
   return s;
 }

@@ -20,8 +20,8 @@ namespace rb::scene {
 
 namespace {
 
-constexpr float kFloorY = -1.5f;  // mid-cell for checker size 1
-constexpr float kFloorHalf = 20.0f;
+constexpr double kFloorY = -1.5;  // mid-cell for checker size 1
+constexpr double kFloorHalf = 20.0;
 
 struct LectureBuilder {
   Scene s;
@@ -45,11 +45,12 @@ struct LectureBuilder {
   void floor(std::uint32_t mat) {
     const auto first = std::uint32_t(s.poly_verts.size());
     // counter-clockwise seen from above: normal +y
-    s.poly_verts.insert(s.poly_verts.end(), {Vec3f{-kFloorHalf, kFloorY, -kFloorHalf}, Vec3f{-kFloorHalf, kFloorY, kFloorHalf},
-                                             Vec3f{kFloorHalf, kFloorY, kFloorHalf}, Vec3f{kFloorHalf, kFloorY, -kFloorHalf}});
+    s.poly_verts.insert(s.poly_verts.end(), {Vec3d{-kFloorHalf, kFloorY, -kFloorHalf}, Vec3d{-kFloorHalf, kFloorY, kFloorHalf},
+                                             Vec3d{kFloorHalf, kFloorY, kFloorHalf}, Vec3d{kFloorHalf, kFloorY, -kFloorHalf}});
     s.polygons.push_back(PolygonIn{first, 4, mat});
   }
-  void sphere(Vec3f c, float r, std::uint32_t mat) { s.spheres.push_back(SphereIn{c, r, mat}); }
+  // Positions as the float values the scenes were designed with (0.55f, 1.3f, ...), widened.
+  void sphere(Vec3f c, float r, std::uint32_t mat) { s.spheres.push_back(SphereIn{to_double(c), double(r), mat}); }
 };
 
 Material checker_floor() {
@@ -96,7 +97,7 @@ Scene nine_red_balls() {
   const auto red = b.material(shiny_red());
   const float r = 0.55f;
   for (int iz = -1; iz <= 1; ++iz)
-    for (int ix = -1; ix <= 1; ++ix) b.sphere({1.3f * float(ix), kFloorY + r, 1.3f * float(iz)}, r, red);
+    for (int ix = -1; ix <= 1; ++ix) b.sphere({1.3f * float(ix), float(kFloorY) + r, 1.3f * float(iz)}, r, red);
   return std::move(b.s);
 }
 
@@ -105,7 +106,7 @@ Scene five_glass_balls() {
   b.floor(b.material(checker_floor()));
   const auto g = b.material(glass());
   const float r = 0.5f;
-  for (int i = -2; i <= 2; ++i) b.sphere({1.15f * float(i), kFloorY + r + 0.25f, 0.0f}, r, g);
+  for (int i = -2; i <= 2; ++i) b.sphere({1.15f * float(i), float(kFloorY) + r + 0.25f, 0.0f}, r, g);
   return std::move(b.s);
 }
 

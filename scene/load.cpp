@@ -34,7 +34,7 @@ struct P2 { double x, y; };
 double orient(P2 a, P2 b, P2 c) { return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x); }
 }  // namespace
 
-void triangulate(const std::uint32_t* idx, std::size_t n, const std::vector<Vec3f>& verts, std::uint32_t mat,
+void triangulate(const std::uint32_t* idx, std::size_t n, const std::vector<Vec3d>& verts, std::uint32_t mat,
                  std::vector<TriangleIn>& out) {
   if (n < 3) return;
   auto fan = [&](const std::uint32_t* ids, std::size_t m) {
@@ -43,7 +43,7 @@ void triangulate(const std::uint32_t* idx, std::size_t n, const std::vector<Vec3
   if (n == 3 || n > kMaxEarClip) return fan(idx, n);
   // Project on the plane of the Newell normal (drop its dominant axis), oriented so the polygon
   // is counter-clockwise.
-  Vec3f pts[kMaxEarClip];
+  Vec3d pts[kMaxEarClip];
   for (std::size_t i = 0; i < n; ++i) pts[i] = verts[idx[i]];
   const Vec3d nn = newell_normal(pts, n);
   const int drop = dominant_axis(nn);

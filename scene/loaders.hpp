@@ -37,7 +37,7 @@
 //    9,120 triangles + 144 squares, as teapot.c's header says).
 //  - save_nff writes every material, then spheres, cones, polygons and triangles, each kind in
 //    its order with an `f` line where the material changes, and every number as the shortest
-//    decimal that reads back to the same float: load -> save -> load reproduces a loaded scene
+//    decimal that reads back to the same number: load -> save -> load reproduces a loaded scene
 //    exactly (a scene with two equal materials comes back with them merged). Triangles are
 //    written as unshared `p 3` / `pp 3`, so a mesh comes back with 3 vertices per triangle.
 #pragma once
@@ -64,7 +64,7 @@ std::string to_nff(const Scene& scene);
 
 namespace detail {
 // Triangulates polygon `idx` (indices into `verts`) into `out` (see OBJ above); `mat` for all.
-void triangulate(const std::uint32_t* idx, std::size_t n, const std::vector<Vec3f>& verts, std::uint32_t mat,
+void triangulate(const std::uint32_t* idx, std::size_t n, const std::vector<Vec3d>& verts, std::uint32_t mat,
                  std::vector<TriangleIn>& out);
 }  // namespace detail
 

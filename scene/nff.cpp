@@ -49,9 +49,12 @@ struct NffReader {
     for (int i = 0; i < n; ++i)
       if (!ln.number(out[i])) fail(fmt::format("expected {} (number {} of {}), got {}", what, i + 1, n, quote(ln.rest())));
     if (!ln.at_end()) fail(fmt::format("unexpected {} after {}", quote(ln.rest()), what));
+    // Every number must also fit a float: the tracer rounds coordinates to float (relative to a
+    // frame of its choice), and a value beyond float range cannot be traced.
     if constexpr (std::is_floating_point_v<T>)
       for (int i = 0; i < n; ++i)
-        if (!std::isfinite(out[i])) fail(fmt::format("{}: number {} is not finite (NaN or infinity)", what, i + 1));
+        if (!std::isfinite(out[i]) || !std::isfinite(float(out[i])))
+          fail(fmt::format("{}: number {} is not finite (NaN, infinity or beyond float range)", what, i + 1));
   }
   std::uint32_t intern(const Material& m) {
     const std::array<std::uint32_t, 8> key = {std::bit_cast<std::uint32_t>(m.color.x), std::bit_cast<std::uint32_t>(m.color.y),
@@ -84,7 +87,7 @@ struct NffReader {
       ln = peek;
       if (got[k]) fail(fmt::format("'{}' given twice in one 'v' block", kw));
       got[k] = true;
-      float v[3];
+      double v[3];
       switch (k) {
         case 0: nums(v, 3, "'from' x y z"); s.camera.from = {v[0], v[1], v[2]}; break;
         case 1: nums(v, 3, "'at' x y z"); s.camera.at = {v[0], v[1], v[2]}; break;
@@ -121,13 +124,14 @@ struct NffReader {
     const char* what = with_normals ? "pp" : "p";
     const std::size_t n = poly_count(what, with_normals ? 12 : 6);
     const std::uint32_t m = mat();
-    std::vector<Vec3f> p(n), nn(with_normals ? n : 0);
+    std::vector<Vec3d> p(n);
+    std::vector<Vec3f> nn(with_normals ? n : 0);
     for (std::size_t i = 0; i < n; ++i) {
       expect_line(with_normals ? "a vertex line 'x y z nx ny nz'" : "a vertex line 'x y z'");
-      float v[6];
+      double v[6];
       nums(v, with_normals ? 6 : 3, with_normals ? "vertex 'x y z nx ny nz'" : "vertex 'x y z'");
       p[i] = {v[0], v[1], v[2]};
-      if (with_normals) nn[i] = {v[3], v[4], v[5]};
+      if (with_normals) nn[i] = to_float(Vec3d{v[3], v[4], v[5]});
     }
     if (!with_normals) {
       const Vec3f g = to_float(newell_normal(p.data(), n));
@@ -163,7 +167,7 @@ struct NffReader {
     if (tri_has_n)
       for (const auto& t : s.triangles) {
         if (!(s.vert_normals[t.v[0]].x == 0 && s.vert_normals[t.v[0]].y == 0 && s.vert_normals[t.v[0]].z == 0)) continue;
-        const Vec3f p[3] = {s.verts[t.v[0]], s.verts[t.v[1]], s.verts[t.v[2]]};
+        const Vec3d p[3] = {s.verts[t.v[0]], s.verts[t.v[1]], s.verts[t.v[2]]};
         const Vec3f g = to_float(newell_normal(p, 3));
         for (auto i : t.v) s.vert_normals[i] = g;
       }
@@ -188,36 +192,37 @@ struct NffReader {
         nums(c, 3, "background 'b' red green blue");
         s.background = {c[0], c[1], c[2]};
       } else if (kw == "l") {
-        float v[6];
+        double v[6];
         int n = 0;
         while (n < 6 && ln.number(v[n])) ++n;
         if ((n != 3 && n != 6) || !ln.at_end())
           fail(fmt::format("expected light 'l' x y z [r g b] (3 or 6 numbers), got {} numbers then {}", n, quote(ln.rest())));
         for (int i = 0; i < n; ++i)
-          if (!std::isfinite(v[i])) fail("light 'l': a number is not finite (NaN or infinity)");
+          if (!std::isfinite(v[i]) || !std::isfinite(float(v[i])))
+            fail("light 'l': a number is not finite (NaN, infinity or beyond float range)");
         Light L;
         L.pos = {v[0], v[1], v[2]};
-        if (n == 6) L.color = {v[3], v[4], v[5]};
+        if (n == 6) L.color = to_float(Vec3d{v[3], v[4], v[5]});
         s.lights.push_back(L);
       } else if (kw == "f") {
         float v[8];
         nums(v, 8, "material 'f' red green blue Kd Ks Shine T index_of_refraction");
         cur_mat = intern({{v[0], v[1], v[2]}, v[3], v[4], v[5], v[6], v[7]});
       } else if (kw == "s") {
-        float v[4];
+        double v[4];
         nums(v, 4, "sphere 's' x y z radius");
         s.spheres.push_back({{v[0], v[1], v[2]}, v[3], mat()});
       } else if (kw == "c") {
         // NFF.TXT puts base and apex on the two following lines; the SPD programs print all
         // eight numbers on the `c` line. Both are accepted.
-        float b[4], a[4];
+        double b[4], a[4];
         if (ln.at_end()) {
           expect_line("the cone base line 'x y z radius'");
           nums(b, 4, "cone base 'x y z radius'");
           expect_line("the cone apex line 'x y z radius'");
           nums(a, 4, "cone apex 'x y z radius'");
         } else {
-          float v[8];
+          double v[8];
           nums(v, 8, "cone 'c' base x y z radius apex x y z radius");
           std::copy(v, v + 4, b);
           std::copy(v + 4, v + 8, a);
@@ -244,7 +249,8 @@ Scene load_nff(const std::string& path) { return parse_nff(detail::read_file(pat
 
 std::string to_nff(const Scene& s) {
   std::string o;
-  auto v3 = [&](const Vec3f& v) { fmt::format_to(std::back_inserter(o), "{} {} {}", v.x, v.y, v.z); };
+  // fmt writes the shortest decimal that reads back to the same number (float or double).
+  auto v3 = [&](const auto& v) { fmt::format_to(std::back_inserter(o), "{} {} {}", v.x, v.y, v.z); };
   o += "# NFF written by raybench: " + s.name.substr(0, 200) + "\n";
   const Camera& c = s.camera;
   o += "v\nfrom "; v3(c.from);

@@ -29,10 +29,11 @@ Scene parse_obj(std::string_view text, const std::string& name) {
     const std::string_view kw = ln.word();
     if (kw.empty() || kw[0] == '#') continue;
     if (kw == "v") {
-      Vec3f p;
+      Vec3d p;
       if (!ln.number(p.x) || !ln.number(p.y) || !ln.number(p.z))
         fail_line(name, lines.number, fmt::format("expected three numbers after 'v', got {}", quote(ln.rest())));
-      if (!finite3(p)) fail_line(name, lines.number, "vertex coordinate is not finite (NaN or infinity)");
+      if (!finite3(p) || !finite3(to_float(p)))
+        fail_line(name, lines.number, "vertex coordinate is not finite (NaN, infinity or beyond float range)");
       if (s.verts.size() >= 0xFFFFFFFEu) fail_line(name, lines.number, "more than 2^32-2 vertices");
       s.verts.push_back(p);
     } else if (kw == "f") {

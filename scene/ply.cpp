@@ -202,13 +202,13 @@ struct PlyReader {
     s.verts.resize(n);
     bool finite = true;
     for (std::size_t i = 0; i < n; ++i, p += rs) {
-      const Vec3f v{float(load_as<V>(p + ox, Swap)), float(load_as<V>(p + oy, Swap)), float(load_as<V>(p + oz, Swap))};
-      finite &= std::isfinite(v.x) & std::isfinite(v.y) & std::isfinite(v.z);
+      const Vec3d v{double(load_as<V>(p + ox, Swap)), double(load_as<V>(p + oy, Swap)), double(load_as<V>(p + oz, Swap))};
+      finite &= std::isfinite(float(v.x)) & std::isfinite(float(v.y)) & std::isfinite(float(v.z));
       s.verts[i] = v;
     }
     if (!finite)
       for (std::size_t i = 0; i < n; ++i)
-        if (!finite3(s.verts[i]))
+        if (!finite3(to_float(s.verts[i])))
           fail_byte(name, at + i * rs, fmt::format("vertex #{} has a coordinate that is not finite (NaN, infinity or beyond float range)", i));
   }
 
@@ -290,8 +290,8 @@ struct PlyReader {
             const unsigned char* r = b + at + i * rs;
             const Vec3d v{load_val(tx, r + off[0], swap), load_val(e.props[std::size_t(yi)].t, r + off[1], swap),
                           load_val(e.props[std::size_t(zi)].t, r + off[2], swap)};
-            s.verts[i] = to_float(v);
-            if (!finite3(s.verts[i])) fail_byte(name, at + i * rs, fmt::format("vertex #{} has a coordinate that is not finite", i));
+            s.verts[i] = v;
+            if (!finite3(to_float(v))) fail_byte(name, at + i * rs, fmt::format("vertex #{} has a coordinate that is not finite (NaN, infinity or beyond float range)", i));
           }
         }
         have_verts = true;
@@ -332,9 +332,8 @@ struct PlyReader {
         at += n * tsize(p.t);
       }
       if (role == Role::vertex) {
-        const Vec3f f = to_float(v);
-        if (!finite3(f)) fail_byte(name, rec_at, fmt::format("vertex #{} has a coordinate that is not finite", r));
-        s.verts.push_back(f);
+        if (!finite3(to_float(v))) fail_byte(name, rec_at, fmt::format("vertex #{} has a coordinate that is not finite (NaN, infinity or beyond float range)", r));
+        s.verts.push_back(v);
       } else if (role == Role::face) {
         add_face(r, rec_at, false);
       } else if (role == Role::strips) {
@@ -394,9 +393,8 @@ struct PlyReader {
         }
       }
       if (role == Role::vertex) {
-        const Vec3f f = to_float(v);
-        if (!finite3(f)) fail_line(name, line, fmt::format("vertex #{} has a coordinate that is not finite (NaN, infinity or beyond float range)", r));
-        s.verts.push_back(f);
+        if (!finite3(to_float(v))) fail_line(name, line, fmt::format("vertex #{} has a coordinate that is not finite (NaN, infinity or beyond float range)", r));
+        s.verts.push_back(v);
       } else if (role == Role::face) {
         add_face(r, line, true);
       } else if (role == Role::strips) {

@@ -8,15 +8,21 @@ namespace rb::scene {
 Bounds Scene::bounds() const {
   Bounds b;
   for (const auto& s : spheres) {
-    b.grow(s.c - Vec3f{s.r, s.r, s.r});
-    b.grow(s.c + Vec3f{s.r, s.r, s.r});
+    const double r = std::fabs(s.r);
+    b.grow(s.c - Vec3d{r, r, r});
+    b.grow(s.c + Vec3d{r, r, r});
   }
   for (const auto& c : cones) {
-    const float r = std::max(c.base_r, c.apex_r);
-    for (const Vec3f& p : {c.base, c.apex}) {
-      b.grow(p - Vec3f{r, r, r});
-      b.grow(p + Vec3f{r, r, r});
+    const double r = std::max(std::fabs(c.base_r), std::fabs(c.apex_r));
+    for (const Vec3d& p : {c.base, c.apex}) {
+      b.grow(p - Vec3d{r, r, r});
+      b.grow(p + Vec3d{r, r, r});
     }
+  }
+  for (const auto& t : tori) {
+    const double r = std::fabs(t.R) + std::fabs(t.r);
+    b.grow(t.c - Vec3d{r, r, r});
+    b.grow(t.c + Vec3d{r, r, r});
   }
   for (const auto& p : poly_verts) b.grow(p);
   for (const auto& t : triangles)
@@ -24,8 +30,8 @@ Bounds Scene::bounds() const {
   for (const auto& c : csgs)
     if (!c.tree->empty()) {
       const CsgNode& n = c.tree->nodes[c.tree->root];
-      b.grow({n.lo[0], n.lo[1], n.lo[2]});
-      b.grow({n.hi[0], n.hi[1], n.hi[2]});
+      b.grow(Vec3d{n.lo[0], n.lo[1], n.lo[2]});
+      b.grow(Vec3d{n.hi[0], n.hi[1], n.hi[2]});
     }
   return b;
 }

@@ -5,12 +5,19 @@
 // file or generator said). Kernel batches (SoA, kernels/*.hpp) are built from these arrays by
 // the code that traces; a kind with no primitives costs nothing. A sphere stays a sphere, a
 // cone a cone; polygons with more than three vertices stay polygons. No virtual dispatch.
+//
+// Positions and sizes are kept in double, as the input gave them: a scene 6.4e6 from the origin,
+// or a planet with a ball on it, keeps its small features until the tracer has chosen a frame of
+// reference (tracer/plan.hpp) and rounds each coordinate to float once, relative to that frame.
+// Directions (normals, the camera's up) and colours are float.
 #pragma once
 
 #include "core/vec3.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <string>
@@ -38,28 +45,28 @@ struct Material {
 
 // NFF `v` block (from, at, up, angle in degrees, hither, resolution).
 struct Camera {
-  Vec3f from{0, 0, -1}, at{0, 0, 0}, up{0, 1, 0};
-  float angle = 45, hither = 0;
+  Vec3d from{0, 0, -1}, at{0, 0, 0}, up{0, 1, 0};
+  double angle = 45, hither = 0;
   int width = 512, height = 512;
 };
 
 struct Light {
-  Vec3f pos{0, 0, 0};
+  Vec3d pos{0, 0, 0};
   Vec3f color{1, 1, 1};
 };
 
 struct SphereIn {
-  Vec3f c;
-  float r;
+  Vec3d c;
+  double r;
   std::uint32_t mat;
 };
 
 // NFF `c`: a truncated cone between two capless circles (a cylinder when the radii are equal).
 struct ConeIn {
-  Vec3f base;
-  float base_r;
-  Vec3f apex;
-  float apex_r;
+  Vec3d base;
+  double base_r;
+  Vec3d apex;
+  double apex_r;
   std::uint32_t mat;
 };
 
@@ -76,18 +83,33 @@ struct TriangleIn {
   std::uint32_t mat;
 };
 
-// A CSG solid (kernels/csg.hpp; built by scene/csg.hpp from JSON). Materials are per leaf (each
-// leaf's surface keeps its own); `mat` is the object's default. The tree is shared, immutable.
-struct CsgIn {
-  std::shared_ptr<const CsgTree> tree;
+// A torus (JSON "torus" without a transform): centre, axis (any length), major radius R, minor r.
+struct TorusIn {
+  Vec3d c, axis;
+  double R, r;
   std::uint32_t mat;
 };
 
+// A CSG solid (kernels/csg.hpp; built by scene/csg.hpp from JSON). Materials are per leaf (each
+// leaf's surface keeps its own); `mat` is the object's default. The tree is shared, immutable;
+// `tree` is placed in world coordinates (rounded to float there), `in_frame(origin)` builds the
+// same tree with every coordinate taken relative to `origin` before it is rounded.
+struct CsgIn {
+  std::shared_ptr<const CsgTree> tree;
+  std::uint32_t mat;
+  std::function<std::shared_ptr<const CsgTree>(const Vec3d& origin)> in_frame;
+};
+
+// An axis-aligned box in double (world coordinates).
 struct Bounds {
-  Vec3f lo{std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity()};
-  Vec3f hi{-std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity()};
-  void grow(const Vec3f& p) { lo = vmin3(lo, p); hi = vmax3(hi, p); }
-  bool empty() const { return !(lo.x <= hi.x); }
+  Vec3d lo{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  Vec3d hi{-std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  void grow(const Vec3d& p) { lo = vmin3(lo, p); hi = vmax3(hi, p); }
+  void grow(const Bounds& b) { if (!b.empty()) { grow(b.lo); grow(b.hi); } }
+  bool empty() const { return !(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z); }
+  Vec3d centre() const { return (lo + hi) * 0.5; }
+  Vec3d extent() const { return hi - lo; }
+  double max_extent() const { const Vec3d e = extent(); return std::max({e.x, e.y, e.z}); }
 };
 
 struct Scene {
@@ -99,21 +121,27 @@ struct Scene {
 
   std::vector<SphereIn> spheres;
   std::vector<ConeIn> cones;
-  std::vector<Vec3f> poly_verts, poly_normals;  // poly_normals empty or parallel to poly_verts
+  std::vector<Vec3d> poly_verts;
+  std::vector<Vec3f> poly_normals;              // empty or parallel to poly_verts
   std::vector<PolygonIn> polygons;
-  std::vector<Vec3f> verts;                     // triangle mesh vertices
+  std::vector<Vec3d> verts;                     // triangle mesh vertices
   std::vector<Vec3f> vert_normals;              // empty or parallel to verts
   std::vector<TriangleIn> triangles;
   std::vector<CsgIn> csgs;
+  std::vector<TorusIn> tori;
+
 
   Bounds bounds() const;
-  std::size_t primitive_count() const { return spheres.size() + cones.size() + polygons.size() + triangles.size() + csgs.size(); }
+  std::size_t primitive_count() const {
+    return spheres.size() + cones.size() + polygons.size() + triangles.size() + csgs.size() + tori.size();
+  }
   std::size_t csg_tree_bytes() const;  // nodes and leaves of every CSG tree (scene/csg.cpp)
   // Bytes of the input-form arrays (sizes, not capacities).
   std::size_t memory_bytes() const {
     return lights.size() * sizeof(Light) + materials.size() * sizeof(Material) + spheres.size() * sizeof(SphereIn) +
-           cones.size() * sizeof(ConeIn) + (poly_verts.size() + poly_normals.size() + verts.size() + vert_normals.size()) * sizeof(Vec3f) +
-           polygons.size() * sizeof(PolygonIn) + triangles.size() * sizeof(TriangleIn) + csgs.size() * sizeof(CsgIn) + csg_tree_bytes();
+           cones.size() * sizeof(ConeIn) + (poly_verts.size() + verts.size()) * sizeof(Vec3d) +
+           (poly_normals.size() + vert_normals.size()) * sizeof(Vec3f) + polygons.size() * sizeof(PolygonIn) +
+           triangles.size() * sizeof(TriangleIn) + csgs.size() * sizeof(CsgIn) + tori.size() * sizeof(TorusIn) + csg_tree_bytes();
   }
 };
 

@@ -3,8 +3,8 @@
 //
 // The SPD generators (github erich666/StandardProceduralDatabases, CC0) compute in double with
 // row-vector 4x4 matrices (p' = p * M, translation in row 3) and print with %g. We follow the
-// same conventions and the same order of operations, in double, and round to float only when a
-// primitive is stored, so that at the default sizes the scenes equal the reference NFF files
+// same conventions and the same order of operations, in double, and store double positions (the
+// scene model's), so that at the default sizes the scenes equal the reference NFF files
 // (tests/data/spd/*.nff) to the printed precision.
 #pragma once
 

@@ -15,20 +15,23 @@
 
 namespace rb {
 
-template <template <class> class P>
+// S is the storage type: float (every kernel batch), or double where a scene's coordinates need it
+// (tracer/plan.hpp: a planet's centre relative to a camera on its surface); a double batch loads
+// into the 4-lane double number type.
+template <template <class> class P, class S = float>
 struct PrimSoA {
-  static constexpr std::size_t kFields = std::tuple_size_v<decltype(std::declval<P<float>&>().fields())>;
-  std::array<avec<float>, kFields> f;
+  static constexpr std::size_t kFields = std::tuple_size_v<decltype(std::declval<P<S>&>().fields())>;
+  std::array<avec<S>, kFields> f;
   std::size_t count = 0;
 
   std::size_t size() const { return f[0].size(); }  // padded
 
-  // `filler` is a primitive that no ray hits (each kind provides P<float>::never()).
-  void push(const P<float>& p) {
+  // `filler` is a primitive that no ray hits (each kind provides P<S>::never()).
+  void push(const P<S>& p) {
     for (auto& a : f) a.resize(count);
     put(p);
     ++count;
-    const P<float> pad = P<float>::never();
+    const P<S> pad = P<S>::never();
     while (f[0].size() % kPadLanes) put(pad);
   }
   // Makes the current padding permanent (the next push starts a new aligned lane group);
@@ -37,9 +40,9 @@ struct PrimSoA {
   void reserve(std::size_t n) {
     for (auto& a : f) a.reserve(round_up(n, kPadLanes));
   }
-  std::size_t bytes() const { return kFields * size() * sizeof(float); }
+  std::size_t bytes() const { return kFields * size() * sizeof(S); }
 
-  P<float> get(std::size_t i) const { return load<float>(i); }
+  P<S> get(std::size_t i) const { return load<S>(i); }
   template <class F>
   RB_INLINE P<F> load(std::size_t i) const {
     P<F> p;
@@ -54,7 +57,7 @@ struct PrimSoA {
   }
 
  private:
-  void put(P<float> p) {
+  void put(P<S> p) {
     auto t = p.fields();
     put_fields(t, std::make_index_sequence<kFields>{});
   }

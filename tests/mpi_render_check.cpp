@@ -14,7 +14,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   const scene::Scene s = scene::lecture_scene("five_glass_balls");
-  const bvh::Accel a = bvh::Accel::build(s);
+  const tracer::SceneAccel a = tracer::SceneAccel::build(s);
   render::RenderOptions o;
   o.width = 40;
   o.height = 30;

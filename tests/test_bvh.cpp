@@ -1,7 +1,7 @@
 // The BVH against the loop over all objects (the oracle), its boxes, packets against single
 // rays, watertightness of the robust traversal, and hostile inputs.
 #include "bench/trace.hpp"
-#include "bvh/accel.hpp"
+#include "tracer/accel.hpp"
 #include "scene/sources.hpp"
 
 #include <gtest/gtest.h>
@@ -17,7 +17,7 @@ using bvh::HitRec;
 using bvh::kNoPrim;
 
 // A closed icosphere (shared vertices, consistent winding) of radius r at c.
-scene::Scene icosphere(int levels, Vec3f c = {0, 0, 0}, float r = 1.0f) {
+scene::Scene icosphere(int levels, Vec3d c = {0, 0, 0}, double r = 1.0) {
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
   std::vector<Vec3d> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
                           {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
@@ -44,7 +44,7 @@ scene::Scene icosphere(int levels, Vec3f c = {0, 0, 0}, float r = 1.0f) {
   s.name = "icosphere";
   for (auto& p : v) {
     const double l = std::sqrt(dot(p, p));
-    s.verts.push_back(to_float(to_double(c) + p * (double(r) / l)));
+    s.verts.push_back(c + p * (r / l));
   }
   for (auto& q : f) s.triangles.push_back({{q[0], q[1], q[2]}, 0});
   return s;
@@ -53,40 +53,48 @@ scene::Scene icosphere(int levels, Vec3f c = {0, 0, 0}, float r = 1.0f) {
 // Spheres, cylinders, cones and polygons scattered in a box, a few of each kind overlapping.
 scene::Scene mixed(std::uint64_t seed) {
   std::mt19937_64 g(seed);
-  std::uniform_real_distribution<float> U(-5, 5), R(0.1f, 0.8f);
+  std::uniform_real_distribution<double> U(-5, 5), R(0.1, 0.8);
   scene::Scene s;
   s.name = "mixed";
   for (int i = 0; i < 60; ++i) s.spheres.push_back({{U(g), U(g), U(g)}, R(g), 0});
   for (int i = 0; i < 40; ++i) {
-    const Vec3f b{U(g), U(g), U(g)};
-    const Vec3f a = b + Vec3f{R(g) * 2 - 0.8f, R(g) * 2, R(g) - 0.4f};
-    const float rb = R(g);
-    s.cones.push_back({b, rb, a, i % 2 ? rb : rb * 0.3f, 0});  // even: frustum, odd: cylinder
+    const Vec3d b{U(g), U(g), U(g)};
+    const Vec3d a = b + Vec3d{R(g) * 2 - 0.8, R(g) * 2, R(g) - 0.4};
+    const double rb = R(g);
+    s.cones.push_back({b, rb, a, i % 2 ? rb : rb * 0.3, 0});  // even: frustum, odd: cylinder
   }
   for (int i = 0; i < 40; ++i) {
-    const Vec3f c{U(g), U(g), U(g)};
+    const Vec3d c{U(g), U(g), U(g)};
     const int n = 3 + i % 5;
-    const float r = R(g);
+    const double r = R(g);
     s.polygons.push_back({std::uint32_t(s.poly_verts.size()), std::uint32_t(n), 0});
-    const Vec3f ax = i % 3 == 0 ? Vec3f{1, 0, 0} : Vec3f{0, 1, 0};
     for (int k = 0; k < n; ++k) {
-      const float a = 6.2831853f * float(k) / float(n);
-      const Vec3f p = i % 3 == 0 ? Vec3f{0, r * std::cos(a), r * std::sin(a)} : Vec3f{r * std::cos(a), 0.3f * r * std::sin(a), r * std::sin(a)};
+      const double a = 6.283185307179586 * double(k) / double(n);
+      const Vec3d p = i % 3 == 0 ? Vec3d{0, r * std::cos(a), r * std::sin(a)} : Vec3d{r * std::cos(a), 0.3 * r * std::sin(a), r * std::sin(a)};
       s.poly_verts.push_back(c + p);
-      (void)ax;
     }
   }
+  // Tori of several sizes and axes.
+  for (int i = 0; i < 12; ++i) s.tori.push_back({{U(g), U(g), U(g)}, {U(g), U(g), U(g)}, 0.6 + 0.05 * i, 0.1 + 0.02 * i, 0});
   // A few triangles too.
   s.verts = {{-4, -4, -4}, {4, -4, -4}, {0, 4, -4}, {-4, -4, 4}, {4, -4, 4}};
   s.triangles = {{{0, 1, 2}, 0}, {{0, 3, 4}, 0}, {{0, 4, 1}, 0}};
   return s;
 }
 
-std::vector<HitRec> brute(const scene::Scene& s, const RaySoA& rays, bool any) {
-  const bvh::BruteForce bf(s);
+std::vector<HitRec> brute(const tracer::SceneAccel& a, const RaySoA& rays, bool any) {
   std::vector<HitRec> h(rays.size());
-  for (std::size_t i = 0; i < rays.count; ++i) h[i] = bf.trace(rays.get(i), any);
+  for (std::size_t i = 0; i < rays.count; ++i) h[i] = a.brute_force(rays.get(i), any);
   return h;
+}
+
+tracer::TraceOptions opts(int packet, bvh::Slab slab = bvh::Slab::conservative, bool any = false) {
+  tracer::TraceOptions o;
+  o.packet = packet;
+  o.any = any;
+  o.slab_given = true;
+  o.slab = slab;
+  return o;
 }
 
 void expect_same(const std::vector<HitRec>& a, const std::vector<HitRec>& b, std::size_t n, bool any, const std::string& what) {
@@ -101,26 +109,24 @@ void expect_same(const std::vector<HitRec>& a, const std::vector<HitRec>& b, std
   EXPECT_EQ(bad, 0u) << what;
 }
 
-void check_all_modes(const scene::Scene& s, std::size_t count) {
-  const bvh::Accel a = bvh::Accel::build(s);
+void check_all_modes(const scene::Scene& s, std::size_t count, tracer::Model model = tracer::Model::automatic) {
+  const tracer::SceneAccel a = tracer::SceneAccel::build(s, tracer::make_plan(s, model));
   for (auto set : {trace::RaySet::primary, trace::RaySet::shadow, trace::RaySet::diffuse, trace::RaySet::random}) {
     const RaySoA rays = trace::make_rays(s, a, set, count, 7);
     const bool any = set == trace::RaySet::shadow;
-    const auto ref = brute(s, rays, any);
+    const auto ref = brute(a, rays, any);
     std::size_t hits = 0;
     for (std::size_t i = 0; i < rays.count; ++i) hits += ref[i].prim != kNoPrim;
     if (set != trace::RaySet::shadow) {
       EXPECT_GT(hits, 0u) << trace::ray_set_name(set);
     }
-    struct Mode { bvh::Layout l; int packet; bool robust; };
-    for (Mode m : {Mode{bvh::Layout::wide, 1, false}, Mode{bvh::Layout::wide, 1, true}, Mode{bvh::Layout::binary, 1, false},
-                   Mode{bvh::Layout::binary, 1, true}, Mode{bvh::Layout::wide, 8, false}, Mode{bvh::Layout::wide, 8, true},
-                   Mode{bvh::Layout::wide, 16, false}}) {
-      bvh::TraceOptions o{m.l, m.packet, m.robust, any};
+    for (int packet : {1, 8, 16})
+      for (bvh::Slab slab : {bvh::Slab::conservative, bvh::Slab::fast, bvh::Slab::robust}) {
+      const tracer::TraceOptions o = opts(packet, slab, any);
       std::vector<HitRec> h(rays.size());
       a.trace(rays, 0, rays.size(), h.data(), o);
-      const std::string what = std::string(trace::ray_set_name(set)) + (m.l == bvh::Layout::wide ? " wide" : " binary") + " packet " +
-                               std::to_string(m.packet) + (m.robust ? " robust" : "");
+      const std::string what = std::string(trace::ray_set_name(set)) + " packet " + std::to_string(packet) + " " + bvh::slab_name(slab) +
+                               " " + tracer::model_name(model);
       expect_same(h, ref, rays.count, any, what);
       // The counted traversal gives the same answers.
       bvh::TraceCounters c;
@@ -137,7 +143,7 @@ void check_all_modes(const scene::Scene& s, std::size_t count) {
 scene::Scene mesh_on_floor() {
   scene::Scene s = icosphere(3);
   const auto base = std::uint32_t(s.verts.size());
-  for (Vec3f p : {Vec3f{-4, -1.5f, -4}, Vec3f{4, -1.5f, -4}, Vec3f{4, -1.5f, 4}, Vec3f{-4, -1.5f, 4}}) s.verts.push_back(p);
+  for (Vec3d p : {Vec3d{-4, -1.5, -4}, Vec3d{4, -1.5, -4}, Vec3d{4, -1.5, 4}, Vec3d{-4, -1.5, 4}}) s.verts.push_back(p);
   s.triangles.push_back({{base, base + 1, base + 2}, 0});
   s.triangles.push_back({{base, base + 2, base + 3}, 0});
   return s;
@@ -145,13 +151,15 @@ scene::Scene mesh_on_floor() {
 
 TEST(Bvh, MeshEqualsBruteForceForEveryRaySetAndMode) { check_all_modes(mesh_on_floor(), 512); }
 
-TEST(Bvh, MixedAnalyticSceneEqualsBruteForce) { check_all_modes(mixed(3), 512); }
+TEST(Bvh, MixedAnalyticSceneEqualsBruteForce) {
+  for (auto m : {tracer::Model::automatic, tracer::Model::fast, tracer::Model::exact}) check_all_modes(mixed(3), 512, m);
+}
 
 TEST(Bvh, GeneratedSceneEqualsBruteForce) { check_all_modes(scene::generate_spd("balls", 1), 256); }
 
 TEST(Bvh, EveryBoxContainsItsChildrenAndPrimitives) {
   for (const auto& s : {icosphere(2), mixed(5)}) {
-    const bvh::Accel a = bvh::Accel::build(s);
+    const tracer::SceneAccel a = tracer::SceneAccel::build(s);
     const auto& N = a.bin.nodes;
     ASSERT_FALSE(N.empty());
     auto inside = [](const float* lo, const float* hi, const float* clo, const float* chi) {
@@ -167,11 +175,12 @@ TEST(Bvh, EveryBoxContainsItsChildrenAndPrimitives) {
         continue;
       }
       for (std::size_t j = 0; j < 8; ++j) {
-        const std::uint32_t id = a.id[n.kind][std::size_t(n.first) * 8 + j];
+        const std::uint32_t id = a.slot_id(kinds::Kind(n.kind), std::size_t(n.first) * 8 + j);
         if (id == UINT32_MAX) continue;
         ++prims;
-        const scene::Bounds b = scene::prim_bounds(s, {scene::Kind(n.kind), id});
-        const float lo[3] = {b.lo.x, b.lo.y, b.lo.z}, hi[3] = {b.hi.x, b.hi.y, b.hi.z};
+        const scene::Bounds b = kinds::AllKinds::at<scene::Bounds>(kinds::Kind(n.kind), [&]<class K>() { return K::bounds(s, id); });
+        float lo[3], hi[3];
+        kinds::frame_box(b, a.origin(), lo, hi);
         EXPECT_TRUE(inside(n.lo, n.hi, lo, hi));
       }
     }
@@ -193,13 +202,13 @@ TEST(Bvh, EveryBoxContainsItsChildrenAndPrimitives) {
 
 TEST(Bvh, PacketsGiveTheSameHitsAsSingleRays) {
   const scene::Scene s = icosphere(3);
-  const bvh::Accel a = bvh::Accel::build(s);
+  const tracer::SceneAccel a = tracer::SceneAccel::build(s);
   for (auto set : {trace::RaySet::primary, trace::RaySet::diffuse, trace::RaySet::random}) {
     const RaySoA rays = trace::make_rays(s, a, set, 1024, 11);
     std::vector<HitRec> one(rays.size()), p8(rays.size()), p16(rays.size());
-    a.trace(rays, 0, rays.size(), one.data(), {bvh::Layout::wide, 1, false, false});
-    a.trace(rays, 0, rays.size(), p8.data(), {bvh::Layout::wide, 8, false, false});
-    a.trace(rays, 0, rays.size(), p16.data(), {bvh::Layout::wide, 16, false, false});
+    a.trace(rays, 0, rays.size(), one.data(), opts(1));
+    a.trace(rays, 0, rays.size(), p8.data(), opts(8));
+    a.trace(rays, 0, rays.size(), p16.data(), opts(16));
     for (std::size_t i = 0; i < rays.count; ++i) {
       EXPECT_EQ(one[i].t, p8[i].t) << i;
       EXPECT_EQ(one[i].t, p16[i].t) << i;
@@ -209,7 +218,7 @@ TEST(Bvh, PacketsGiveTheSameHitsAsSingleRays) {
 
 TEST(Bvh, RaySetsAreReproducibleFromTheSeed) {
   const scene::Scene s = icosphere(2);
-  const bvh::Accel a = bvh::Accel::build(s);
+  const tracer::SceneAccel a = tracer::SceneAccel::build(s);
   const RaySoA x = trace::make_rays(s, a, trace::RaySet::diffuse, 300, 5), y = trace::make_rays(s, a, trace::RaySet::diffuse, 300, 5);
   const RaySoA z = trace::make_rays(s, a, trace::RaySet::diffuse, 300, 6);
   ASSERT_EQ(x.count, y.count);
@@ -219,33 +228,54 @@ TEST(Bvh, RaySetsAreReproducibleFromTheSeed) {
   EXPECT_TRUE(differ);
 }
 
-// Rays from inside a closed mesh must all hit it: robust slabs + the watertight triangle test,
-// including rays aimed exactly at vertices and along edges' midpoints.
-TEST(Bvh, RobustTraversalLetsNoRayThroughAClosedMesh) {
-  const scene::Scene s = icosphere(3, {0.25f, -0.5f, 0.125f}, 3.0f);
-  const bvh::Accel a = bvh::Accel::build(s);
+// Rays from inside a closed mesh must all hit it: the default (conservative) slab test and the
+// robust one with the watertight triangle test, including rays aimed exactly at vertices and at
+// edges' midpoints, from inside and from a camera outside.
+TEST(Bvh, DefaultAndRobustTraversalLetNoRayThroughAClosedMesh) {
+  const Vec3d c{0.25, -0.5, 0.125};
+  const scene::Scene s = icosphere(3, c, 3.0);
+  const tracer::SceneAccel a = tracer::SceneAccel::build(s);
   RaySoA rays;
   std::mt19937_64 g(42);
-  std::uniform_real_distribution<float> U(-1, 1);
-  const Vec3f c{0.25f, -0.5f, 0.125f};
-  for (int i = 0; i < 2000; ++i) rays.push(c + Vec3f{U(g), U(g), U(g)}, Vec3f{U(g), U(g), U(g)});
-  for (const auto& v : s.verts) rays.push(c, v - c);                         // exactly at every vertex
-  for (const auto& t : s.triangles) rays.push(c, (s.verts[t.v[0]] + s.verts[t.v[1]]) * 0.5f - c);  // edge midpoints
+  std::uniform_real_distribution<double> U(-1, 1);
+  for (int i = 0; i < 2000; ++i) rays.push(to_float(c + Vec3d{U(g), U(g), U(g)}), to_float(Vec3d{U(g), U(g), U(g)}));
+  for (const auto& v : s.verts) rays.push(to_float(c), to_float(v - c));  // exactly at every vertex
+  for (const auto& t : s.triangles) rays.push(to_float(c), to_float((s.verts[t.v[0]] + s.verts[t.v[1]]) * 0.5 - c));  // edge midpoints
   for (int packet : {1, 8, 16})
-    for (auto l : {bvh::Layout::wide, bvh::Layout::binary}) {
-      if (packet > 1 && l == bvh::Layout::binary) continue;
+    for (bvh::Slab slab : {bvh::Slab::conservative, bvh::Slab::robust}) {
       std::vector<HitRec> h(rays.size());
-      a.trace(rays, 0, rays.size(), h.data(), {l, packet, true, false});
+      a.trace(rays, 0, rays.size(), h.data(), opts(packet, slab));
       std::size_t leaks = 0;
       for (std::size_t i = 0; i < rays.count; ++i) leaks += h[i].prim == kNoPrim;
-      EXPECT_EQ(leaks, 0u) << "packet " << packet;
+      EXPECT_EQ(leaks, 0u) << "packet " << packet << " " << bvh::slab_name(slab);
     }
+}
+
+// The conservative boxes: every widened wide-node box contains the box as built, and the bound is
+// the plan's.
+TEST(Bvh, ConservativeBoxesContainTheBuiltOnes) {
+  const scene::Scene s = icosphere(3, {1e3, 0, 0}, 1.0);
+  const tracer::SceneAccel a = tracer::SceneAccel::build(s);
+  EXPECT_EQ(a.wide.origin_bound, a.plan().origin_bound);
+  EXPECT_GT(a.wide.origin_bound, 0.0f);
+  bvh::Bvh8 raw = bvh::collapse8(a.bin);
+  ASSERT_EQ(raw.nodes.size(), a.wide.nodes.size());
+  std::size_t wider = 0;
+  for (std::size_t i = 0; i < raw.nodes.size(); ++i)
+    for (int ax = 0; ax < 3; ++ax)
+      for (int c = 0; c < 8; ++c) {
+        if (raw.nodes[i].child[c] == bvh::kEmpty) continue;
+        EXPECT_LE(a.wide.nodes[i].b[2 * ax][c], raw.nodes[i].b[2 * ax][c]);
+        EXPECT_GE(a.wide.nodes[i].b[2 * ax + 1][c], raw.nodes[i].b[2 * ax + 1][c]);
+        wider += a.wide.nodes[i].b[2 * ax][c] < raw.nodes[i].b[2 * ax][c];
+      }
+  EXPECT_GT(wider, 0u);
 }
 
 TEST(Bvh, HostileInputsGiveDefinedResults) {
   // NaN, infinite and zero-direction rays: a miss.
   const scene::Scene s = icosphere(1);
-  const bvh::Accel a = bvh::Accel::build(s);
+  const tracer::SceneAccel a = tracer::SceneAccel::build(s);
   const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
   RaySoA bad;
   bad.push(Vec3f{nan, 0, 0}, Vec3f{0, 0, 1});
@@ -258,7 +288,7 @@ TEST(Bvh, HostileInputsGiveDefinedResults) {
     std::vector<HitRec> h(round_up(bad.size(), 16));
     RaySoA r = bad;
     while (r.size() < 16) r.push(Vec3f{0, 0, -5}, Vec3f{0, 0, 0});
-    a.trace(r, 0, r.size(), h.data(), {bvh::Layout::wide, packet, false, false});
+    a.trace(r, 0, r.size(), h.data(), opts(packet));
     for (int i = 0; i < 5; ++i) EXPECT_EQ(h[std::size_t(i)].prim, kNoPrim) << i;
     EXPECT_NE(h[5].prim, kNoPrim);
     EXPECT_NEAR(h[5].t, 4.0f, 0.1f);
@@ -266,15 +296,13 @@ TEST(Bvh, HostileInputsGiveDefinedResults) {
   // An empty scene builds and misses.
   {
     const scene::Scene e;
-    const bvh::Accel ea = bvh::Accel::build(e);
+    const tracer::SceneAccel ea = tracer::SceneAccel::build(e);
     EXPECT_TRUE(ea.empty());
     RaySoA r;
     r.push(Vec3f{0, 0, 0}, Vec3f{0, 0, 1});
     std::vector<HitRec> h(r.size());
     for (int packet : {1, 8}) {
-      ea.trace(r, 0, r.size(), h.data(), {bvh::Layout::wide, packet, false, false});
-      EXPECT_EQ(h[0].prim, kNoPrim);
-      ea.trace(r, 0, r.size(), h.data(), {bvh::Layout::binary, 1, false, false});
+      ea.trace(r, 0, r.size(), h.data(), opts(packet));
       EXPECT_EQ(h[0].prim, kNoPrim);
     }
   }
@@ -283,14 +311,14 @@ TEST(Bvh, HostileInputsGiveDefinedResults) {
     scene::Scene one;
     one.spheres.push_back({{0, 0, 5}, 1, 0});
     one.spheres.push_back({{0, 0, 9}, -1, 0});
-    const bvh::Accel oa = bvh::Accel::build(one);
+    const tracer::SceneAccel oa = tracer::SceneAccel::build(one);
     EXPECT_EQ(oa.bin.nodes.size(), 1u);
     RaySoA r;
     r.push(Vec3f{0, 0, 0}, Vec3f{0, 0, 1});
-    for (auto l : {bvh::Layout::wide, bvh::Layout::binary}) {
+    for (int packet : {1, 8}) {
       std::vector<HitRec> h(r.size());
-      oa.trace(r, 0, r.size(), h.data(), {l, 1, false, false});
-      EXPECT_EQ(h[0].prim, bvh::prim_code(scene::Kind::sphere, 0));
+      oa.trace(r, 0, r.size(), h.data(), opts(packet));
+      EXPECT_EQ(h[0].prim, kinds::code(kinds::Kind::sphere, 0));
       EXPECT_FLOAT_EQ(h[0].t, 4.0f);
     }
   }
@@ -299,13 +327,13 @@ TEST(Bvh, HostileInputsGiveDefinedResults) {
     scene::Scene same;
     same.verts = {{0, 0, 1}, {1, 0, 1}, {0, 1, 1}};
     for (int i = 0; i < 20000; ++i) same.triangles.push_back({{0, 1, 2}, 0});
-    const bvh::Accel sa = bvh::Accel::build(same);
+    const tracer::SceneAccel sa = tracer::SceneAccel::build(same);
     EXPECT_LE(sa.bin.stats.depth, 64);
     RaySoA r;
     r.push(Vec3f{0.2f, 0.2f, 0}, Vec3f{0, 0, 1});
     r.push(Vec3f{0.9f, 0.9f, 0}, Vec3f{0, 0, 1});
     std::vector<HitRec> h(r.size());
-    sa.trace(r, 0, r.size(), h.data(), {bvh::Layout::wide, 8, false, false});
+    sa.trace(r, 0, r.size(), h.data(), opts(8));
     EXPECT_NE(h[0].prim, kNoPrim);
     EXPECT_EQ(h[1].prim, kNoPrim);
   }
@@ -316,7 +344,7 @@ TEST(Bvh, HostileInputsGiveDefinedResults) {
     big.triangles.assign(10'000'000, scene::TriangleIn{{0, 1, 2}, 0});
     bvh::BuildOptions o;
     o.max_bytes = std::size_t(1) << 30;  // 1 GiB
-    EXPECT_THROW(bvh::Accel::build(big, o), std::length_error);
+    EXPECT_THROW(tracer::SceneAccel::build(big, o), std::length_error);
   }
 }
 

@@ -22,17 +22,17 @@ void expect_floor(const Scene& s, bool checker) {
   ASSERT_EQ(s.polygons.size(), 1u);
   const PolygonIn& p = s.polygons[0];
   ASSERT_EQ(p.count, 4u);
-  const float y = s.poly_verts[p.first].y;
+  const double y = s.poly_verts[p.first].y;
   for (std::uint32_t i = 0; i < 4; ++i) EXPECT_EQ(s.poly_verts[p.first + i].y, y);
   // faces up (counter-clockwise seen from +y)
-  const Vec3f a = s.poly_verts[p.first], b = s.poly_verts[p.first + 1], c = s.poly_verts[p.first + 2];
-  EXPECT_GT(cross(b - a, c - a).y, 0.0f);
+  const Vec3d a = s.poly_verts[p.first], b = s.poly_verts[p.first + 1], c = s.poly_verts[p.first + 2];
+  EXPECT_GT(cross(b - a, c - a).y, 0.0);
   const Material& m = s.materials.at(p.mat);
   if (checker) {
     EXPECT_GT(m.checker, 0.0f);
     // mid-cell along y: the parity never flips on the floor itself
-    const float cells = y / m.checker;
-    EXPECT_NEAR(cells - std::floor(cells), 0.5f, 1e-6f);
+    const double cells = y / double(m.checker);
+    EXPECT_NEAR(cells - std::floor(cells), 0.5, 1e-6);
     EXPECT_FALSE(m.color.x == m.color2.x && m.color.y == m.color2.y && m.color.z == m.color2.z);
   } else {
     EXPECT_EQ(m.checker, 0.0f);
@@ -42,13 +42,13 @@ void expect_floor(const Scene& s, bool checker) {
 
 void expect_visible(const Scene& s) {
   const Camera& c = s.camera;
-  const Vec3f fwd = normalize(c.at - c.from);
-  const float half = float(double(c.angle) * 3.14159265358979 / 360.0);
+  const Vec3d fwd = normalize(c.at - c.from);
+  const double half = c.angle * 3.14159265358979 / 360.0;
   for (const auto& sp : s.spheres) {
-    const Vec3f d = sp.c - c.from;
-    const float along = dot(d, fwd);
+    const Vec3d d = sp.c - c.from;
+    const double along = dot(d, fwd);
     ASSERT_GT(along, sp.r);
-    const float off = std::acos(std::min(1.0f, along / length(d)));
+    const double off = std::acos(std::min(1.0, along / length(d)));
     EXPECT_LT(off, half) << "sphere centre outside the view";
   }
 }

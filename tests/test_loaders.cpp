@@ -18,7 +18,10 @@ using rb::Vec3f;
 
 namespace {
 
-bool eq(const Vec3f& a, const Vec3f& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
+template <class A, class B>
+bool eq(const rb::Vec3<A>& a, const rb::Vec3<B>& b) {
+  return double(a.x) == double(b.x) && double(a.y) == double(b.y) && double(a.z) == double(b.z);
+}
 
 // Equal scenes: every array and parameter, bit for bit (names excepted).
 void expect_equal(const Scene& a, const Scene& b) {
@@ -138,8 +141,8 @@ TEST(Obj, ConcaveFaceIsEarClipped) {
   ASSERT_EQ(s.triangles.size(), 4u);
   double area = 0;
   for (const auto& t : s.triangles) {
-    const Vec3f a = s.verts[t.v[0]], b = s.verts[t.v[1]], c = s.verts[t.v[2]];
-    const double z = double((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x));
+    const rb::Vec3d a = s.verts[t.v[0]], b = s.verts[t.v[1]], c = s.verts[t.v[2]];
+    const double z = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
     EXPECT_GT(z, 0) << "every ear keeps the counter-clockwise winding";
     area += z / 2;
   }
@@ -272,7 +275,7 @@ TEST(Nff, EveryEntity) {
   EXPECT_TRUE(eq(s.camera.from, Vec3f{1, 2, 3}));
   EXPECT_EQ(s.camera.width, 320);
   EXPECT_EQ(s.camera.height, 240);
-  EXPECT_EQ(s.camera.hither, 0.5f);
+  EXPECT_EQ(s.camera.hither, 0.5);
   EXPECT_TRUE(eq(s.background, Vec3f{0.1f, 0.2f, 0.3f}));
   ASSERT_EQ(s.lights.size(), 2u);
   EXPECT_TRUE(eq(s.lights[0].color, Vec3f{1, 1, 1}));
@@ -284,7 +287,7 @@ TEST(Nff, EveryEntity) {
   EXPECT_EQ(s.spheres[2].mat, 1u);
   ASSERT_EQ(s.cones.size(), 3u);
   EXPECT_TRUE(eq(s.cones[2].apex, Vec3f{2, 0, 1}));
-  EXPECT_EQ(s.cones[0].apex_r, 0.5f);
+  EXPECT_EQ(s.cones[0].apex_r, 0.5);
   EXPECT_EQ(s.polygons.size(), 2u);  // p 4 and pp 4
   EXPECT_EQ(s.triangles.size(), 2u);  // p 3 and pp 3
   EXPECT_EQ(s.verts.size(), 6u);

@@ -3,7 +3,6 @@
 // the light), golden images per feature, and Haines' SPD ray statistics at a reduced resolution.
 #include "render/optics.hpp"
 #include "render/render.hpp"
-#include "render/surface.hpp"
 #include "scene/loaders.hpp"
 #include "scene/sources.hpp"
 
@@ -101,7 +100,7 @@ scene::Scene shadow_scene(float occluder_t) {
 }
 
 Vec3f render_pixel(const scene::Scene& s, RenderStats* st = nullptr) {
-  const bvh::Accel a = bvh::Accel::build(s);
+  const tracer::SceneAccel a = tracer::SceneAccel::build(s);
   RenderOptions o;
   o.width = o.height = 1;
   o.depth = 1;
@@ -150,7 +149,7 @@ TEST(RenderShadow, NoShadowRayWhenTheNormalFacesAway) {
 
 TEST(RenderInput, AbsurdSizesAreRejected) {
   const scene::Scene s = shadow_scene(-1);
-  const bvh::Accel a = bvh::Accel::build(s);
+  const tracer::SceneAccel a = tracer::SceneAccel::build(s);
   RenderOptions o;
   o.width = 0;
   EXPECT_THROW(Renderer(s, a, o), std::invalid_argument);
@@ -164,7 +163,7 @@ TEST(RenderInput, AbsurdSizesAreRejected) {
 TEST(RenderInput, EmptySceneIsBackground) {
   scene::Scene s;
   s.background = {0.25f, 0.5f, 0.75f};
-  const bvh::Accel a = bvh::Accel::build(s);
+  const tracer::SceneAccel a = tracer::SceneAccel::build(s);
   RenderOptions o;
   o.width = o.height = 4;
   const Renderer r(s, a, o);
@@ -177,7 +176,7 @@ TEST(RenderInput, EmptySceneIsBackground) {
 
 TEST(RenderDepth, DepthLimitStopsTheRayTree) {
   const scene::Scene s = scene::lecture_scene("glass_sphere");
-  const bvh::Accel a = bvh::Accel::build(s);
+  const tracer::SceneAccel a = tracer::SceneAccel::build(s);
   auto run = [&](int depth) {
     RenderOptions o;
     o.width = o.height = 24;
@@ -217,7 +216,7 @@ void compare_golden(const Golden& g) {
   const std::vector<unsigned char> ref(px, px + std::size_t(w) * std::size_t(h) * 3);
   stbi_image_free(px);
   const scene::Scene s = scene::load_scene(g.scene);
-  const bvh::Accel a = bvh::Accel::build(s);
+  const tracer::SceneAccel a = tracer::SceneAccel::build(s);
   RenderOptions o;
   o.width = w;
   o.height = h;
@@ -275,7 +274,7 @@ struct SpdRow {
 
 void expect_spd(const SpdRow& row, int res) {
   const scene::Scene s = scene::load_scene(std::string("spd:") + row.scene);
-  const bvh::Accel a = bvh::Accel::build(s);
+  const tracer::SceneAccel a = tracer::SceneAccel::build(s);
   const Renderer r(s, a, spd_options(s, res, res, 5));
   std::vector<float> samples;
   const RenderStats st = render_tiles(r, samples, 2);

@@ -27,7 +27,8 @@ std::string ref_file(const std::string& name) { return std::string(RB_TEST_DATA)
 // files put the faces of one kind (3 vertices or more) in one run, except teapot (its squares
 // first, then its triangles), so this order is the file order whichever array a face lands in.
 struct Face {
-  std::vector<Vec3f> v, n;
+  std::vector<Vec3d> v;
+  std::vector<Vec3f> n;
   std::uint32_t mat;
 };
 std::vector<Face> faces(const Scene& s) {
@@ -46,23 +47,25 @@ std::vector<Face> faces(const Scene& s) {
   return r;
 }
 
-double dist(const Vec3f& a, const Vec3f& b) {
+template <class T>
+double dist(const Vec3<T>& a, const Vec3<T>& b) {
   return std::max({std::abs(double(a.x) - double(b.x)), std::abs(double(a.y) - double(b.y)),
                    std::abs(double(a.z) - double(b.z))});
 }
 
 // How far a generated value may be from the file's: %g keeps 6 significant digits, a rounding
-// error of up to 5e-6 of the printed value; both sides were stored as float (6e-8 each); plus
-// 1e-7 of the scene size for values printed near zero (e.g. 1.11022e-16 for 0).
+// error of up to 5e-6 of the printed value (positions are kept in double, normals in float: 6e-8);
+// plus 1e-7 of the scene size for values printed near zero (e.g. 1.11022e-16 for 0).
 double printed_tol(double ref, double size) { return 5.2e-6 * std::abs(ref) + 1e-7 * size; }
 // Excess of |got - ref| over that tolerance, per component (> 0: out of tolerance).
-double excess(const Vec3f& g, const Vec3f& r, double size) {
+template <class T>
+double excess(const Vec3<T>& g, const Vec3<T>& r, double size) {
   double e = -1e30;
   for (int i = 0; i < 3; ++i)
     e = std::max(e, std::abs(double(g[i]) - double(r[i])) - printed_tol(r[i], size));
   return e;
 }
-double excess(float g, float r, double size) { return std::abs(double(g) - double(r)) - printed_tol(r, size); }
+double excess(double g, double r, double size) { return std::abs(g - r) - printed_tol(r, size); }
 
 // Largest coordinate magnitude of the scene: the scale the printed digits are relative to.
 double scene_size(const Scene& s) {
@@ -76,9 +79,10 @@ double scene_size(const Scene& s) {
   if (std::abs(got - ref) <= rel * std::max(1.0, std::abs(ref))) return ::testing::AssertionSuccess();
   return ::testing::AssertionFailure() << "got " << got << ", file has " << ref;
 }
-::testing::AssertionResult near_printed3(const Vec3f& got, const Vec3f& ref) {
+template <class T>
+::testing::AssertionResult near_printed3(const Vec3<T>& got, const Vec3<T>& ref) {
   for (int i = 0; i < 3; ++i) {
-    auto r = near_printed(got[i], ref[i]);
+    auto r = near_printed(double(got[i]), double(ref[i]));
     if (!r) return r << " (component " << i << ")";
   }
   return ::testing::AssertionSuccess();

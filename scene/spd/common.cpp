@@ -106,16 +106,16 @@ void Builder::background(const Vec3d& c) { s_.background = to_float(c); }
 
 void Builder::view(const Vec3d& from, const Vec3d& at, const Vec3d& up, double angle, double hither, int resx,
                    int resy) {
-  s_.camera.from = to_float(from);
-  s_.camera.at = to_float(at);
-  s_.camera.up = to_float(up);
-  s_.camera.angle = float(angle);
-  s_.camera.hither = float(hither);
+  s_.camera.from = from;
+  s_.camera.at = at;
+  s_.camera.up = up;
+  s_.camera.angle = angle;
+  s_.camera.hither = hither;
   s_.camera.width = resx;
   s_.camera.height = resy;
 }
 
-void Builder::light(const Vec3d& p) { s_.lights.push_back(Light{to_float(p), Vec3f{1, 1, 1}}); }
+void Builder::light(const Vec3d& p) { s_.lights.push_back(Light{p, Vec3f{1, 1, 1}}); }
 
 void Builder::surface(const Vec3d& color, double /*ka*/, double kd, double ks, double /*ks_spec*/, double ang,
                       double kt, double ior) {
@@ -145,22 +145,22 @@ void Builder::surface(const Vec3d& color, double /*ka*/, double kd, double ks, d
 
 void Builder::sphere(const Vec3d& c, double r) {
   if (s_.materials.empty()) s_.materials.emplace_back();
-  s_.spheres.push_back(SphereIn{to_float(c), float(r), mat_});
+  s_.spheres.push_back(SphereIn{c, r, mat_});
 }
 
 void Builder::cone(const Vec3d& b, double br, const Vec3d& a, double ar) {
   if (s_.materials.empty()) s_.materials.emplace_back();
-  s_.cones.push_back(ConeIn{to_float(b), float(br), to_float(a), float(ar), mat_});
+  s_.cones.push_back(ConeIn{b, br, a, ar, mat_});
 }
 
 namespace {
-Vec3f unit_newell_normal(const Vec3f* v, std::size_t n) { return to_float(unit(newell_normal(v, n))); }
+Vec3f unit_newell_normal(const Vec3d* v, std::size_t n) { return to_float(unit(newell_normal(v, n))); }
 }  // namespace
 
 void Builder::fill_vert_normals() {
   for (std::size_t t = s_.vert_normals.size() / 3; t < s_.triangles.size(); ++t) {
     const auto& tri = s_.triangles[t];
-    const Vec3f p[3] = {s_.verts[tri.v[0]], s_.verts[tri.v[1]], s_.verts[tri.v[2]]};
+    const Vec3d p[3] = {s_.verts[tri.v[0]], s_.verts[tri.v[1]], s_.verts[tri.v[2]]};
     const Vec3f n = unit_newell_normal(p, 3);
     s_.vert_normals.insert(s_.vert_normals.end(), {n, n, n});
   }
@@ -178,12 +178,12 @@ void Builder::polygon(std::span<const Vec3d> v) {
   if (s_.materials.empty()) s_.materials.emplace_back();
   if (v.size() == 3) {
     const auto i = std::uint32_t(s_.verts.size());
-    for (const auto& p : v) s_.verts.push_back(to_float(p));
+    for (const auto& p : v) s_.verts.push_back(p);
     s_.triangles.push_back(TriangleIn{{i, i + 1, i + 2}, mat_});
     if (!s_.vert_normals.empty()) fill_vert_normals();
   } else {
     const auto first = std::uint32_t(s_.poly_verts.size());
-    for (const auto& p : v) s_.poly_verts.push_back(to_float(p));
+    for (const auto& p : v) s_.poly_verts.push_back(p);
     s_.polygons.push_back(PolygonIn{first, std::uint32_t(v.size()), mat_});
     if (!s_.poly_normals.empty()) fill_poly_normals();
   }
@@ -194,13 +194,13 @@ void Builder::patch(std::span<const Vec3d> v, std::span<const Vec3d> n) {
   if (v.size() == 3) {
     fill_vert_normals();  // backfill the plain triangles before this one
     const auto i = std::uint32_t(s_.verts.size());
-    for (const auto& p : v) s_.verts.push_back(to_float(p));
+    for (const auto& p : v) s_.verts.push_back(p);
     for (const auto& q : n) s_.vert_normals.push_back(to_float(q));
     s_.triangles.push_back(TriangleIn{{i, i + 1, i + 2}, mat_});
   } else {
     fill_poly_normals();
     const auto first = std::uint32_t(s_.poly_verts.size());
-    for (const auto& p : v) s_.poly_verts.push_back(to_float(p));
+    for (const auto& p : v) s_.poly_verts.push_back(p);
     for (const auto& q : n) s_.poly_normals.push_back(to_float(q));
     s_.polygons.push_back(PolygonIn{first, std::uint32_t(v.size()), mat_});
   }

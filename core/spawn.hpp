@@ -1,0 +1,76 @@
+// Where a secondary ray starts: a point computed on a surface lies within rounding error of it, on
+// either side, so a ray spawned there can hit its own surface again ("self-hit", shadow acne).
+// Three schemes, all in float (the tracer's frame coordinates), shared by the accuracy lab
+// (accuracy/secondary.cpp measures each one's self-hits and cost) and the tracer (tracer/plan.hpp
+// picks one per scene):
+//   - extent epsilon: the point moved along the normal by a fixed fraction of the scene's size
+//     (simple and scale-aware, but at 6.4e6 from the origin a fraction of the extent is hundreds
+//     of units, and near the origin of a large scene it is below one float step);
+//   - Waechter and Binder's integer offset (Ray Tracing Gems, chapter 6): each coordinate moved
+//     along the normal by a number of float ulps proportional to the normal component, or, where
+//     the coordinate is near zero (below `origin` = scale / 32) by a fixed `scale / 65536`; the
+//     published constants assume a scene of size about 1, so `scale` (a power of two near the
+//     scene's size) keeps the scheme scale-invariant;
+//   - the error-bound offset (as pbrt-v4 spawns rays): a point recomputed in a form whose rounding
+//     error has a known bound, moved along the normal by that bound, each coordinate rounded one
+//     float further away.
+#pragma once
+
+#include "core/vec3.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+
+namespace rb::spawn {
+
+// Waechter-Binder on one coordinate (p, the unit normal's component n).
+inline float wb_one(float p, float n, float scale = 1.0f) {
+  const int of = int(256.0f * n);
+  const float pi = std::bit_cast<float>(std::bit_cast<int>(p) + (p < 0 ? -of : of));
+  return std::fabs(p) < scale * (1.0f / 32.0f) ? p + scale * (1.0f / 65536.0f) * n : pi;
+}
+inline Vec3f wb_offset(const Vec3f& p, const Vec3f& n, float scale = 1.0f) {
+  return {wb_one(p.x, n.x, scale), wb_one(p.y, n.y, scale), wb_one(p.z, n.z, scale)};
+}
+
+// gamma_n = n u / (1 - n u), u = 2^-24: the bound of n float roundings (Higham).
+constexpr float gamma_f(int n) {
+  const float u = 0x1p-24f;
+  return float(n) * u / (1.0f - float(n) * u);
+}
+inline Vec3f vabs3(const Vec3f& v) { return {std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}; }
+
+// The next float up or down by its bit pattern (finite inputs; -0 is taken as +0 going up and +0
+// as -0 going down): an integer step, no library call.
+inline float next_up(float v) {
+  if (v == 0.0f) return std::bit_cast<float>(1);
+  const int b = std::bit_cast<int>(v);
+  return std::bit_cast<float>(v > 0 ? b + 1 : b - 1);
+}
+inline float next_down(float v) { return -next_up(-v); }
+inline float away(float po, float off) { return off > 0 ? next_up(po) : off < 0 ? next_down(po) : po; }
+
+// p (within err of the surface, per coordinate) moved along the unit normal n (on the outgoing
+// side) by |n| . err, each moved coordinate rounded one float further.
+inline Vec3f bound_offset(const Vec3f& p, const Vec3f& err, const Vec3f& n) {
+  const float d = std::fabs(n.x) * err.x + std::fabs(n.y) * err.y + std::fabs(n.z) * err.z;
+  const Vec3f off = n * d;
+  const Vec3f po = p + off;
+  return {away(po.x, off.x), away(po.y, off.y), away(po.z, off.z)};
+}
+
+// The point moved along n by eps (the extent-epsilon scheme).
+inline Vec3f eps_offset(const Vec3f& p, const Vec3f& n, float eps) { return p + n * eps; }
+
+// The power of two in (size / 2, size] (size: the scene's largest extent): the scale of the
+// integer offset's near-origin constants. 1 for an empty or non-finite size.
+inline float pow2_scale(double size) {
+  if (!(size > 0) || !std::isfinite(size)) return 1.0f;
+  int e = 0;
+  std::frexp(size, &e);  // size = m 2^e, m in [0.5, 1)
+  e = std::max(-100, std::min(100, e - 1));
+  return std::ldexp(1.0f, e);
+}
+
+}  // namespace rb::spawn

@@ -1,0 +1,251 @@
+// SceneAccel::build: boxes in the frame -> binned SAH -> batches in leaf order -> 8-wide collapse
+// -> conservative boxes; the leaf sources; surfaces and spawn points.
+#include "tracer/accel.hpp"
+
+#include "core/spawn.hpp"
+#include "tracer/traversal.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+#include <stdexcept>
+#include <string>
+
+namespace rb::tracer {
+
+namespace {
+
+// A batch of `slots` never-hit slots (count = slots: every leaf group is already padded).
+template <template <class> class P, class S>
+void fill_never(PrimSoA<P, S>& b, std::size_t slots) {
+  P<S> nv = P<S>::never();
+  auto t = nv.fields();
+  [&]<std::size_t... I>(std::index_sequence<I...>) { ((b.f[I].assign(slots, std::get<I>(t))), ...); }(std::make_index_sequence<PrimSoA<P, S>::kFields>{});
+  b.count = slots;
+}
+template <template <class> class P, class S>
+void set_slot(PrimSoA<P, S>& b, std::size_t i, std::type_identity_t<P<S>> p) {
+  auto t = p.fields();
+  [&]<std::size_t... I>(std::index_sequence<I...>) { ((b.f[I][i] = std::get<I>(t)), ...); }(std::make_index_sequence<PrimSoA<P, S>::kFields>{});
+}
+
+template <class K>
+void build_std(StdBatch<K>& b, const scene::Scene& s, std::vector<std::uint32_t> ids, const Vec3d& origin, bool store64, bool parallel) {
+  b.id = std::move(ids);
+  const std::size_t n = b.id.size();
+  auto fill = [&](auto& soa, auto tag) {
+    using S = decltype(tag);
+    fill_never(soa, n);
+    auto write = [&](std::size_t lo, std::size_t hi) {
+      for (std::size_t j = lo; j < hi; ++j)
+        if (b.id[j] != UINT32_MAX) set_slot(soa, j, K::template make<S>(s, b.id[j], origin));
+    };
+    if (parallel && n > 4096)
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 2048), [&](const auto& r) { write(r.begin(), r.end()); });
+    else
+      write(0, n);
+  };
+  bool s64 = false;
+  if constexpr (K::methods[0].f64_storage) s64 = store64;
+  if (s64) {
+    if constexpr (K::methods[0].f64_storage) fill(b.f64, double{});
+  } else {
+    fill(b.f32, float{});
+  }
+}
+
+}  // namespace
+
+SceneAccel::SceneAccel(SceneAccel&& o) noexcept { *this = std::move(o); }
+SceneAccel& SceneAccel::operator=(SceneAccel&& o) noexcept {
+  bin = std::move(o.bin);
+  wide = std::move(o.wide);
+  options = o.options;
+  build_ms = o.build_ms;
+  reorder_ms = o.reorder_ms;
+  scene_ = o.scene_;
+  plan_ = std::move(o.plan_);
+  scene_prims_ = o.scene_prims_;
+  batches_ = std::move(o.batches_);
+  fns_ = o.fns_;
+  mesh_only_ = o.mesh_only_;
+  wire();
+  return *this;
+}
+
+void SceneAccel::wire() {
+  table_ = {};
+  table_.fns = fns_.data();
+  AllKinds::each([&]<class K>() {
+    const auto& b = std::get<Batch<K>>(batches_);
+    table_.batch[std::size_t(K::id)] = &b;
+    table_.slots_fn[std::size_t(K::id)] = [](const void* p, std::size_t base) { return real_slots(*static_cast<const Batch<K>*>(p), base); };
+  });
+  mesh_.tri = &std::get<Batch<kinds::TriangleKind>>(batches_);
+}
+
+void SceneAccel::check_size(const scene::Scene& s, const bvh::BuildOptions& opt) {
+  const std::size_t need = s.primitive_count() * bvh::kBuildBytesPerPrim;
+  if (opt.max_bytes && need > opt.max_bytes)
+    throw std::length_error("the BVH of " + std::to_string(s.primitive_count()) + " primitives needs about " +
+                            std::to_string(need >> 20) + " MiB, above the limit of " + std::to_string(opt.max_bytes >> 20) + " MiB");
+}
+
+SceneAccel SceneAccel::build(const scene::Scene& s, const Plan& plan, const bvh::BuildOptions& opt) {
+  const auto t0 = std::chrono::steady_clock::now();
+  SceneAccel a;
+  a.scene_ = &s;
+  a.plan_ = plan;
+  a.options = opt;
+  check_size(s, opt);
+
+  // Every primitive: its kind and scene index, kinds in Kind order, each in scene order.
+  std::vector<std::uint8_t> kind;
+  std::vector<std::uint32_t> index;
+  kind.reserve(s.primitive_count());
+  index.reserve(s.primitive_count());
+  AllKinds::each([&]<class K>() {
+    K::each(s, [&](std::uint32_t i) {
+      kind.push_back(std::uint8_t(K::id));
+      index.push_back(i);
+    });
+  });
+  a.scene_prims_ = kind.size();
+
+  // Boxes in the frame (rounded outward to float).
+  std::vector<float> lo(3 * kind.size()), hi(3 * kind.size());
+  const Vec3d origin = plan.origin;
+  auto boxes = [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      const scene::Bounds wb = AllKinds::at<scene::Bounds>(Kind(kind[i]), [&]<class K>() { return K::bounds(s, index[i]); });
+      kinds::frame_box(wb, origin, &lo[3 * i], &hi[3 * i]);
+    }
+  };
+  if (opt.parallel)
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, kind.size(), 4096), [&](const auto& r) { boxes(r.begin(), r.end()); });
+  else
+    boxes(0, kind.size());
+  a.bin = bvh::build_sah(lo, hi, kind, opt);
+
+  // Reorder: every leaf becomes one 8-slot group of its kind's batch, groups assigned in node
+  // order; ids[kind][slot] is the scene index of each slot.
+  const auto t1 = std::chrono::steady_clock::now();
+  std::array<std::vector<std::uint32_t>, kKinds> ids;
+  std::size_t groups[kKinds] = {};
+  for (bvh::BNode& n : a.bin.nodes) {
+    if (!n.leaf()) continue;
+    const std::uint32_t first = n.first;
+    const std::size_t g = groups[n.kind]++;
+    n.first = std::uint32_t(g);
+    n.pad_ = 0;
+    auto& v = ids[n.kind];
+    v.resize((g + 1) * 8, UINT32_MAX);
+    for (std::uint32_t j = 0; j < n.count; ++j) v[g * 8 + j] = index[a.bin.order[first + j]];
+  }
+  std::array<LeafChoice, kKinds> choice{};
+  AllKinds::each([&]<class K>() {
+    const KindPlan& kp = plan.kinds[std::size_t(K::id)];
+    choice[std::size_t(K::id)] = {kp.method, kp.f64, kp.f64_storage};
+    auto& b = std::get<Batch<K>>(a.batches_);
+    auto& v = ids[std::size_t(K::id)];
+    if constexpr (K::custom) K::build(b, s, std::move(v), origin, kp.method, kp.f64, kp.f64_storage);
+    else build_std<K>(b, s, std::move(v), origin, kp.f64_storage, opt.parallel);
+  });
+  a.reorder_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
+  a.wide = bvh::collapse8(a.bin);
+  bvh::make_conservative(a.wide, plan.origin_bound);
+  a.fns_ = leaf_table(choice);
+  std::size_t present = 0;
+  AllKinds::each([&]<class K>() { present += K::count(s) > 0; });
+  a.mesh_only_ = present == 1 && kinds::TriangleKind::count(s) > 0 && choice[0].method == 0 && !choice[0].f64 && !choice[0].f64_storage;
+  a.wire();
+  a.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return a;
+}
+
+std::size_t SceneAccel::kind_bytes(Kind k) const {
+  return AllKinds::at<std::size_t>(k, [&]<class K>() { return std::get<Batch<K>>(batches_).bytes(); });
+}
+std::uint32_t SceneAccel::slot_id(Kind k, std::size_t slot) const {
+  return AllKinds::at<std::uint32_t>(k, [&]<class K>() {
+    const auto& b = std::get<Batch<K>>(batches_);
+    return slot < b.id.size() ? b.id[slot] : UINT32_MAX;
+  });
+}
+
+std::size_t SceneAccel::bytes_prims() const {
+  std::size_t b = 0;
+  AllKinds::each([&]<class K>() { b += std::get<Batch<K>>(batches_).bytes(); });
+  return b;
+}
+
+Ray<float> SceneAccel::frame_ray(const Vec3d& o, const Vec3d& d, double tmin, double tmax) const {
+  return make_ray(o - plan_.origin, d, tmin, tmax);
+}
+
+kinds::Surface SceneAccel::surface(std::uint32_t prim, const Ray<float>& r, float t) const {
+  kinds::HitQuery q;
+  q.scene = scene_;
+  q.origin = plan_.origin;
+  q.ray = r;
+  q.t = t;
+  q.p = world_point(r, t);
+  const Kind k = kinds::kind_of(prim);
+  q.batch = table_.batch[std::size_t(k)];
+  return AllKinds::at<kinds::Surface>(k, [&]<class K>() { return K::surface(q, kinds::index_of(prim)); });
+}
+
+Vec3f SceneAccel::spawn_point(const kinds::Surface& sf, const Vec3f& dir) const {
+  const Vec3f p = to_frame(sf.p);
+  const Vec3f n = dot(sf.ng, dir) < 0.0f ? -sf.ng : sf.ng;
+  switch (plan_.spawn) {
+    case SpawnScheme::extent_eps: return spawn::eps_offset(p, n, plan_.spawn_eps);
+    case SpawnScheme::integer: return spawn::wb_offset(p, n, plan_.spawn_scale);
+    case SpawnScheme::error_bound: {
+      // sf.p is in double (within a few double ulps of the surface, or of the traced t's error
+      // where the kind does not project): its rounding to float is within half a float step per
+      // coordinate, plus the double error, bounded here by 2^-40 of the coordinate.
+      const Vec3d pd = sf.p - plan_.origin;
+      auto err = [](double x, float f) { return float(std::fabs(x - double(f)) + std::fabs(x) * 0x1p-40); };
+      const Vec3f e{err(pd.x, p.x), err(pd.y, p.y), err(pd.z, p.z)};
+      return spawn::bound_offset(p, e, n);
+    }
+  }
+  return p;
+}
+
+template <bool Count>
+void SceneAccel::dispatch(const RaySoA& rays, std::size_t begin, std::size_t end, HitRec* out, const TraceOptions& o,
+                          bvh::TraceCounters& c) const {
+  const bvh::Slab slab = o.slab_given ? o.slab : plan_.slab;
+  if (mesh_only_) run_traversal<Count>(wide, mesh_, rays, begin, end, out, o.packet, o.any, slab, c);
+  else run_traversal<Count>(wide, table_, rays, begin, end, out, o.packet, o.any, slab, c);
+}
+
+void SceneAccel::trace(const RaySoA& rays, std::size_t begin, std::size_t end, HitRec* out, const TraceOptions& o) const {
+  bvh::TraceCounters c;
+  dispatch<false>(rays, begin, end, out, o, c);
+}
+void SceneAccel::trace_counted(const RaySoA& rays, std::size_t begin, std::size_t end, HitRec* out, const TraceOptions& o,
+                               bvh::TraceCounters& c) const {
+  dispatch<true>(rays, begin, end, out, o, c);
+}
+
+HitRec SceneAccel::brute_force(const Ray<float>& r, bool any) const {
+  HitRec h{r.tmax, kNoPrim};
+  if (!(r.tmin <= r.tmax)) return {std::numeric_limits<float>::infinity(), kNoPrim};
+  RayCache cache;
+  bool done = false;
+  AllKinds::each([&]<class K>() {
+    if (done) return;
+    const auto& b = std::get<Batch<K>>(batches_);
+    for (std::size_t g = 0; g < b.id.size(); g += 8)
+      if (fns_[std::size_t(K::id)].single(&b, g, r, cache, h) && any) {
+        done = true;
+        return;
+      }
+  });
+  return bvh::finished(h);
+}
+
+}  // namespace rb::tracer

@@ -1,0 +1,108 @@
+// A scene ready to trace under a plan (tracer/plan.hpp): every primitive's box in the plan's frame,
+// one SAH build over them (bvh/build.cpp), the 8-wide tree with conservative boxes, and each kind's
+// batch in leaf order, made relative to the frame origin in the plan's precision, with the leaf
+// functions of the plan's method. Rays are traced in frame coordinates: `frame_ray` turns a world
+// ray (double) into one, `surface` turns a hit back into a world surface point and normals.
+//
+// The scene must outlive the SceneAccel (surfaces read the scene's own arrays).
+#pragma once
+
+#include "bvh/bvh.hpp"
+#include "tracer/leaves.hpp"
+#include "tracer/plan.hpp"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace rb::tracer {
+
+struct TraceOptions {
+  int packet = 1;    // 1: single rays; 8: packets of 8 rays; 16: packets of 16 (two 8-lane halves)
+  bool any = false;  // any hit (shadow rays): stop at the first hit
+  // The plan's slab test unless set (the lab compares the three).
+  bool slab_given = false;
+  bvh::Slab slab = bvh::Slab::conservative;
+};
+
+class SceneAccel {
+ public:
+  // Throws std::length_error before allocating when the estimated peak memory exceeds
+  // opt.max_bytes.
+  static SceneAccel build(const scene::Scene& s, const Plan& plan, const bvh::BuildOptions& opt = {});
+  // The same under the auto model's plan.
+  static SceneAccel build(const scene::Scene& s, const bvh::BuildOptions& opt = {}) {
+    check_size(s, opt);
+    return build(s, make_plan(s, Model::automatic), opt);
+  }
+  // Throws std::length_error when the build's estimated peak memory exceeds opt.max_bytes.
+  static void check_size(const scene::Scene& s, const bvh::BuildOptions& opt);
+
+  const scene::Scene& scene() const { return *scene_; }
+  const Plan& plan() const { return plan_; }
+  const Vec3d& origin() const { return plan_.origin; }
+  bool empty() const { return bin.nodes.empty(); }
+
+  // A world ray (double origin, any direction) in frame coordinates; invalid input gives the
+  // invalid ray (a defined miss).
+  Ray<float> frame_ray(const Vec3d& o, const Vec3d& d, double tmin = 0, double tmax = std::numeric_limits<double>::infinity()) const;
+  Vec3f to_frame(const Vec3d& p) const { return to_float(p - plan_.origin); }
+  Vec3d to_world(const Vec3f& p) const { return to_double(p) + plan_.origin; }
+  // The world hit point of a frame ray at t, in double.
+  Vec3d world_point(const Ray<float>& r, float t) const {
+    return plan_.origin + to_double(r.o) + to_double(r.d) * double(t);
+  }
+  // The surface of primitive `prim` (bvh::prim_code) hit by the frame ray r at t.
+  kinds::Surface surface(std::uint32_t prim, const Ray<float>& r, float t) const;
+  // Where a secondary ray leaving the surface along `dir` (unit, frame = world directions) starts,
+  // by the plan's spawn scheme: the hit point in frame coordinates moved off the surface on the
+  // side `dir` leaves to. `n` is the unit geometric normal.
+  Vec3f spawn_point(const kinds::Surface& sf, const Vec3f& dir) const;
+
+  // Traces rays [begin, end) (frame coordinates; begin a multiple of 8) into out[begin, end).
+  void trace(const RaySoA& rays, std::size_t begin, std::size_t end, HitRec* out, const TraceOptions& o) const;
+  // The same, counting traversal cost (slower: for the per-ray figures, not for timing).
+  void trace_counted(const RaySoA& rays, std::size_t begin, std::size_t end, HitRec* out, const TraceOptions& o,
+                     bvh::TraceCounters& c) const;
+  // The lecture's loop over all objects (seed 002, "Intersecting a Group of Objects"): every
+  // primitive against the ray, 8 per kernel call, with the same leaf functions: the oracle.
+  HitRec brute_force(const Ray<float>& r, bool any) const;
+
+  std::size_t scene_prims() const { return scene_prims_; }
+  std::size_t bytes_nodes() const { return wide.nodes.size() * sizeof(bvh::WNode); }
+  std::size_t bytes_prims() const;  // batches + ids
+  std::size_t bytes() const { return bytes_nodes() + bytes_prims(); }
+  std::size_t kind_bytes(Kind k) const;
+  // The scene index in slot `slot` of kind k's leaf-ordered batch (UINT32_MAX: padding or beyond).
+  std::uint32_t slot_id(Kind k, std::size_t slot) const;
+
+  bvh::Bvh2 bin;
+  bvh::Bvh8 wide;
+  bvh::BuildOptions options;
+  double build_ms = 0;    // boxes + builder + reorder + collapse
+  double reorder_ms = 0;
+
+ private:
+  const scene::Scene* scene_ = nullptr;
+  Plan plan_;
+  std::size_t scene_prims_ = 0;
+  Batches batches_;
+  std::array<LeafFns, kKinds> fns_{};
+  TableLeaves table_;
+  MeshLeaves mesh_;
+  bool mesh_only_ = false;  // one kind, triangles, Woop in float: MeshLeaves
+
+  template <bool Count>
+  void dispatch(const RaySoA& rays, std::size_t begin, std::size_t end, HitRec* out, const TraceOptions& o,
+                bvh::TraceCounters& c) const;
+  void wire();  // points the leaf sources at the batches (after build and after a move)
+
+ public:
+  SceneAccel() = default;
+  SceneAccel(SceneAccel&& o) noexcept;
+  SceneAccel& operator=(SceneAccel&& o) noexcept;
+  SceneAccel(const SceneAccel&) = delete;
+  SceneAccel& operator=(const SceneAccel&) = delete;
+};
+
+}  // namespace rb::tracer

@@ -1,0 +1,160 @@
+// The table of primitive kinds: the one place a kind is declared. Each kind (tracer/kinds/*.hpp) is
+// a struct that says, for the scene's primitives of that kind:
+//   - which they are (each: the scene indices, in the scene array the kind reads), their world box
+//     (bounds) and their numerical features (feature: centre, smallest and largest size), the
+//     inputs of the BVH build and of the scene's numerical profile (tracer/profile.hpp);
+//   - the kernel primitive stored in the leaf batches (Prim<S>, S = float, or double where the
+//     kind supports double storage) and how one is made relative to a frame origin (make);
+//   - its methods, cheapest first, each a kernel over any number type (hit<M>), with what each
+//     precision costs and which lab cases show where it fails (tracer/plan.cpp chooses);
+//   - the surface at a hit (point, normals, material: the renderer's shading input);
+//   - how Embree models it (triangle, sphere, or not at all).
+// Kinds whose batch is not a PrimSoA (polygons: projected vertices by slot; CSG: one tree per
+// slot) say `custom = true` and bring their own batch and leaf functions (tracer/leaves.hpp
+// calls them). Nothing else in the engine switches on a kind: the tracer, the renderer, the
+// Embree adapter, the profile and the plan iterate over the list at the bottom of this file.
+// Adding a kind: write its header in tracer/kinds/, include it and add it to RB_KIND_LIST below.
+#pragma once
+
+#include "bvh/bvh.hpp"
+#include "core/ray.hpp"
+#include "scene/scene.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <string>
+
+namespace rb::kinds {
+
+using scene::Bounds;
+using scene::Scene;
+
+enum class Kind : std::uint8_t { triangle = 0, sphere = 1, cylinder = 2, cone = 3, polygon = 4, csg = 5, torus = 6 };
+inline constexpr int kKinds = 7;
+static_assert(kKinds <= bvh::kMaxKinds);
+
+// What the profile reads of one primitive: where it is and how small and large it is. size is
+// the smallest length that matters for it (a sphere's radius, a triangle's shortest edge, a torus'
+// tube radius), extent its largest dimension; both 0 for a degenerate primitive.
+struct Feature {
+  Vec3d centre{0, 0, 0};
+  double size = 0, extent = 0;
+};
+
+// The surface at a hit, in world coordinates (double point: a surface 6.4e6 from the origin keeps
+// its shading detail).
+struct Surface {
+  Vec3d p;    // the hit point
+  Vec3f ng;   // unit geometric normal (outward for solids; by vertex order for faces)
+  Vec3f ns;   // unit shading normal (interpolated vertex normals where given, else ng), on ng's side
+  std::uint32_t mat = 0;
+};
+
+enum class EmbreeType : std::uint8_t { none, triangle, sphere };
+
+// A method of a kind: its name, what it is, and the precisions the tracer can run it in.
+struct MethodInfo {
+  const char* name;
+  const char* what;
+  bool f64 = true;          // the kernel in double on the stored primitive widened
+  bool f64_storage = false; // the primitive stored in double (the kind's make<double>)
+};
+
+// What a kind's surface rule is given: the ray as traced (frame coordinates), its hit distance,
+// the frame's origin and the world hit point origin + o + t d in double; `batch` is the kind's
+// batch in the tracer (custom kinds read it: the CSG trees in the frame).
+struct HitQuery {
+  const Scene* scene = nullptr;
+  Vec3d origin{0, 0, 0};
+  Ray<float> ray{};
+  float t = 0;
+  Vec3d p{0, 0, 0};
+  const void* batch = nullptr;
+};
+
+namespace detail {
+inline Vec3f unit_or(const Vec3d& v, const Vec3f& fallback) {
+  const double l = std::sqrt(dot(v, v));
+  if (!(l > 0.0) || !std::isfinite(l)) return fallback;
+  return to_float(v * (1.0 / l));
+}
+// Barycentric weights of p in triangle (a, b, c), by sub-areas along the triangle's normal.
+inline bool barycentric(const Vec3d& a, const Vec3d& b, const Vec3d& c, const Vec3d& p, double w[3]) {
+  const Vec3d n = cross(b - a, c - a);
+  const double nn = dot(n, n);
+  if (!(nn > 0.0)) return false;
+  w[0] = dot(cross(c - b, p - b), n) / nn;
+  w[1] = dot(cross(a - c, p - c), n) / nn;
+  w[2] = 1.0 - w[0] - w[1];
+  return true;
+}
+// The shading normal from vertex normals: barycentric on a triangle; on a polygon, barycentric in
+// the fan triangle (v0, vi, vi+1) that contains p (the one least outside it, at the edges).
+inline Vec3f interpolate(const Vec3d* v, const Vec3f* n, std::size_t count, const Vec3d& p, const Vec3f& ng) {
+  double best_out = -1e300;
+  Vec3d best{0, 0, 0};
+  for (std::size_t i = 1; i + 1 < count; ++i) {
+    double w[3];
+    if (!barycentric(v[0], v[i], v[i + 1], p, w)) continue;
+    const double inside = std::min({w[0], w[1], w[2]});
+    if (inside > best_out) {
+      best_out = inside;
+      best = to_double(n[0]) * w[0] + to_double(n[i]) * w[1] + to_double(n[i + 1]) * w[2];
+    }
+    if (inside >= 0) break;
+  }
+  Vec3f ns = unit_or(best, ng);
+  if (dot(ns, ng) < 0.0f) ns = -ns;
+  return ns;
+}
+}  // namespace detail
+
+// A primitive's scene index and kind, packed as the tracer's hits are (bvh::prim_code).
+inline std::uint32_t code(Kind k, std::uint32_t index) { return bvh::prim_code(int(k), index); }
+inline Kind kind_of(std::uint32_t code) { return Kind(bvh::prim_kind(code)); }
+inline std::uint32_t index_of(std::uint32_t code) { return bvh::prim_index(code); }
+
+// A float box that contains the double box b translated by -origin (each bound rounded outward).
+Bounds frame_box(const Bounds& b, const Vec3d& origin, float lo[3], float hi[3]);
+
+}  // namespace rb::kinds
+
+#include "tracer/kinds/cone.hpp"
+#include "tracer/kinds/csg.hpp"
+#include "tracer/kinds/cylinder.hpp"
+#include "tracer/kinds/polygon.hpp"
+#include "tracer/kinds/sphere.hpp"
+#include "tracer/kinds/torus.hpp"
+#include "tracer/kinds/triangle.hpp"
+
+namespace rb::kinds {
+
+// Every kind, in Kind order.
+#define RB_KIND_LIST TriangleKind, SphereKind, CylinderKind, ConeKind, PolygonKind, CsgKind, TorusKind
+
+template <class... K>
+struct KindList {
+  static constexpr std::size_t size = sizeof...(K);
+  // f.template operator()<K>() for every kind, in order.
+  template <class Fn>
+  static void each(Fn&& f) { (f.template operator()<K>(), ...); }
+  // f.template operator()<K>() for the kind k.
+  template <class R, class Fn>
+  static R at(Kind k, Fn&& f) {
+    R r{};
+    ((K::id == k ? (void)(r = f.template operator()<K>()) : void()), ...);
+    return r;
+  }
+};
+using AllKinds = KindList<RB_KIND_LIST>;
+static_assert(AllKinds::size == kKinds);
+
+const char* kind_name(Kind k);
+// The kind of a name ("sphere", ...); false when there is none.
+bool parse_kind(const std::string& name, Kind& k);
+// Primitives of each kind in the scene.
+std::array<std::size_t, kKinds> kind_counts(const Scene& s);
+
+}  // namespace rb::kinds

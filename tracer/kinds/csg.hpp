@@ -1,0 +1,114 @@
+// CSG solids (Scene::csgs: JSON trees of union, intersection and difference over closed leaves,
+// kernels/csg.hpp): each slot is one tree, queried one ray at a time (the scalar closest-hit query
+// with its early exits) or 8 rays at a time (packets). The batch holds each tree as built in the
+// tracer's frame (CsgIn::in_frame: the placement composed in double relative to the origin).
+#pragma once
+
+#include "bvh/traverse.hpp"
+#include "kernels/csg.hpp"
+#include "scene/csg.hpp"
+
+#include <memory>
+#include <vector>
+
+namespace rb::kinds {
+
+struct CsgKind {
+  static constexpr Kind id = Kind::csg;
+  static constexpr const char* name = "csg";
+  static constexpr EmbreeType embree = EmbreeType::none;
+  static constexpr bool custom = true;
+
+  static std::size_t count(const Scene& s) { return s.csgs.size(); }
+  template <class Fn>
+  static void each(const Scene& s, Fn&& f) {
+    for (std::size_t i = 0; i < s.csgs.size(); ++i) f(std::uint32_t(i));
+  }
+  static std::uint32_t material(const Scene& s, std::uint32_t i) { return s.csgs[i].mat; }
+  static Bounds bounds(const Scene& s, std::uint32_t i) {
+    Bounds b;
+    const CsgTree& t = *s.csgs[i].tree;
+    if (t.empty()) return b;
+    const CsgNode& n = t.nodes[t.root];
+    b.grow(Vec3d{n.lo[0], n.lo[1], n.lo[2]});
+    b.grow(Vec3d{n.hi[0], n.hi[1], n.hi[2]});
+    return b;
+  }
+  static Feature feature(const Scene& s, std::uint32_t i) {
+    const Bounds b = bounds(s, i);
+    if (b.empty()) return {};
+    const Vec3d e = b.extent();
+    return {b.centre(), std::min({e.x, e.y, e.z}), std::max({e.x, e.y, e.z})};
+  }
+
+  template <class F>
+  struct Pre {};
+  template <class F>
+  static Pre<F> pre(const Ray<F>&) { return {}; }
+  static constexpr std::array<MethodInfo, 1> methods{
+      {{"intervals", "each leaf's entry/exit list along the ray, merged in 1D ray space (seed 000)", false, false}}};
+
+  struct Batch {
+    std::vector<std::shared_ptr<const CsgTree>> trees;  // by scene index, in the frame
+    std::vector<std::uint32_t> id;                      // per leaf slot: the scene index (UINT32_MAX: padding)
+    std::size_t bytes() const {
+      std::size_t n = id.size() * sizeof(std::uint32_t);
+      for (const auto& t : trees) n += t ? t->bytes() + sizeof(void*) : 0;
+      return n;
+    }
+  };
+  static void build(Batch& b, const Scene& s, std::vector<std::uint32_t> ids, const Vec3d& origin, int /*method*/, bool /*f64*/,
+                    bool /*f64_storage*/) {
+    b.id = std::move(ids);
+    b.trees.clear();
+    const bool moved = !(origin.x == 0 && origin.y == 0 && origin.z == 0);
+    for (const auto& c : s.csgs) b.trees.push_back(moved && c.in_frame ? c.in_frame(origin) : c.tree);
+  }
+  static bool single(const Batch& b, std::size_t base, const Ray<float>& r, bvh::HitRec& h) {
+    bool any = false;
+    Ray<float> rr = r;
+    rr.tmax = h.t;
+    for (std::size_t j = base; j < base + 8 && j < b.id.size(); ++j) {
+      const std::uint32_t sid = b.id[j];
+      if (sid == UINT32_MAX) continue;
+      float tag;
+      const Hit<float> hc = csg_hit(*b.trees[sid], rr, tag);
+      if (hc.mask && hc.t <= rr.tmax) {
+        rr.tmax = hc.t;
+        h = {hc.t, code(id, sid)};
+        any = true;
+      }
+    }
+    return any;
+  }
+  template <bool Any, int H>
+  static void packet(const Batch& b, std::size_t base, bvh::Packet<H>& p) {
+    for (std::size_t j = base; j < base + 8 && j < b.id.size(); ++j) {
+      const std::uint32_t sid = b.id[j];
+      if (sid == UINT32_MAX) continue;
+      for (int k = 0; k < H; ++k) {
+        if (none_of<f8>(p.active[k])) continue;
+        Ray<f8> rr = p.r[k];
+        rr.tmax = p.tbest[k];
+        f8 tag;
+        const Hit<f8> hit = csg_hit8(*b.trees[sid], rr, tag);
+        bvh::packet_update<Any>(p, k, hit.mask, hit.t, code(id, sid));
+      }
+    }
+  }
+
+  // The tree's own closest-hit query on the ray as traced gives the outward normal (flipped on
+  // subtracted surfaces) and the material of the leaf surface hit.
+  static Surface surface(const HitQuery& q, std::uint32_t i) {
+    const auto* b = static_cast<const Batch*>(q.batch);
+    const CsgTree& tree = b && i < b->trees.size() ? *b->trees[i] : *q.scene->csgs.at(i).tree;
+    const auto c = scene::csg_surface(tree, q.ray);
+    Surface h;
+    h.p = q.p;
+    h.ng = h.ns = c.hit ? detail::unit_or(to_double(c.normal), -q.ray.d) : -q.ray.d;
+    h.mat = c.material;
+    return h;
+  }
+};
+
+}  // namespace rb::kinds

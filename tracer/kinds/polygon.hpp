@@ -1,0 +1,134 @@
+// Planar polygons (Scene::polygons: NFF `p`/`pp` with four or more vertices, JSON polygons): the
+// plane, then the crossing test in the plane projected along the normal's dominant axis
+// (kernels/polygon.hpp). The batch is the polygon kernel's own axis-grouped PolygonSoA over the
+// leaf-ordered polygons; each leaf slot keeps its slot in it.
+#pragma once
+
+#include "bvh/traverse.hpp"
+#include "kernels/polygon.hpp"
+
+#include <vector>
+
+namespace rb::kinds {
+
+struct PolygonKind {
+  static constexpr Kind id = Kind::polygon;
+  static constexpr const char* name = "polygon";
+  static constexpr EmbreeType embree = EmbreeType::none;
+  static constexpr bool custom = true;
+
+  static std::size_t count(const Scene& s) { return s.polygons.size(); }
+  template <class Fn>
+  static void each(const Scene& s, Fn&& f) {
+    for (std::size_t i = 0; i < s.polygons.size(); ++i) f(std::uint32_t(i));
+  }
+  static std::uint32_t material(const Scene& s, std::uint32_t i) { return s.polygons[i].mat; }
+  static std::vector<Vec3d> vertices(const Scene& s, std::uint32_t i, const Vec3d& origin = {0, 0, 0}) {
+    const auto& p = s.polygons[i];
+    std::vector<Vec3d> v(p.count);
+    for (std::uint32_t k = 0; k < p.count; ++k) v[k] = s.poly_verts[p.first + k] - origin;
+    return v;
+  }
+  static Bounds bounds(const Scene& s, std::uint32_t i) {
+    Bounds b;
+    const auto v = vertices(s, i);
+    if (!polygon_info(v).valid) return b;
+    for (const auto& q : v) b.grow(q);
+    return b;
+  }
+  static Feature feature(const Scene& s, std::uint32_t i) {
+    const auto v = vertices(s, i);
+    Feature f;
+    if (v.empty()) return f;
+    double emin = 1e300, emax = 0;
+    Vec3d c{0, 0, 0};
+    for (std::size_t k = 0; k < v.size(); ++k) {
+      const Vec3d e = v[(k + 1) % v.size()] - v[k];
+      const double l = std::sqrt(dot(e, e));
+      if (l > 0) emin = std::min(emin, l);
+      emax = std::max(emax, l);
+      c = c + v[k];
+    }
+    f.centre = c * (1.0 / double(v.size()));
+    f.size = emin < 1e300 ? emin : 0.0;
+    f.extent = emax;
+    return f;
+  }
+
+  template <class F>
+  struct Pre {};
+  template <class F>
+  static Pre<F> pre(const Ray<F>&) { return {}; }
+  static constexpr std::array<MethodInfo, 1> methods{
+      {{"crossing", "the plane, then the crossing (Jordan curve) test projected along the normal's dominant axis", false, false}}};
+
+  struct Batch {
+    PolygonSoA soa;                  // the polygons in leaf order
+    std::vector<std::uint32_t> slot;  // per leaf slot: its slot in soa (UINT32_MAX: padding)
+    std::vector<std::uint32_t> id;    // per leaf slot: the scene index (UINT32_MAX: padding)
+    std::size_t bytes() const { return soa.bytes() + (slot.size() + id.size()) * sizeof(std::uint32_t); }
+  };
+  // ids: the scene index of every leaf slot (UINT32_MAX for padding), in leaf order.
+  static void build(Batch& b, const Scene& s, std::vector<std::uint32_t> ids, const Vec3d& origin, int /*method*/, bool /*f64*/,
+                    bool /*f64_storage*/) {
+    std::vector<std::vector<Vec3d>> polys;
+    for (std::uint32_t p : ids)
+      if (p != UINT32_MAX) polys.push_back(vertices(s, p, origin));
+    b.id = std::move(ids);
+    b.slot.assign(b.id.size(), UINT32_MAX);
+    if (polys.empty()) return;
+    b.soa = PolygonSoA::build(polys);
+    std::vector<std::uint32_t> slot_of(polys.size(), UINT32_MAX);
+    for (std::size_t j = 0; j < b.soa.id.size(); ++j)
+      if (b.soa.id[j] != UINT32_MAX) slot_of[b.soa.id[j]] = std::uint32_t(j);
+    std::size_t p = 0;
+    for (std::size_t j = 0; j < b.id.size(); ++j)
+      if (b.id[j] != UINT32_MAX) b.slot[j] = slot_of[p++];
+  }
+  // One ray against the 8 slots from `base`: one polygon at a time (scalar), closest below h.t.
+  static bool single(const Batch& b, std::size_t base, const Ray<float>& r, bvh::HitRec& h) {
+    bool any = false;
+    Ray<float> rr = r;
+    rr.tmax = h.t;
+    for (std::size_t j = base; j < base + 8; ++j) {
+      const std::uint32_t slot = b.slot[j];
+      if (slot == UINT32_MAX) continue;
+      const Hit<float> hp = intersect_polygon(rr, b.soa.broadcast<float>(slot));
+      if (hp.mask && hp.t <= rr.tmax) {
+        rr.tmax = hp.t;
+        h = {hp.t, code(id, b.id[j])};
+        any = true;
+      }
+    }
+    return any;
+  }
+  template <bool Any, int H>
+  static void packet(const Batch& b, std::size_t base, bvh::Packet<H>& p) {
+    for (std::size_t j = base; j < base + 8; ++j) {
+      const std::uint32_t slot = b.slot[j];
+      if (slot == UINT32_MAX) continue;
+      const PolygonRef<f8> poly = b.soa.broadcast<f8>(slot);
+      for (int k = 0; k < H; ++k) {
+        if (none_of<f8>(p.active[k])) continue;
+        Ray<f8> rr = p.r[k];
+        rr.tmax = p.tbest[k];
+        const Hit<f8> hit = intersect_polygon(rr, poly);
+        bvh::packet_update<Any>(p, k, hit.mask, hit.t, code(id, b.id[j]));
+      }
+    }
+  }
+
+  static Surface surface(const HitQuery& q, std::uint32_t i) {
+    const Scene& s = *q.scene;
+    const auto& pg = s.polygons.at(i);
+    const Vec3d* v = s.poly_verts.data() + pg.first;
+    Surface h;
+    h.p = q.p;
+    h.ng = detail::unit_or(newell_normal(v, pg.count), -q.ray.d);
+    h.ns = s.poly_normals.empty() ? h.ng : detail::interpolate(v, s.poly_normals.data() + pg.first, pg.count, q.p, h.ng);
+    h.mat = pg.mat;
+    return h;
+  }
+};
+
+}  // namespace rb::kinds

@@ -1,0 +1,76 @@
+// Spheres (Scene::spheres: NFF `s`, JSON spheres without a transform).
+#pragma once
+
+#include "kernels/sphere.hpp"
+
+namespace rb::kinds {
+
+struct SphereKind {
+  static constexpr Kind id = Kind::sphere;
+  static constexpr const char* name = "sphere";
+  static constexpr EmbreeType embree = EmbreeType::sphere;
+  static constexpr bool custom = false;
+
+  static std::size_t count(const Scene& s) { return s.spheres.size(); }
+  template <class Fn>
+  static void each(const Scene& s, Fn&& f) {
+    for (std::size_t i = 0; i < s.spheres.size(); ++i) f(std::uint32_t(i));
+  }
+  static std::uint32_t material(const Scene& s, std::uint32_t i) { return s.spheres[i].mat; }
+  static Bounds bounds(const Scene& s, std::uint32_t i) {
+    const auto& sp = s.spheres[i];
+    Bounds b;
+    if (!(sp.r > 0) || !std::isfinite(sp.r)) return b;
+    b.grow(sp.c - Vec3d{sp.r, sp.r, sp.r});
+    b.grow(sp.c + Vec3d{sp.r, sp.r, sp.r});
+    return b;
+  }
+  static Feature feature(const Scene& s, std::uint32_t i) {
+    const auto& sp = s.spheres[i];
+    return {sp.c, sp.r > 0 ? sp.r : 0.0, sp.r > 0 ? 2 * sp.r : 0.0};
+  }
+
+  template <class S>
+  using Prim = Sphere<S>;
+  template <class S>
+  static Prim<S> make(const Scene& s, std::uint32_t i, const Vec3d& origin, std::string* why = nullptr) {
+    const auto& sp = s.spheres[i];
+    if constexpr (std::is_same_v<S, float>) {
+      return make_sphere(sp.c - origin, sp.r, why);
+    } else {
+      const Vec3d c = sp.c - origin;
+      if (!finite3(c)) return never_because<Prim<S>>(why, "sphere: centre is not finite");
+      if (!(sp.r > 0) || !std::isfinite(sp.r * sp.r)) return never_because<Prim<S>>(why, "sphere: radius is not positive and finite");
+      return {c, sp.r * sp.r, 1.0 / sp.r};
+    }
+  }
+  template <class F>
+  struct Pre {};
+  template <class F>
+  static RB_INLINE Pre<F> pre(const Ray<F>&) { return {}; }
+  static constexpr std::array<MethodInfo, 3> methods{{
+      {"geometric", "the lecture's geometric solution: closest approach t0 = v . d, then D^2 and tD^2", true, true},
+      {"hearn_baker", "Hearn and Baker's form: the discriminant from the offset f - (f . d) d, accurate for a small sphere far away", true, true},
+      {"compensated", "error-free transformations (two-sum, two-product) for b and c: right at planet scale", true, true},
+  }};
+  template <int M, class F>
+  static RB_INLINE Hit<F> hit(const Ray<F>& r, const Pre<F>&, const Prim<F>& p) {
+    if constexpr (M == 0) return intersect_sphere_geometric(r, p);
+    else if constexpr (M == 1) return intersect_sphere_hearn_baker(r, p);
+    else return intersect_sphere_compensated(r, p);
+  }
+
+  // Embree's sphere geometry (point spheres): centre and radius.
+  static void sphere_of(const Scene& s, std::uint32_t i, Vec3d& c, double& r) { c = s.spheres[i].c, r = s.spheres[i].r; }
+
+  static Surface surface(const HitQuery& q, std::uint32_t i) {
+    const auto& sp = q.scene->spheres.at(i);
+    Surface h;
+    h.p = q.p;
+    h.ng = h.ns = detail::unit_or(q.p - sp.c, -q.ray.d);
+    h.mat = sp.mat;
+    return h;
+  }
+};
+
+}  // namespace rb::kinds

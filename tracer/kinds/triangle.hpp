@@ -1,0 +1,82 @@
+// Triangles of a mesh (Scene::triangles, vertices shared in Scene::verts).
+#pragma once
+
+#include "kernels/triangle_woop.hpp"
+
+namespace rb::kinds {
+
+struct TriangleKind {
+  static constexpr Kind id = Kind::triangle;
+  static constexpr const char* name = "triangle";
+  static constexpr EmbreeType embree = EmbreeType::triangle;
+  static constexpr bool custom = false;
+
+  static std::size_t count(const Scene& s) { return s.triangles.size(); }
+  template <class Fn>
+  static void each(const Scene& s, Fn&& f) {
+    for (std::size_t i = 0; i < s.triangles.size(); ++i) f(std::uint32_t(i));
+  }
+  static std::uint32_t material(const Scene& s, std::uint32_t i) { return s.triangles[i].mat; }
+  static Bounds bounds(const Scene& s, std::uint32_t i) {
+    Bounds b;
+    for (auto v : s.triangles[i].v) b.grow(s.verts[v]);
+    return b;
+  }
+  static Feature feature(const Scene& s, std::uint32_t i) {
+    const auto& t = s.triangles[i];
+    const Vec3d a = s.verts[t.v[0]], b = s.verts[t.v[1]], c = s.verts[t.v[2]];
+    const double e0 = std::sqrt(dot(b - a, b - a)), e1 = std::sqrt(dot(c - b, c - b)), e2 = std::sqrt(dot(a - c, a - c));
+    return {(a + b + c) * (1.0 / 3.0), std::min({e0, e1, e2}), std::max({e0, e1, e2})};
+  }
+
+  // The vertices relative to the frame origin, each coordinate rounded once (shared vertices stay
+  // bit-identical, so the watertight test stays watertight in any frame).
+  template <class S>
+  using Prim = TriVerts<S>;
+  template <class S>
+  static Prim<S> make(const Scene& s, std::uint32_t i, const Vec3d& origin, std::string* why = nullptr) {
+    const auto& t = s.triangles[i];
+    const Vec3d a = s.verts[t.v[0]] - origin, b = s.verts[t.v[1]] - origin, c = s.verts[t.v[2]] - origin;
+    if constexpr (std::is_same_v<S, float>) {
+      return make_tri_verts(a, b, c, why);
+    } else {
+      const Vec3d n = cross(b - a, c - a);
+      if (!finite3(a) || !finite3(b) || !finite3(c) || !finite3(n)) return never_because<Prim<S>>(why, "triangle: a vertex is not finite");
+      if (dot(n, n) == 0.0) return never_because<Prim<S>>(why, "triangle: zero area");
+      return {a, b, c};
+    }
+  }
+  template <class F>
+  using Pre = WoopRay<F>;
+  template <class F>
+  static RB_INLINE Pre<F> pre(const Ray<F>& r) { return make_woop_ray(r); }
+  static constexpr std::array<MethodInfo, 1> methods{
+      {{"woop", "Woop, Benthin and Wald's watertight test: the triangle sheared into the ray's frame, exact edge signs", true, true}}};
+  template <int M, class F>
+  static RB_INLINE Hit<F> hit(const Ray<F>& r, const Pre<F>& w, const Prim<F>& p) {
+    return intersect_triangle_woop(w, r, p);
+  }
+
+  // Embree's triangle geometry: the shared vertex array and each triangle's three indices.
+  static const std::vector<Vec3d>& mesh_vertices(const Scene& s) { return s.verts; }
+  static std::array<std::uint32_t, 3> mesh_indices(const Scene& s, std::uint32_t i) { return s.triangles[i].v; }
+
+  static Surface surface(const HitQuery& q, std::uint32_t i) {
+    const Scene& s = *q.scene;
+    const auto& tr = s.triangles.at(i);
+    const Vec3d v[3] = {s.verts[tr.v[0]], s.verts[tr.v[1]], s.verts[tr.v[2]]};
+    Surface h;
+    h.p = q.p;
+    h.ng = detail::unit_or(cross(v[1] - v[0], v[2] - v[0]), -q.ray.d);
+    if (s.vert_normals.empty()) {
+      h.ns = h.ng;
+    } else {
+      const Vec3f n[3] = {s.vert_normals[tr.v[0]], s.vert_normals[tr.v[1]], s.vert_normals[tr.v[2]]};
+      h.ns = detail::interpolate(v, n, 3, q.p, h.ng);
+    }
+    h.mat = tr.mat;
+    return h;
+  }
+};
+
+}  // namespace rb::kinds

@@ -1,0 +1,79 @@
+// The leaf function tables: every kind's kernel in every method and precision it supports, each
+// instantiated once here.
+#include "tracer/leaves.hpp"
+
+namespace rb::tracer {
+
+namespace {
+
+template <class K, int M, bool F64, bool S64>
+LeafFns std_fns() {
+  LeafFns f;
+  f.single = [](const void* b, std::size_t base, const Ray<float>& r, RayCache& c, HitRec& h) {
+    return std_single<K, M, F64, S64>(*static_cast<const StdBatch<K>*>(b), base, r, c, h);
+  };
+  f.packet1[0] = [](const void* b, std::size_t base, bvh::Packet<1>& p, PacketCache<1>& c) {
+    std_packet<K, M, F64, S64, false, 1>(*static_cast<const StdBatch<K>*>(b), base, p, c);
+  };
+  f.packet1[1] = [](const void* b, std::size_t base, bvh::Packet<1>& p, PacketCache<1>& c) {
+    std_packet<K, M, F64, S64, true, 1>(*static_cast<const StdBatch<K>*>(b), base, p, c);
+  };
+  f.packet2[0] = [](const void* b, std::size_t base, bvh::Packet<2>& p, PacketCache<2>& c) {
+    std_packet<K, M, F64, S64, false, 2>(*static_cast<const StdBatch<K>*>(b), base, p, c);
+  };
+  f.packet2[1] = [](const void* b, std::size_t base, bvh::Packet<2>& p, PacketCache<2>& c) {
+    std_packet<K, M, F64, S64, true, 2>(*static_cast<const StdBatch<K>*>(b), base, p, c);
+  };
+  return f;
+}
+
+template <class K>
+LeafFns custom_fns() {
+  using B = typename K::Batch;
+  LeafFns f;
+  f.single = [](const void* b, std::size_t base, const Ray<float>& r, RayCache&, HitRec& h) {
+    return K::single(*static_cast<const B*>(b), base, r, h);
+  };
+  f.packet1[0] = [](const void* b, std::size_t base, bvh::Packet<1>& p, PacketCache<1>&) { K::template packet<false, 1>(*static_cast<const B*>(b), base, p); };
+  f.packet1[1] = [](const void* b, std::size_t base, bvh::Packet<1>& p, PacketCache<1>&) { K::template packet<true, 1>(*static_cast<const B*>(b), base, p); };
+  f.packet2[0] = [](const void* b, std::size_t base, bvh::Packet<2>& p, PacketCache<2>&) { K::template packet<false, 2>(*static_cast<const B*>(b), base, p); };
+  f.packet2[1] = [](const void* b, std::size_t base, bvh::Packet<2>& p, PacketCache<2>&) { K::template packet<true, 2>(*static_cast<const B*>(b), base, p); };
+  return f;
+}
+
+// Method M of kind K in the precision asked (only the precisions the method supports exist).
+template <class K, int M>
+LeafFns method_fns(bool f64, bool f64_storage) {
+  constexpr MethodInfo info = K::methods[M];
+  if constexpr (info.f64_storage)
+    if (f64_storage) return std_fns<K, M, true, true>();
+  if constexpr (info.f64)
+    if (f64) return std_fns<K, M, true, false>();
+  return std_fns<K, M, false, false>();
+}
+
+template <class K, int M = 0>
+LeafFns find_method(int method, bool f64, bool f64_storage) {
+  if constexpr (M + 1 < int(K::methods.size()))
+    if (method != M) return find_method<K, M + 1>(method, f64, f64_storage);
+  return method_fns<K, M>(f64, f64_storage);
+}
+
+template <class K>
+LeafFns leaf_fns(int method, bool f64, bool f64_storage) {
+  if constexpr (K::custom) return custom_fns<K>();
+  else return find_method<K>(method, f64, f64_storage);
+}
+
+}  // namespace
+
+std::array<LeafFns, kKinds> leaf_table(const std::array<LeafChoice, kKinds>& c) {
+  std::array<LeafFns, kKinds> t{};
+  AllKinds::each([&]<class K>() {
+    const LeafChoice& k = c[std::size_t(K::id)];
+    t[std::size_t(K::id)] = leaf_fns<K>(k.method, k.f64, k.f64_storage);
+  });
+  return t;
+}
+
+}  // namespace rb::tracer

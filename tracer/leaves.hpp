@@ -1,0 +1,281 @@
+// The leaves of a scene's BVH: each kind's batch in leaf order (every leaf one 8-slot group of its
+// kind's batch, padded with never-hit slots) and the leaf functions that run the kind's kernel on a
+// group, for one ray (the 8 primitives in lanes) or a packet (8 rays in lanes, one primitive at a
+// time), in the method and precision the plan chose:
+//   float              the kernel in 8 float lanes on the float batch;
+//   double             the kernel in 4 double lanes (two calls per group) on the float batch
+//                      widened: the arithmetic of double on the same stored primitive;
+//   double storage     the same on a batch stored in double (the primitive made relative to the
+//                      frame origin in double, never rounded to float).
+// The leaf sources that bvh/traverse.hpp instantiates: TableLeaves (any scene: one function
+// pointer per kind, chosen once per scene) and MeshLeaves (a triangle-only scene traced with Woop
+// in float: the kernel inlined into the traversal loop).
+#pragma once
+
+#include "bvh/traverse.hpp"
+#include "tracer/kinds.hpp"
+
+#include <immintrin.h>
+
+#include <array>
+#include <tuple>
+#include <vector>
+
+namespace rb::tracer {
+
+using bvh::HitRec;
+using bvh::kNoPrim;
+using kinds::AllKinds;
+using kinds::Kind;
+using kinds::kKinds;
+using kinds::MethodInfo;
+
+// ---- f8 <-> two d4 halves ------------------------------------------------------------------------
+namespace detail {
+RB_INLINE d4 lo_d4(const f8& x) { return d4(_mm256_cvtps_pd(_mm256_castps256_ps128(x))); }
+RB_INLINE d4 hi_d4(const f8& x) { return d4(_mm256_cvtps_pd(_mm256_extractf128_ps(x, 1))); }
+RB_INLINE f8 join_f8(const d4& lo, const d4& hi) { return f8(_mm256_set_m128(_mm256_cvtpd_ps(hi), _mm256_cvtpd_ps(lo))); }
+RB_INLINE f8_mask mask_from_bits(unsigned bits) {
+  const __m256i lane = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+  return f8_mask(_mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(bits)), lane), lane)));
+}
+RB_INLINE unsigned bits4(const d4_mask& m) { return unsigned(_mm256_movemask_pd(m)); }
+template <class D>
+RB_INLINE Vec3<D> half3(const Vec3<f8>& v, bool hi) {
+  return hi ? Vec3<D>{hi_d4(v.x), hi_d4(v.y), hi_d4(v.z)} : Vec3<D>{lo_d4(v.x), lo_d4(v.y), lo_d4(v.z)};
+}
+RB_INLINE Ray<d4> half_ray(const Ray<f8>& r, const f8& tmax, bool hi) {
+  return {half3<d4>(r.o, hi), half3<d4>(r.d, hi), half3<d4>(r.rd, hi), hi ? hi_d4(r.tmin) : lo_d4(r.tmin), hi ? hi_d4(tmax) : lo_d4(tmax)};
+}
+}  // namespace detail
+
+// ---- per-ray and per-packet state the leaves prepare lazily --------------------------------------
+template <class K>
+struct PreSlot {
+  bool ready = false;
+  typename K::template Pre<f8> v{};
+};
+template <class... K>
+struct PreTuple {
+  std::tuple<PreSlot<K>...> slots;
+};
+template <class L>
+struct PreTupleOf;
+template <class... K>
+struct PreTupleOf<kinds::KindList<K...>> {
+  using type = PreTuple<K...>;
+};
+using AllPre = PreTupleOf<AllKinds>::type;
+
+// One ray broadcast to 8 lanes and each kind's precompute on it (Woop's shear), made at the first
+// leaf of that kind the ray reaches (most rays of a sparse view never reach one).
+struct RayCache {
+  Ray<f8> rb{};
+  bool ready = false;
+  AllPre pre;
+  RB_INLINE Ray<f8>& ray8(const Ray<float>& r) {
+    if (!ready) {
+      rb = Ray<f8>::broadcast(r);
+      ready = true;
+    }
+    return rb;
+  }
+  template <class K>
+  RB_INLINE const typename K::template Pre<f8>& pre8(const Ray<f8>& r) {
+    auto& s = std::get<PreSlot<K>>(pre.slots);
+    if (!s.ready) {
+      s.v = K::pre(r);
+      s.ready = true;
+    }
+    return s.v;
+  }
+};
+template <int H>
+struct PacketCache {
+  template <class K>
+  struct Slot {
+    bool ready = false;
+    typename K::template Pre<f8> v[H];
+  };
+  template <class... K>
+  struct Tuple {
+    std::tuple<Slot<K>...> t;
+  };
+  template <class L>
+  struct Of;
+  template <class... K>
+  struct Of<kinds::KindList<K...>> {
+    using type = Tuple<K...>;
+  };
+  typename Of<AllKinds>::type slots;
+  template <class K>
+  RB_INLINE const typename K::template Pre<f8>& pre8(const bvh::Packet<H>& p, int k) {
+    auto& s = std::get<Slot<K>>(slots.t);
+    if (!s.ready) {
+      for (int j = 0; j < H; ++j) s.v[j] = K::pre(p.r[j]);
+      s.ready = true;
+    }
+    return s.v[k];
+  }
+};
+
+// ---- a standard kind's batch ---------------------------------------------------------------------
+template <class K>
+struct StdBatch {
+  PrimSoA<K::template Prim, float> f32;   // float storage
+  PrimSoA<K::template Prim, double> f64;  // double storage (when the plan chose it)
+  std::vector<std::uint32_t> id;          // per slot: the scene index (UINT32_MAX: padding)
+  std::size_t bytes() const { return f32.bytes() + f64.bytes() + id.size() * sizeof(std::uint32_t); }
+};
+template <class K, bool Custom = K::custom>
+struct BatchOf {
+  using type = StdBatch<K>;
+};
+template <class K>
+struct BatchOf<K, true> {
+  using type = typename K::Batch;
+};
+template <class K>
+using Batch = typename BatchOf<K>::type;
+
+template <class L>
+struct BatchTupleOf;
+template <class... K>
+struct BatchTupleOf<kinds::KindList<K...>> {
+  using type = std::tuple<Batch<K>...>;
+};
+using Batches = BatchTupleOf<AllKinds>::type;
+
+// ---- the generic leaf functions of a standard kind -------------------------------------------------
+template <class K, int M, bool F64, bool Store64>
+RB_INLINE bool std_single(const StdBatch<K>& b, std::size_t base, const Ray<float>& r, RayCache& c, HitRec& h) {
+  if constexpr (!F64) {
+    Ray<f8>& rb = c.ray8(r);
+    rb.tmax = f8(h.t);
+    const Hit<f8> hit = K::template hit<M>(rb, c.template pre8<K>(rb), b.f32.template load<f8>(base));
+    if (none_of<f8>(hit.mask)) return false;
+    float t;
+    const int lane = bvh::detail::argmin8(hit.t, t);
+    h = {t, kinds::code(K::id, b.id[base + std::size_t(lane)])};
+    return true;
+  } else {
+    Ray<d4> rd = Ray<d4>::broadcast(r);
+    rd.tmax = d4(double(h.t));
+    const auto pre = K::pre(rd);
+    bool any = false;
+    for (std::size_t half = 0; half < 2; ++half) {
+      const std::size_t s = base + 4 * half;
+      typename K::template Prim<d4> p;
+      if constexpr (Store64) p = b.f64.template load<d4>(s);
+      else p = b.f32.template load<d4>(s);
+      const Hit<d4> hit = K::template hit<M>(rd, pre, p);
+      const unsigned bits = detail::bits4(hit.mask);
+      if (!bits) continue;
+      alignas(32) double t[4];
+      hit.t.store_aligned(t);
+      for (int l = 0; l < 4; ++l)
+        if ((bits >> l & 1u) && float(t[l]) <= h.t) {
+          h = {float(t[l]), kinds::code(K::id, b.id[s + std::size_t(l)])};
+          rd.tmax = d4(t[l]);
+          any = true;
+        }
+    }
+    return any;
+  }
+}
+
+template <class K, int M, bool F64, bool Store64, bool Any, int H>
+RB_INLINE void std_packet(const StdBatch<K>& b, std::size_t base, bvh::Packet<H>& p, PacketCache<H>& c) {
+  for (std::size_t j = base; j < base + 8; ++j) {
+    const std::uint32_t sid = b.id[j];
+    if (sid == UINT32_MAX) continue;
+    const std::uint32_t code = kinds::code(K::id, sid);
+    if constexpr (!F64) {
+      const auto prim = b.f32.template broadcast<f8>(j);
+      for (int k = 0; k < H; ++k) {
+        if (none_of<f8>(p.active[k])) continue;
+        Ray<f8> rr = p.r[k];
+        rr.tmax = p.tbest[k];
+        const Hit<f8> hit = K::template hit<M>(rr, c.template pre8<K>(p, k), prim);
+        bvh::packet_update<Any>(p, k, hit.mask, hit.t, code);
+      }
+    } else {
+      typename K::template Prim<d4> prim;
+      if constexpr (Store64) prim = b.f64.template broadcast<d4>(j);
+      else prim = b.f32.template broadcast<d4>(j);
+      for (int k = 0; k < H; ++k) {
+        if (none_of<f8>(p.active[k])) continue;
+        const Ray<d4> lo = detail::half_ray(p.r[k], p.tbest[k], false), hi = detail::half_ray(p.r[k], p.tbest[k], true);
+        const Hit<d4> hl = K::template hit<M>(lo, K::pre(lo), prim), hh = K::template hit<M>(hi, K::pre(hi), prim);
+        const unsigned bits = detail::bits4(hl.mask) | detail::bits4(hh.mask) << 4;
+        if (!bits) continue;
+        bvh::packet_update<Any>(p, k, detail::mask_from_bits(bits), detail::join_f8(hl.t, hh.t), code);
+      }
+    }
+  }
+}
+
+// ---- one function pointer set per kind ------------------------------------------------------------
+struct LeafFns {
+  bool (*single)(const void* batch, std::size_t base, const Ray<float>& r, RayCache& c, HitRec& h) = nullptr;
+  void (*packet1[2])(const void* batch, std::size_t base, bvh::Packet<1>& p, PacketCache<1>& c) = {nullptr, nullptr};
+  void (*packet2[2])(const void* batch, std::size_t base, bvh::Packet<2>& p, PacketCache<2>& c) = {nullptr, nullptr};
+};
+
+// Every kind's functions for its chosen method and precision (tracer/leaves.cpp instantiates each
+// kind's kernels once, in every method and precision the kind supports).
+struct LeafChoice {
+  int method = 0;
+  bool f64 = false, f64_storage = false;
+};
+std::array<LeafFns, kKinds> leaf_table(const std::array<LeafChoice, kKinds>& c);
+
+// The number of real slots of a group (for the counted traversal).
+template <class B>
+inline std::uint32_t real_slots(const B& b, std::size_t base) {
+  std::uint32_t n = 0;
+  for (std::size_t j = base; j < base + 8 && j < b.id.size(); ++j) n += b.id[j] != UINT32_MAX;
+  return n;
+}
+
+// ---- the leaf sources of bvh/traverse.hpp -----------------------------------------------------------
+struct TableLeaves {
+  const void* batch[kKinds] = {};
+  const LeafFns* fns = nullptr;  // kKinds entries
+  std::uint32_t (*slots_fn[kKinds])(const void*, std::size_t) = {};
+  using RayCache = tracer::RayCache;
+  template <int H>
+  using PacketCache = tracer::PacketCache<H>;
+  RB_INLINE bool single(std::uint32_t ref, const Ray<float>& r, RayCache& c, HitRec& h) const {
+    const int k = bvh::leaf_kind(ref);
+    return fns[k].single(batch[k], std::size_t(bvh::leaf_group(ref)) * 8, r, c, h);
+  }
+  template <bool Any, int H>
+  RB_INLINE void packet(std::uint32_t ref, bvh::Packet<H>& p, PacketCache<H>& c) const {
+    const int k = bvh::leaf_kind(ref);
+    if constexpr (H == 1) fns[k].packet1[Any](batch[k], std::size_t(bvh::leaf_group(ref)) * 8, p, c);
+    else fns[k].packet2[Any](batch[k], std::size_t(bvh::leaf_group(ref)) * 8, p, c);
+  }
+  std::uint32_t slots(std::uint32_t ref) const {
+    const int k = bvh::leaf_kind(ref);
+    return slots_fn[k](batch[k], std::size_t(bvh::leaf_group(ref)) * 8);
+  }
+};
+
+// A scene of triangles only, Woop in float: the kernel inlined into the loop.
+struct MeshLeaves {
+  const StdBatch<kinds::TriangleKind>* tri = nullptr;
+  using RayCache = tracer::RayCache;
+  template <int H>
+  using PacketCache = tracer::PacketCache<H>;
+  RB_INLINE bool single(std::uint32_t ref, const Ray<float>& r, RayCache& c, HitRec& h) const {
+    return std_single<kinds::TriangleKind, 0, false, false>(*tri, std::size_t(bvh::leaf_group(ref)) * 8, r, c, h);
+  }
+  template <bool Any, int H>
+  RB_INLINE void packet(std::uint32_t ref, bvh::Packet<H>& p, PacketCache<H>& c) const {
+    std_packet<kinds::TriangleKind, 0, false, false, Any, H>(*tri, std::size_t(bvh::leaf_group(ref)) * 8, p, c);
+  }
+  std::uint32_t slots(std::uint32_t ref) const { return real_slots(*tri, std::size_t(bvh::leaf_group(ref)) * 8); }
+};
+
+}  // namespace rb::tracer

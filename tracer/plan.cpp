@@ -1,0 +1,288 @@
+#include "tracer/plan.hpp"
+
+#include "core/spawn.hpp"
+#include "tracer/profile.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace rb::tracer {
+
+const char* model_name(Model m) { return m == Model::fast ? "fast" : m == Model::automatic ? "auto" : "exact"; }
+Model parse_model(const std::string& s) {
+  if (s == "fast") return Model::fast;
+  if (s == "auto") return Model::automatic;
+  if (s == "exact") return Model::exact;
+  throw std::invalid_argument("unknown model '" + s + "' (auto, fast, exact)");
+}
+const char* spawn_name(SpawnScheme s) {
+  return s == SpawnScheme::extent_eps ? "extent_epsilon" : s == SpawnScheme::integer ? "integer_offset" : "error_bound_offset";
+}
+const char* frame_name(FrameKind f) { return f == FrameKind::world ? "world" : f == FrameKind::centre ? "scene_centre" : "camera"; }
+
+// ---- the lab's evidence ----------------------------------------------------------------------------
+// For every kind, the (method, precision) options the tracer can run, cheapest first, each with
+// the conditions under which the accuracy lab measures it with no failure and the lab cases that
+// show it (`raybench accuracy --filter CASE`; tests/test_plan.cpp runs every cited case and checks
+// that the option has no failure there). Conditions are the profile's (tracer/profile.hpp):
+//   far     the kind's far_ratio (farthest ray origin over the primitive's size) is at most this;
+//   scale   its scale_ratio (largest primitive over the scene's smallest object) is at most this;
+//   aspect  its aspect_max is at most this.
+// An option whose conditions do not cover the scene is skipped; when none covers it, the most
+// accurate option runs and the plan says that the scene is beyond the lab's cases.
+const std::vector<PlanOption>& plan_options(Kind k) {
+  static const std::vector<PlanOption> none;
+  static const std::array<std::vector<PlanOption>, kKinds> table = [] {
+    std::array<std::vector<PlanOption>, kKinds> t;
+    const double inf = std::numeric_limits<double>::infinity();
+    t[std::size_t(Kind::triangle)] = {
+        {0, false, inf, inf, inf,
+         "triangle/octahedron_edges triangle/octahedron_vertices triangle/sphere_mesh_edges triangle/sphere_mesh_vertices triangle/fan_square "
+         "triangle/far_mesh_1e3 triangle/far_mesh_1e6 triangle/far_camera_1e4",
+         "watertight: no ray passes between the shared edges of a closed mesh, whatever the frame"},
+        {0, true, inf, inf, inf, "triangle/octahedron_edges triangle/sphere_mesh_vertices triangle/far_mesh_1e6", "watertight, in double"},
+    };
+    t[std::size_t(Kind::sphere)] = {
+        {0, false, 1e2, 1e3, inf, "sphere/far_small_1e1 sphere/far_small_1e2 sphere/tangent sphere/large_1e3",
+         "the lecture's geometric test is exact enough while spheres are seen from at most 100 radii"},
+        {1, false, 1e5, 1e3, inf, "sphere/far_small_1e1 sphere/far_small_1e3 sphere/far_small_1e5 sphere/tangent sphere/large_1e3",
+         "Hearn and Baker's form keeps a small sphere far away right (up to 1e5 radii)"},
+        {2, false, 1e7, inf, inf,
+         "sphere/far_small_1e5 sphere/far_small_1e7 sphere/tangent sphere/large_1e3 sphere/planet_pole sphere/planet_45",
+         "the compensated form is right from 1e7 radii and on a planet (rays grazing a sphere 1e4..1e7 times the objects on it)"},
+        {0, true, 1e7, inf, inf, "sphere/far_small_1e7 sphere/planet_pole sphere/planet_45 sphere/tangent",
+         "the geometric test in double"},
+        {2, true, inf, inf, inf, "sphere/far_small_1e7 sphere/planet_pole sphere/planet_45", "the compensated form in double"},
+    };
+    t[std::size_t(Kind::cylinder)] = {
+        {0, false, 1e2, inf, inf, "quadric/shell_cyl_far_1e1 quadric/shell_cyl_far_1e2",
+         "a placed cylinder in float is right while seen from at most 100 radii"},
+        {0, true, 1e5, inf, inf, "quadric/shell_cyl_far_1e2 quadric/shell_cyl_far_1e4 quadric/shell_cyl_far_1e5",
+         "in double from farther away"},
+    };
+    t[std::size_t(Kind::cone)] = {
+        {0, false, 1e2, inf, inf, "quadric/shell_cone_far_1e1 quadric/shell_cone_far_1e2",
+         "a placed cone frustum in float is right while seen from at most 100 radii"},
+        {0, true, 1e5, inf, inf, "quadric/shell_cone_far_1e2 quadric/shell_cone_far_1e4 quadric/shell_cone_far_1e5",
+         "in double from farther away"},
+    };
+    t[std::size_t(Kind::torus)] = {
+        {0, false, 0, 0, 0, "torus/camera_5x", "Ferrari's closed form"},
+        {1, false, 2.5e3, inf, 202, "torus/camera_5x torus/camera_50x torus/camera_500x torus/thin_tube torus/along_axis",
+         "the robust isolation is right from 500 torus sizes (2500 tube radii) and on a tube 100 times thinner than its ring"},
+        {1, true, inf, inf, inf, "torus/camera_500x torus/thin_tube", "the robust isolation in double"},
+    };
+    t[std::size_t(Kind::polygon)] = {{0, false, inf, inf, inf, "", "the polygon's only method (float)"}};
+    t[std::size_t(Kind::csg)] = {{0, false, inf, inf, inf, "", "the CSG tree's only method (float leaves)"}};
+    return t;
+  }();
+  return std::size_t(k) < table.size() ? table[std::size_t(k)] : none;
+}
+
+namespace {
+
+constexpr double kTau = 0x1p-12;     // float step over a primitive's size: represented well enough
+constexpr double kTauEye = 0x1p-8;   // float step of the eye over the smallest object (a rigid shift)
+
+bool supports_f64_storage(Kind k) {
+  bool s = false;
+  kinds::AllKinds::each([&]<class K>() {
+    if (K::id == k)
+      for (const auto& m : K::methods) s = s || m.f64_storage;
+  });
+  return s;
+}
+std::string method_name(Kind k, int m) {
+  std::string n;
+  kinds::AllKinds::each([&]<class K>() {
+    if (K::id == k && m >= 0 && m < int(K::methods.size())) n = K::methods[std::size_t(m)].name;
+  });
+  return n;
+}
+std::string fmt_ratio(double x) { return x >= 1e4 || (x > 0 && x < 1e-2) ? fmt::format("{:.1e}", x) : fmt::format("{:.3g}", x); }
+std::string fmt_pow2(double x) { return x > 0 ? fmt::format("2^{:.1f}", std::log2(x)) : "0"; }
+
+bool covers(const PlanOption& o, const KindProfile& kp) {
+  return kp.far_ratio <= o.far && kp.scale_ratio <= o.scale && kp.aspect_max <= o.aspect;
+}
+
+}  // namespace
+
+Plan make_plan(const scene::Scene& s, Model m) { return make_plan(s, make_profile(s), m); }
+
+Plan make_plan(const scene::Scene& s, const Profile& p, Model m) {
+  Plan plan;
+  plan.model = m;
+  for (int k = 0; k < kKinds; ++k) plan.kinds[std::size_t(k)].count = p.kinds[std::size_t(k)].count;
+  const double ext = std::max(p.extent, p.coord_max);
+
+  if (m == Model::fast) {
+    plan.frame = FrameKind::world;
+    plan.frame_reason = "the fast model traces in world coordinates";
+    for (auto& k : plan.kinds) k.reason = "the fast model's fixed choice: the cheapest method, in float";
+    plan.slab = bvh::Slab::fast;
+    plan.slab_reason = "the fast model's slab test on boxes as built";
+    plan.spawn = SpawnScheme::extent_eps;
+    plan.spawn_eps = float(std::max(1e-5 * ext, 1e-7));
+    plan.spawn_reason = fmt::format("the fast model's offset: 1e-5 of the scene's size and distance from the origin ({:.3g})", plan.spawn_eps);
+  } else {
+    // ---- the frame ----
+    struct Candidate {
+      FrameKind kind;
+      Vec3d origin;
+      FrameError e;
+    };
+    std::vector<Candidate> cand = {{FrameKind::world, {0, 0, 0}, {}},
+                                   {FrameKind::centre, p.bounds.empty() ? Vec3d{0, 0, 0} : p.bounds.centre(), {}},
+                                   {FrameKind::camera, p.camera, {}}};
+    for (auto& c : cand) c.e = frame_error(s, p, c.origin);
+    // Kinds that no frame represents in float but that can be stored in double.
+    std::array<bool, kKinds> store64{};
+    for (int k = 0; k < kKinds; ++k) {
+      double best = 1e300;
+      for (const auto& c : cand) best = std::min(best, c.e.contact[std::size_t(k)]);
+      store64[std::size_t(k)] = p.kinds[std::size_t(k)].count > 0 && best > kTau && supports_f64_storage(Kind(k));
+    }
+    if (m == Model::exact)
+      for (int k = 0; k < kKinds; ++k) store64[std::size_t(k)] = p.kinds[std::size_t(k)].count > 0 && supports_f64_storage(Kind(k));
+    auto score = [&](const Candidate& c) { return std::max(c.e.worst(store64) / kTau, c.e.eye / kTauEye); };
+    std::size_t pick = 0;
+    if (m == Model::exact || score(cand[0]) > 1) {
+      pick = 1;  // the scene's centre unless the camera is clearly better
+      if (score(cand[2]) * 2 < score(cand[1])) pick = 2;
+      if (m != Model::exact && score(cand[0]) <= score(cand[pick])) pick = 0;
+    }
+    plan.frame = cand[pick].kind;
+    plan.origin = cand[pick].origin;
+    const double w0 = score(cand[0]), wp = score(cand[pick]);
+    if (pick == 0)
+      plan.frame_reason = fmt::format(
+          "world coordinates represent the scene: the float step is at most {} of each primitive's size (the limit is {}), and the eye's at "
+          "most {} of the smallest object",
+          fmt_pow2(cand[0].e.worst(store64)), fmt_pow2(kTau), fmt_pow2(cand[0].e.eye));
+    else
+      plan.frame_reason = fmt::format(
+          "{}: in world coordinates the float step reaches {} of a primitive's size or the eye's {} of the smallest object ({}x the "
+          "limits); relative to the {} it is {} and {}",
+          m == Model::exact ? "the exact model re-centres" : "re-centred", fmt_pow2(cand[0].e.worst(store64)), fmt_pow2(cand[0].e.eye),
+          fmt_ratio(w0), pick == 1 ? "scene's centre" : "camera", fmt_pow2(cand[pick].e.worst(store64)), fmt_pow2(cand[pick].e.eye));
+    (void)wp;
+    const FrameError& fe = cand[pick].e;
+
+    // ---- each kind ----
+    for (int k = 0; k < kKinds; ++k) {
+      KindPlan& kp = plan.kinds[std::size_t(k)];
+      const KindProfile& kpro = p.kinds[std::size_t(k)];
+      if (!kpro.count) continue;
+      const bool need64 = m == Model::exact ? store64[std::size_t(k)] : fe.contact[std::size_t(k)] > kTau && supports_f64_storage(Kind(k));
+      const auto& opts = plan_options(Kind(k));
+      const PlanOption* chosen = nullptr;
+      if (m == Model::exact) {
+        chosen = &opts.back();
+      } else {
+        for (const auto& o : opts) {
+          if (need64 && !o.f64) continue;
+          if (covers(o, kpro)) {
+            chosen = &o;
+            break;
+          }
+        }
+      }
+      bool beyond = false;
+      if (!chosen) {
+        chosen = &opts.back();
+        beyond = true;
+      }
+      kp.method = chosen->method;
+      kp.f64 = chosen->f64;
+      kp.f64_storage = chosen->f64 && need64;
+      kp.evidence = chosen->evidence;
+      std::string cond = fmt::format("seen from up to {} sizes", fmt_ratio(kpro.far_ratio));
+      if (kpro.scale_ratio > 1e3) cond += fmt::format(", {} times the smallest object", fmt_ratio(kpro.scale_ratio));
+      if (Kind(k) == Kind::torus) cond += fmt::format(", aspect {}", fmt_ratio(kpro.aspect_max));
+      if (m == Model::exact)
+        kp.reason = fmt::format("the exact model: the most accurate method, {}", chosen->f64 ? "in double" : "(float only)");
+      else if (beyond)
+        kp.reason = fmt::format("{}: beyond the lab's cases, so the most accurate method", cond);
+      else
+        kp.reason = fmt::format("{}: {}", cond, chosen->why);
+      if (kp.f64_storage)
+        kp.reason += fmt::format("; stored in double: in float the surface would move by {} of {}", fmt_pow2(fe.contact[std::size_t(k)]),
+                                 kpro.scale_ratio > 1e3 ? "the smallest object" : "its size");
+    }
+
+    // ---- slab test: conservative boxes for every ray origin the scene produces ----
+    plan.slab = bvh::Slab::conservative;
+    const Vec3d lo = p.origins.empty() ? Vec3d{0, 0, 0} : p.origins.lo - plan.origin, hi = p.origins.empty() ? Vec3d{0, 0, 0} : p.origins.hi - plan.origin;
+    const double ob = std::max({std::fabs(lo.x), std::fabs(lo.y), std::fabs(lo.z), std::fabs(hi.x), std::fabs(hi.y), std::fabs(hi.z)});
+    plan.origin_bound = float(std::min(ob * (1 + 0x1p-10) + 1e-30, double(std::numeric_limits<float>::max())));
+    plan.slab_reason = fmt::format(
+        "the fast slab test on node boxes widened for ray origins up to {:.3g} from the frame origin (the scene, the camera and the lights): "
+        "no box that the ray meets is culled (lab: bvh/* method default); rays from farther use the robust test",
+        plan.origin_bound);
+
+    // ---- spawn offset ----
+    plan.spawn_scale = spawn::pow2_scale(p.extent);
+    plan.spawn_eps = float(std::max(1e-5 * ext, 1e-7));
+    if (m == Model::exact) {
+      plan.spawn = SpawnScheme::error_bound;
+      plan.spawn_reason = "the exact model: the hit point in double moved off the surface by its float rounding bound (lab: */secondary_bound_offset)";
+    } else {
+      plan.spawn = SpawnScheme::integer;
+      plan.spawn_reason = fmt::format(
+          "the integer offset (256 float steps along the normal; near the frame origin a fixed {:.3g}): no self-hit in the lab "
+          "(*/secondary_wb_offset), cheaper than the error bound",
+          double(plan.spawn_scale) / 65536.0);
+    }
+  }
+  if (m == Model::fast) {
+    // The fast plan's kind entries: method 0 in float everywhere.
+    for (int k = 0; k < kKinds; ++k) {
+      KindPlan& kp = plan.kinds[std::size_t(k)];
+      kp.method = 0;
+      kp.f64 = kp.f64_storage = false;
+    }
+  }
+  return plan;
+}
+
+nlohmann::json Plan::json() const {
+  using nlohmann::json;
+  json k = json::array();
+  for (int i = 0; i < kKinds; ++i) {
+    const KindPlan& kp = kinds[std::size_t(i)];
+    if (!kp.count) continue;
+    k.push_back({{"kind", kinds::kind_name(Kind(i))},
+                 {"count", kp.count},
+                 {"method", method_name(Kind(i), kp.method)},
+                 {"precision", kp.f64 ? "double" : "float"},
+                 {"storage", kp.f64_storage ? "double" : "float"},
+                 {"reason", kp.reason},
+                 {"evidence", kp.evidence}});
+  }
+  return {{"model", model_name(model)},
+          {"frame", {{"kind", frame_name(frame)}, {"origin", {origin.x, origin.y, origin.z}}, {"reason", frame_reason}}},
+          {"kinds", k},
+          {"slab", {{"test", bvh::slab_name(slab)}, {"origin_bound", origin_bound}, {"reason", slab_reason}}},
+          {"spawn", {{"scheme", spawn_name(spawn)}, {"scale", spawn_scale}, {"epsilon", spawn_eps}, {"reason", spawn_reason}}}};
+}
+
+std::string Plan::text() const {
+  std::string o = fmt::format("model   {}\n", model_name(model));
+  o += fmt::format("frame   {} (origin {:.9g} {:.9g} {:.9g})\n        {}\n", frame_name(frame), origin.x, origin.y, origin.z, frame_reason);
+  for (int i = 0; i < kKinds; ++i) {
+    const KindPlan& kp = kinds[std::size_t(i)];
+    if (!kp.count) continue;
+    o += fmt::format("{:<8}{} x {}: {} in {}{}\n        {}\n", kinds::kind_name(Kind(i)), kp.count, kinds::kind_name(Kind(i)),
+                     method_name(Kind(i), kp.method), kp.f64 ? "double" : "float", kp.f64_storage ? " (stored in double)" : "", kp.reason);
+    if (!kp.evidence.empty()) o += fmt::format("        lab: {}\n", kp.evidence);
+  }
+  o += fmt::format("slab    {}\n        {}\n", bvh::slab_name(slab), slab_reason);
+  o += fmt::format("spawn   {}\n        {}\n", spawn_name(spawn), spawn_reason);
+  return o;
+}
+
+}  // namespace rb::tracer

@@ -1,0 +1,90 @@
+// How a scene is modelled for tracing: the frame of reference, each kind's method and precision,
+// the slab test and the spawn offset of secondary rays. Model no more than a scene needs: the plan
+// is made from the scene's numerical profile (tracer/profile.hpp) and the accuracy lab's evidence
+// (which method and precision fail under which conditions), and says why it chose what it chose.
+//
+// Three models:
+//   fast   the fixed choice of a tracer that does not look at the scene: world coordinates, the
+//          cheapest method of every kind in float, the extent-based spawn epsilon;
+//   auto   per scene (the default): the frame, method, precision and spawn scheme that the lab
+//          measures with no failure under the scene's conditions, the cheapest such;
+//   exact  the most accurate of everything: re-centred frame, each kind's most accurate method in
+//          double (double storage where the kind has it), the error-bound spawn offset.
+#pragma once
+
+#include "bvh/traverse.hpp"
+#include "tracer/kinds.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace rb::tracer {
+
+using kinds::Kind;
+using kinds::kKinds;
+
+enum class Model { fast, automatic, exact };
+const char* model_name(Model m);
+Model parse_model(const std::string& s);  // fast | auto | exact; throws std::invalid_argument
+
+// Where secondary rays start (core/spawn.hpp).
+enum class SpawnScheme { extent_eps, integer, error_bound };
+const char* spawn_name(SpawnScheme s);
+
+enum class FrameKind { world, centre, camera };
+const char* frame_name(FrameKind f);
+
+struct KindPlan {
+  std::size_t count = 0;    // primitives of this kind in the scene
+  int method = 0;           // index into the kind's methods
+  bool f64 = false;         // the kernel in double
+  bool f64_storage = false; // the primitives stored in double
+  std::string reason;       // why this method and precision (one line)
+  std::string evidence;     // the lab cases the choice rests on ("family/case", ...)
+};
+
+struct Plan {
+  Model model = Model::fast;
+  // The frame: every coordinate is taken relative to `origin` (in double) before it is rounded to
+  // float; rays are traced in frame coordinates.
+  FrameKind frame = FrameKind::world;
+  Vec3d origin{0, 0, 0};
+  std::string frame_reason;
+  std::array<KindPlan, kKinds> kinds{};
+  // The slab test, and the bound on |ray origin| (frame coordinates, max norm) for which the
+  // conservative node boxes are built: the scene's bounds, camera and lights, with a margin.
+  bvh::Slab slab = bvh::Slab::conservative;
+  float origin_bound = 0;
+  std::string slab_reason;
+  // Secondary rays: the scheme, the scale of the integer offset's near-origin constants, and the
+  // extent epsilon (the fast model's offset: 1e-5 of the scene's extent and distance from the origin).
+  SpawnScheme spawn = SpawnScheme::integer;
+  float spawn_scale = 1;
+  float spawn_eps = 1e-5f;
+  std::string spawn_reason;
+
+  nlohmann::json json() const;
+  std::string text() const;  // the plan for a terminal: one line per choice with its reason
+};
+
+struct Profile;  // tracer/profile.hpp
+
+// One way the tracer can run a kind (its method index and precision) and the conditions under
+// which the accuracy lab measures it with no failure (tracer/plan.cpp: the table, cheapest first).
+struct PlanOption {
+  int method = 0;
+  bool f64 = false;
+  double far = 0, scale = 0, aspect = 0;  // the profile's far_ratio, scale_ratio, aspect_max covered
+  const char* evidence = "";              // the lab cases ("family/case ...")
+  const char* why = "";
+};
+const std::vector<PlanOption>& plan_options(Kind k);
+
+// The plan of a scene under a model.
+Plan make_plan(const scene::Scene& s, Model m);
+Plan make_plan(const scene::Scene& s, const Profile& p, Model m);
+
+}  // namespace rb::tracer
