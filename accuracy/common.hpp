@@ -198,6 +198,7 @@ void run_boxes(Ctx& x);
 void run_secondary(Ctx& x);
 void run_implicit(Ctx& x);
 void run_quartics(Ctx& x);
+void run_scenes(Ctx& x);
 std::vector<CaseInfo> triangle_cases();
 std::vector<CaseInfo> sphere_cases();
 std::vector<CaseInfo> quadric_cases();
@@ -206,5 +207,6 @@ std::vector<CaseInfo> box_cases();
 std::vector<CaseInfo> secondary_cases();
 std::vector<CaseInfo> implicit_cases();
 std::vector<CaseInfo> quartic_cases();
+std::vector<CaseInfo> scene_cases();
 
 }  // namespace rb::acc

@@ -177,18 +177,19 @@ Ref sphere_ref(const Vec3f& o, const Vec3f& d, float tmin, float tmax, const Vec
 }
 
 // ---------------------------------------------------------------- cylinder, cone
-Ref quadric_ref(Quad kind, bool solid, const Vec3f& o, const Vec3f& d, float tmin, float tmax, float cx, float cy, float r2,
-                float z0, float z1) {
+namespace {
+// The ray in the quadric's frame, exactly (MPFR).
+Ref quadric_ref_m(Quad kind, bool solid, const M (&o)[3], const M (&d)[3], float tmin, float tmax, float cx, float cy, float r2,
+                  float z0, float z1, double scale) {
   Ref r;
-  const double zext = std::max(std::isfinite(z0) ? std::fabs(double(z0)) : 0.0, std::isfinite(z1) ? std::fabs(double(z1)) : 0.0);
-  r.scale = scale_of(o, std::hypot(double(cx), double(cy)) + std::sqrt(std::max(double(r2), 0.0)) + zext);
+  r.scale = scale;
   M ox, oy, A, B, C;
-  const M oz(o.z), dx(d.x), dy(d.y), dz(d.z);
+  const M oz = o[2], dx = d[0], dy = d[1], dz = d[2];
   if (kind == Quad::cylinder) {
-    ox = M(o.x) - M(cx), oy = M(o.y) - M(cy);
+    ox = o[0] - M(cx), oy = o[1] - M(cy);
     A = dx * dx + dy * dy, B = ox * dx + oy * dy, C = ox * ox + oy * oy - M(r2);
   } else {  // x^2 + y^2 - z^2 about the apex at the origin of the local frame
-    ox = M(o.x), oy = M(o.y);
+    ox = o[0], oy = o[1];
     A = dx * dx + dy * dy - dz * dz, B = ox * dx + oy * dy - oz * dz, C = ox * ox + oy * oy - oz * oz;
   }
   bool tangent = false;
@@ -246,6 +247,29 @@ Ref quadric_ref(Quad kind, bool solid, const Vec3f& o, const Vec3f& d, float tmi
   }
   if (tangent) r.cls = Cls::either;
   return r;
+}
+}  // namespace
+
+Ref quadric_ref(Quad kind, bool solid, const Vec3f& o, const Vec3f& d, float tmin, float tmax, float cx, float cy, float r2,
+                float z0, float z1) {
+  const double zext = std::max(std::isfinite(z0) ? std::fabs(double(z0)) : 0.0, std::isfinite(z1) ? std::fabs(double(z1)) : 0.0);
+  const double scale = scale_of(o, std::hypot(double(cx), double(cy)) + std::sqrt(std::max(double(r2), 0.0)) + zext);
+  const M om[3] = {M(o.x), M(o.y), M(o.z)}, dm[3] = {M(d.x), M(d.y), M(d.z)};
+  return quadric_ref_m(kind, solid, om, dm, tmin, tmax, cx, cy, r2, z0, z1, scale);
+}
+
+Ref placed_quadric_ref(Quad kind, const Affine34<float>& inv, const Vec3f& o, const Vec3f& d, float tmin, float tmax, float cx, float cy,
+                       float r2, float z0, float z1, double extent) {
+  const M m[3][4] = {{M(inv.m00), M(inv.m01), M(inv.m02), M(inv.m03)},
+                     {M(inv.m10), M(inv.m11), M(inv.m12), M(inv.m13)},
+                     {M(inv.m20), M(inv.m21), M(inv.m22), M(inv.m23)}};
+  const M ow[3] = {M(o.x), M(o.y), M(o.z)}, dw[3] = {M(d.x), M(d.y), M(d.z)};
+  M ol[3], dl[3];
+  for (int i = 0; i < 3; ++i) {
+    ol[i] = m[i][0] * ow[0] + m[i][1] * ow[1] + m[i][2] * ow[2] + m[i][3];
+    dl[i] = m[i][0] * dw[0] + m[i][1] * dw[1] + m[i][2] * dw[2];
+  }
+  return quadric_ref_m(kind, false, ol, dl, tmin, tmax, cx, cy, r2, z0, z1, scale_of(o, extent));
 }
 
 // ---------------------------------------------------------------- polynomial roots, torus

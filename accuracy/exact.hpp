@@ -5,6 +5,7 @@
 
 #include "accuracy/common.hpp"
 #include "core/vec3.hpp"
+#include "kernels/transform.hpp"
 
 namespace rb::acc {
 
@@ -24,6 +25,12 @@ Ref sphere_ref(const Vec3f& o, const Vec3f& d, float tmin, float tmax, const Vec
 enum class Quad { cylinder, cone };
 Ref quadric_ref(Quad kind, bool solid, const Vec3f& o, const Vec3f& d, float tmin, float tmax, float cx, float cy, float r2,
                 float z0, float z1);
+
+// The same open surface placed by an affine map (kernels/transform.hpp): the float ray taken into
+// the quadric's frame by the stored float inverse `inv`, exactly, then as above. `extent`: the
+// placed shell's size in world units (for the scaled error).
+Ref placed_quadric_ref(Quad kind, const Affine34<float>& inv, const Vec3f& o, const Vec3f& d, float tmin, float tmax, float cx, float cy,
+                       float r2, float z0, float z1, double extent);
 
 // Torus T(p) = (|q|^2 - R^2 - r^2)^2 - 4 R^2 (r^2 - (q.w)^2), q = p - c, with the stored (float)
 // c, w, R, r. All real roots in [tmin, tmax] (sign changes), ascending, in long double.

@@ -4,7 +4,8 @@ namespace rb::acc {
 
 std::vector<CaseInfo> case_list() {
   std::vector<CaseInfo> all;
-  for (auto f : {triangle_cases, sphere_cases, quadric_cases, torus_cases, quartic_cases, box_cases, implicit_cases, secondary_cases}) {
+  for (auto f : {triangle_cases, sphere_cases, quadric_cases, torus_cases, quartic_cases, box_cases, implicit_cases, secondary_cases,
+                 scene_cases}) {
     auto v = f();
     all.insert(all.end(), v.begin(), v.end());
   }
@@ -25,7 +26,7 @@ std::vector<Row> run_lab(const Options& o) {
   };
   const Fam fams[] = {{"triangle", run_triangles}, {"sphere", run_spheres}, {"quadric", run_quadrics},
                       {"torus", run_torus},       {"quartic", run_quartics}, {"box", run_boxes},
-                      {"implicit", run_implicit}, {"secondary", run_secondary}};
+                      {"implicit", run_implicit}, {"secondary", run_secondary}, {"scene", run_scenes}};
   for (const Fam& f : fams) {
     x.reseed(f.name, "");  // each case reseeds too (Ctx::reseed)
     f.run(x);

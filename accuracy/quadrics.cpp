@@ -1,8 +1,12 @@
 // Cylinder and cone cases (in their own frame: axis z): rays parallel to the cylinder's axis or
 // to a cone generator (also tilted by 10^-k), rays exactly through and near the cone's apex,
 // distant cameras, near-tangent rays. Open surfaces and capped solids each have their reference.
+// The shell cases are the tracer's own cylinder and cone kinds (NFF shells: the unit quadric placed
+// by an affine map, tracer/kinds/cylinder.hpp), at a random place and axis, seen from 10^k of their
+// radius: the evidence of the plan's choice between float and double (tracer/plan.cpp).
 #include "accuracy/exact.hpp"
 #include "kernels/cylinder_cone.hpp"
+#include "tracer/kinds.hpp"
 
 #include <cmath>
 
@@ -60,8 +64,69 @@ std::vector<CaseInfo> quadric_cases() {
       {"quadric", "cone_apex", "steep rays exactly through the apex (integer directions, origin = apex - 2^k d)"},
       {"quadric", "cone_near_apex", "the same rays moved off the apex by 1e-7..1e-4 (the two nappes' roots within rounding of each other)"},
       {"quadric", "cone_far_camera", "the cone seen from 1e4 away"},
+      {"quadric", "shell_cyl_far_1e1", "a placed open cylinder (NFF shell; random axis, radius 0.5..2, length 1..4) seen from 10 radii"},
+      {"quadric", "shell_cyl_far_1e2", "the same seen from 1e2 radii"},
+      {"quadric", "shell_cyl_far_1e3", "the same seen from 1e3 radii"},
+      {"quadric", "shell_cyl_far_1e4", "the same seen from 1e4 radii"},
+      {"quadric", "shell_cyl_far_1e5", "the same seen from 1e5 radii"},
+      {"quadric", "shell_cone_far_1e1", "a placed open cone frustum (NFF shell; random axis, radii 0.5..2 and 0.1..0.9 of it) seen from 10 radii"},
+      {"quadric", "shell_cone_far_1e2", "the same seen from 1e2 radii"},
+      {"quadric", "shell_cone_far_1e3", "the same seen from 1e3 radii"},
+      {"quadric", "shell_cone_far_1e4", "the same seen from 1e4 radii"},
+      {"quadric", "shell_cone_far_1e5", "the same seen from 1e5 radii"},
   };
 }
+
+namespace {
+// Shells seen from D radii: random place (|centre| <= 4) and axis, rays from D radii away aimed at
+// random points of the shell's bounding sphere.
+void run_shells(Ctx& x, const CaseInfo& ci) {
+  auto& g = x.rng;
+  const bool cyl = ci.name.rfind("shell_cyl", 0) == 0;
+  const double D = std::pow(10.0, std::stod(ci.name.substr(ci.name.size() - 1)));
+  auto common = [&](auto& c) {
+    c.family = "quadric", c.name = ci.name, c.what = ci.what;
+  };
+  Case<Transformed<Cylinder>::T> cc;
+  Case<Transformed<Cone>::T> kc;
+  common(cc), common(kc);
+  for (std::size_t i = 0; i < x.rays; ++i) {
+    const Vec3d base = unit_rand(g) * urand(g, 0, 4), axis = unit_rand(g) * urand(g, 1, 4);
+    const double rb = urand(g, 0.5, 2), ra = cyl ? rb : rb * urand(g, 0.1, 0.9);
+    const Vec3d centre = base + axis * 0.5;
+    const double bound = std::sqrt(rb * rb + 0.25 * dot(axis, axis));
+    const Vec3d eye = centre + unit_rand(g) * (D * rb);
+    const Vec3d target = centre + unit_rand(g) * (bound * std::cbrt(urand(g, 0, 1)));
+    const Ray<float> r0 = make_ray(eye, target - eye);
+    if (cyl) {
+      const auto p = place_cylinder(base, base + axis, rb);
+      cc.prims.push(p);
+      cc.rays.push(r0);
+      const Ray<float> r = cc.rays.get(cc.rays.count - 1);
+      cc.ref.push_back(placed_quadric_ref(Quad::cylinder, p.inv, r.o, r.d, r.tmin, r.tmax, p.prim.cx, p.prim.cy, p.prim.r2, p.prim.z0,
+                                         p.prim.z1, 2 * bound));
+    } else {
+      const auto p = place_cone(base, rb, base + axis, ra);
+      kc.prims.push(p);
+      kc.rays.push(r0);
+      const Ray<float> r = kc.rays.get(kc.rays.count - 1);
+      kc.ref.push_back(placed_quadric_ref(Quad::cone, p.inv, r.o, r.d, r.tmin, r.tmax, 0, 0, 0, p.prim.z0, p.prim.z1, 2 * bound));
+    }
+  }
+  // The tracer's two methods of each kind (tracer/kinds/cylinder.hpp, cone.hpp).
+  if (cyl) {
+    measure(x, cc, "transformed", [](const auto& r, const auto& p, IterCount*) {
+      return kinds::CylinderKind::hit<0>(r, {}, p);
+    });
+    measure(x, cc, "recentred", [](const auto& r, const auto& p, IterCount*) {
+      return kinds::CylinderKind::hit<1>(r, {}, p);
+    });
+  } else {
+    measure(x, kc, "transformed", [](const auto& r, const auto& p, IterCount*) { return kinds::ConeKind::hit<0>(r, {}, p); });
+    measure(x, kc, "recentred", [](const auto& r, const auto& p, IterCount*) { return kinds::ConeKind::hit<1>(r, {}, p); });
+  }
+}
+}  // namespace
 
 void run_quadrics(Ctx& x) {
   auto& g = x.rng;
@@ -69,7 +134,9 @@ void run_quadrics(Ctx& x) {
   for (const auto& ci : quadric_cases()) {
     if (!x.selected(ci.family, ci.name)) continue;
     x.reseed(ci.family, ci.name);
-    if (ci.name.rfind("cyl", 0) == 0) {
+    if (ci.name.rfind("shell_", 0) == 0) {
+      run_shells(x, ci);
+    } else if (ci.name.rfind("cyl", 0) == 0) {
       Pair<Cylinder> c;
       name(c, ci);
       const Vec3d axis{0.25, -0.125, 0};

@@ -1,6 +1,7 @@
-// Sphere cases: a small sphere far away (distance / radius 1e1..1e5), the planet (radius 6.4e6,
-// eye 1..100 above it, at the pole and at 45 degrees latitude, rays at the horizon's dip angle),
-// tangent rays at r (1 +- 10^-k).
+// Sphere cases: a small sphere far away (distance / radius 1e1..1e7), the planet (radius 6.4e6,
+// eye 1..100 above it, at the pole and at 45 degrees latitude, rays at the horizon's dip angle), a
+// viewer 1..10 above spheres of radius 1e2..1e6 looking in every direction, tangent rays at
+// r (1 +- 10^-k).
 #include "accuracy/exact.hpp"
 #include "kernels/sphere.hpp"
 
@@ -46,10 +47,19 @@ Ray<float> aimed(const Vec3d& eye, const Vec3d& c, double b, std::mt19937_64& g)
 std::vector<CaseInfo> sphere_cases() {
   return {
       {"sphere", "far_small_1e1", "unit sphere at distance 1e1, rays passing the centre at 0..0.95 R or 1.05..1.5 R"},
+      {"sphere", "far_small_1e2", "the same at distance 1e2"},
       {"sphere", "far_small_1e3", "the same at distance 1e3"},
+      {"sphere", "far_small_1e4", "the same at distance 1e4"},
       {"sphere", "far_small_1e5", "the same at distance 1e5"},
+      {"sphere", "far_small_1e7", "the same at distance 1e7"},
       {"sphere", "planet_pole", "R = 6.4e6, eye 1..100 above the pole, rays at the dip angle +- 10^-7..10^-1 of it"},
       {"sphere", "planet_45", "the same at 45 degrees latitude"},
+      {"sphere", "above_1e2", "R = 1e2, eye 1..10 above it, rays in random directions below the horizon and above it (not only grazing): "
+                              "a viewer on a sphere 10..1e2 times its height"},
+      {"sphere", "above_1e3", "the same with R = 1e3"},
+      {"sphere", "above_1e4", "the same with R = 1e4"},
+      {"sphere", "above_1e5", "the same with R = 1e5"},
+      {"sphere", "above_1e6", "the same with R = 1e6"},
       {"sphere", "tangent", "rays passing the centre at R (1 +- 10^-k), k = 1..7, distance 4 R"},
   };
 }
@@ -63,7 +73,7 @@ void run_spheres(Ctx& x) {
     x.reseed(ci.family, ci.name);
     Case<Sphere> c = new_case(ci.name, ci.what);
     if (ci.name.rfind("far_small", 0) == 0) {
-      const double D = ci.name == "far_small_1e1" ? 1e1 : ci.name == "far_small_1e3" ? 1e3 : 1e5;
+      const double D = std::pow(10.0, std::stod(ci.name.substr(std::string("far_small_1e").size())));
       for (std::size_t i = 0; i < n; ++i) {
         const Vec3d ctr = unit_rand(g) * urand(g, 0, 4);
         const double R = urand(g, 0.5, 2);
@@ -71,11 +81,25 @@ void run_spheres(Ctx& x) {
         const double b = (i % 2 ? urand(g, 0, 0.95) : urand(g, 1.05, 1.5)) * R;
         add(c, make_sphere(ctr, R), aimed(eye, ctr, b, g));
       }
+    } else if (ci.name.rfind("above_", 0) == 0) {
+      // A viewer 1..10 above a sphere of radius R at a random place of it: 90 % of the rays go
+      // below the horizon (they hit the sphere near the viewer), 10 % above it.
+      const double R = std::pow(10.0, std::stod(ci.name.substr(std::string("above_1e").size())));
+      for (std::size_t i = 0; i < n; ++i) {
+        const double h = lurand(g, 1, 10);
+        const Vec3d up = unit_rand(g);
+        const Vec3d eye = up * (R + h);
+        Vec3d d = unit_rand(g);
+        const bool down = i % 10 != 0;
+        if ((dot(d, up) < 0) != down) d = d - up * (2 * dot(d, up));
+        add(c, make_sphere(Vec3d{0, 0, 0}, R), make_ray(eye, d));
+      }
     } else if (ci.name.rfind("planet", 0) == 0) {
+      const bool large = false;
       const double R = 6.4e6;
       const bool pole = ci.name == "planet_pole";
       for (std::size_t i = 0; i < n; ++i) {
-        const double h = lurand(g, 1, 100);
+        const double h = lurand(g, 1, large ? 10 : 100);
         const Vec3d up = pole ? Vec3d{0, 0, 1} : Vec3d{std::sqrt(0.5), 0, std::sqrt(0.5)};
         const Vec3d eye = up * (R + h);
         const double dip = std::acos(R / (R + h));

@@ -1,4 +1,5 @@
-// Torus cases: the camera at 5, 50 and 500 times the torus size, a thin tube (R / r = 100),
+// Torus cases: the camera at 5, 50 and 500 times the torus size, a thin tube (R / r = 100) seen
+// from 5 and 500 sizes,
 // tangent rays (outer equator and top circle at r (1 +- 10^-k)), rays along the axis through the
 // tube. Reference: all real roots of the quartic from the stored floats (long double isolation,
 // re-centred at the closest approach); a hit that is not the first root is a wrong root.
@@ -45,6 +46,7 @@ std::vector<CaseInfo> torus_cases() {
       {"torus", "camera_50x", "the same at 50 torus sizes"},
       {"torus", "camera_500x", "the same at 500 torus sizes"},
       {"torus", "thin_tube", "R / r = 100, camera at 5 sizes, rays aimed at points of the tube's circle"},
+      {"torus", "thin_500x", "the same thin tube seen from 500 sizes"},
       {"torus", "tangent", "rays touching the outer equator or the top circle at r (1 +- 10^-k), k = 1..7"},
       {"torus", "along_axis", "rays parallel to the axis through the tube (and through the hole)"},
   };
@@ -65,12 +67,12 @@ void run_torus(Ctx& x) {
         const Vec3d eye = p.c + unit_rand(g) * (K * 1.25);
         const Vec3d target = p.c + unit_rand(g) * (1.25 * std::cbrt(urand(g, 0, 1)));
         add(c, p.T, make_ray(eye, target - eye));
-      } else if (ci.name == "thin_tube") {
+      } else if (ci.name == "thin_tube" || ci.name == "thin_500x") {
         const Placed p = place(g, 1.0, 0.01);
         const double ph = urand(g, 0, 2 * M_PI);
         const Vec3d ring = p.c + (p.e1 * std::cos(ph) + p.e2 * std::sin(ph));
         const Vec3d target = ring + unit_rand(g) * (0.012 * urand(g, 0, 1));
-        const Vec3d eye = p.c + unit_rand(g) * 5.05;
+        const Vec3d eye = p.c + unit_rand(g) * (ci.name == "thin_tube" ? 5.05 : 505.0);
         add(c, p.T, make_ray(eye, target - eye));
       } else if (ci.name == "tangent") {
         const Placed p = place(g, 1.0, 0.25);

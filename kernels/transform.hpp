@@ -225,6 +225,30 @@ RB_INLINE auto intersect_transformed(const Ray<F>& r, const X& x, K&& kernel) {
   return kernel(transform_ray<kRecip>(r, x.inv), x.prim);
 }
 
+// The same with the ray re-centred first: a ray from far away is transformed with its origin's
+// rounding error (the float step at the distance, times the map's scale), which moves the ray
+// by a visible fraction of a small primitive seen from 1e2 of its sizes and more. So the origin is
+// first moved along the ray to the point nearest `centre` (a point of the primitive in its own
+// frame: t0 = -(o' - centre) . d' / d' . d', in the local frame), p0 = o + t0 d by one FMA per
+// coordinate (a point on the ray within one rounding of its own, small, magnitude), and p0 is
+// transformed; the kernel runs on [tmin - t0, tmax - t0] and t0 is added back to its t (a miss
+// stays +inf). About 15* 14+- 3 fma 1/ more than intersect_transformed.
+template <class F, class X, class K>
+RB_INLINE Hit<F> intersect_transformed_recentred(const Ray<F>& r, const X& x, const Vec3<F>& centre, K&& kernel) {
+  Ray<F> l = transform_ray(r, x.inv);
+  const Vec3<F> q = l.o - centre;
+  const F t0 = -dot(q, l.d) / dot(l.d, l.d);
+  const Vec3<F> p0{vfma(t0, r.d.x, r.o.x), vfma(t0, r.d.y, r.o.y), vfma(t0, r.d.z, r.o.z)};
+  const auto& a = x.inv;
+  l.o = {a.m00 * p0.x + a.m01 * p0.y + a.m02 * p0.z + a.m03, a.m10 * p0.x + a.m11 * p0.y + a.m12 * p0.z + a.m13,
+         a.m20 * p0.x + a.m21 * p0.y + a.m22 * p0.z + a.m23};
+  l.tmin = r.tmin - t0;
+  l.tmax = r.tmax - t0;
+  Hit<F> h = kernel(l, x.prim);
+  h.t = vselect(h.mask, h.t + t0, F(kInf<F>));
+  return h;
+}
+
 // A local normal back to world space by (M^-1)^T, normalised: 9* 6+- then 3* 2+- 1 sqrt 1/ 3*.
 template <class F>
 RB_INLINE Vec3<F> transform_normal(const Affine34<F>& a, const Vec3<F>& n) {

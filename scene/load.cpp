@@ -118,12 +118,13 @@ Scene load_scene(const std::string& source) {
   }
   if (source.rfind("lecture:", 0) == 0) return lecture_scene(source.substr(8));
   if (source.rfind("csg:", 0) == 0) return csg_scene(source.substr(4));
+  if (source.rfind("precision:", 0) == 0) return precision_scene(source.substr(10));
   const std::string ext = lower_ext(source);
   if (ext == "obj") return load_obj(source);
   if (ext == "ply") return load_ply(source);
   if (ext == "nff") return load_nff(source);
   if (ext == "json") return load_json_scene(source);
-  throw SceneError(fmt::format("{}: unknown scene source: expected a .obj, .ply or .nff file, a .json scene, spd:NAME[:SIZE], lecture:NAME or csg:NAME",
+  throw SceneError(fmt::format("{}: unknown scene source: expected a .obj, .ply or .nff file, a .json scene, spd:NAME[:SIZE], lecture:NAME, csg:NAME or precision:NAME",
                                source));
 }
 

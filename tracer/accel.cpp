@@ -192,7 +192,15 @@ kinds::Surface SceneAccel::surface(std::uint32_t prim, const Ray<float>& r, floa
   q.p = world_point(r, t);
   const Kind k = kinds::kind_of(prim);
   q.batch = table_.batch[std::size_t(k)];
-  return AllKinds::at<kinds::Surface>(k, [&]<class K>() { return K::surface(q, kinds::index_of(prim)); });
+  kinds::Surface sf = AllKinds::at<kinds::Surface>(k, [&]<class K>() { return K::surface(q, kinds::index_of(prim)); });
+  // A primitive stored in float lies within a few roundings of its coordinates (and, for placed
+  // ones, of its map's) from the double surface sf.p is on: 8 u (|p| + its extent), frame units.
+  if (!plan_.kinds[std::size_t(k)].f64_storage) {
+    const double ext = AllKinds::at<double>(k, [&]<class K>() { return K::feature(*scene_, kinds::index_of(prim)).extent; });
+    const Vec3d pf = sf.p - plan_.origin;
+    sf.err = 8 * 0x1p-24 * (std::max({std::fabs(pf.x), std::fabs(pf.y), std::fabs(pf.z)}) + ext);
+  }
+  return sf;
 }
 
 Vec3f SceneAccel::spawn_point(const kinds::Surface& sf, const Vec3f& dir) const {
@@ -202,11 +210,11 @@ Vec3f SceneAccel::spawn_point(const kinds::Surface& sf, const Vec3f& dir) const 
     case SpawnScheme::extent_eps: return spawn::eps_offset(p, n, plan_.spawn_eps);
     case SpawnScheme::integer: return spawn::wb_offset(p, n, plan_.spawn_scale);
     case SpawnScheme::error_bound: {
-      // sf.p is in double (within a few double ulps of the surface, or of the traced t's error
-      // where the kind does not project): its rounding to float is within half a float step per
-      // coordinate, plus the double error, bounded here by 2^-40 of the coordinate.
+      // sf.p is the hit point projected onto the surface in double (tracer/kinds.hpp: within a few
+      // double roundings of it), so the error of the float point is its rounding to float plus the
+      // double error, bounded here by 2^-40 of the coordinate.
       const Vec3d pd = sf.p - plan_.origin;
-      auto err = [](double x, float f) { return float(std::fabs(x - double(f)) + std::fabs(x) * 0x1p-40); };
+      auto err = [&](double x, float f) { return float(std::fabs(x - double(f)) + std::fabs(x) * 0x1p-40 + sf.err); };
       const Vec3f e{err(pd.x, p.x), err(pd.y, p.y), err(pd.z, p.z)};
       return spawn::bound_offset(p, e, n);
     }

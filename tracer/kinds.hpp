@@ -46,10 +46,14 @@ struct Feature {
 // The surface at a hit, in world coordinates (double point: a surface 6.4e6 from the origin keeps
 // its shading detail).
 struct Surface {
-  Vec3d p;    // the hit point
+  Vec3d p;    // the hit point, projected onto the primitive's surface in double where the kind can
+              // (the traced t carries the kernel's error times the distance the ray came from)
   Vec3f ng;   // unit geometric normal (outward for solids; by vertex order for faces)
   Vec3f ns;   // unit shading normal (interpolated vertex normals where given, else ng), on ng's side
   std::uint32_t mat = 0;
+  // How far the traced primitive's surface may lie from p: the rounding of the stored primitive
+  // (SceneAccel::surface sets it from the plan's storage; 0 for a primitive stored in double).
+  double err = 0;
 };
 
 enum class EmbreeType : std::uint8_t { none, triangle, sphere };
@@ -75,6 +79,12 @@ struct HitQuery {
 };
 
 namespace detail {
+// p moved along the unit normal n onto the plane through a (n . (x - a) = 0).
+inline Vec3d onto_plane(const Vec3d& p, const Vec3d& n, const Vec3d& a) { return p - n * dot(p - a, n); }
+inline Vec3d unit_d(const Vec3d& v) {
+  const double l = std::sqrt(dot(v, v));
+  return l > 0 && std::isfinite(l) ? v * (1.0 / l) : v;
+}
 inline Vec3f unit_or(const Vec3d& v, const Vec3f& fallback) {
   const double l = std::sqrt(dot(v, v));
   if (!(l > 0.0) || !std::isfinite(l)) return fallback;

@@ -45,35 +45,51 @@ const std::vector<PlanOption>& plan_options(Kind k) {
          "watertight: no ray passes between the shared edges of a closed mesh, whatever the frame"},
         {0, true, inf, inf, inf, "triangle/octahedron_edges triangle/sphere_mesh_vertices triangle/far_mesh_1e6", "watertight, in double"},
     };
+    // Spheres. "above_1eK": a viewer 1..10 above a sphere of radius 10^K looking every way (the
+    // scale ratio of a sphere 10^K times the objects near it); "far_small_1eK": seen from 10^K
+    // radii. Float passes both up to 1e5 with the geometric test only up to 1e2 radii away;
+    // grazing rays from a viewer on a planet need the compensated form or double.
     t[std::size_t(Kind::sphere)] = {
-        {0, false, 1e2, 1e3, inf, "sphere/far_small_1e1 sphere/far_small_1e2 sphere/tangent sphere/large_1e3",
-         "the lecture's geometric test is exact enough while spheres are seen from at most 100 radii"},
-        {1, false, 1e5, 1e3, inf, "sphere/far_small_1e1 sphere/far_small_1e3 sphere/far_small_1e5 sphere/tangent sphere/large_1e3",
-         "Hearn and Baker's form keeps a small sphere far away right (up to 1e5 radii)"},
-        {2, false, 1e7, inf, inf,
-         "sphere/far_small_1e5 sphere/far_small_1e7 sphere/tangent sphere/large_1e3 sphere/planet_pole sphere/planet_45",
-         "the compensated form is right from 1e7 radii and on a planet (rays grazing a sphere 1e4..1e7 times the objects on it)"},
-        {0, true, 1e7, inf, inf, "sphere/far_small_1e7 sphere/planet_pole sphere/planet_45 sphere/tangent",
-         "the geometric test in double"},
-        {2, true, inf, inf, inf, "sphere/far_small_1e7 sphere/planet_pole sphere/planet_45", "the compensated form in double"},
+        {0, false, 1e2, 5e4, inf,
+         "sphere/far_small_1e1 sphere/far_small_1e2 sphere/tangent sphere/above_1e2 sphere/above_1e3 sphere/above_1e4 sphere/above_1e5",
+         "the lecture's geometric test is right while spheres are seen from at most 100 radii"},
+        {1, false, 1e5, 5e4, inf,
+         "sphere/far_small_1e1 sphere/far_small_1e3 sphere/far_small_1e4 sphere/far_small_1e5 sphere/tangent sphere/above_1e2 "
+         "sphere/above_1e3 sphere/above_1e4 sphere/above_1e5",
+         "Hearn and Baker's form keeps a small sphere right up to 1e5 radii away"},
+        {2, false, 1e5, inf, inf,
+         "sphere/far_small_1e5 sphere/tangent sphere/above_1e5 sphere/above_1e6 sphere/planet_pole sphere/planet_45",
+         "the compensated form is right on a planet (grazing rays from 1..100 above a sphere of radius 6.4e6) and from 1e5 radii"},
+        {0, true, 1e5, inf, inf, "sphere/far_small_1e5 sphere/tangent sphere/above_1e6 sphere/planet_pole sphere/planet_45",
+         "the geometric test in double is right on a planet and from 1e5 radii"},
+        {2, true, 1e7, inf, inf, "sphere/far_small_1e5 sphere/far_small_1e7 sphere/planet_pole sphere/planet_45",
+         "the compensated form in double is right from 1e7 radii"},
     };
+    // NFF shells (placed cylinders and cone frusta), seen from 10^K radii.
     t[std::size_t(Kind::cylinder)] = {
-        {0, false, 1e2, inf, inf, "quadric/shell_cyl_far_1e1 quadric/shell_cyl_far_1e2",
-         "a placed cylinder in float is right while seen from at most 100 radii"},
-        {0, true, 1e5, inf, inf, "quadric/shell_cyl_far_1e2 quadric/shell_cyl_far_1e4 quadric/shell_cyl_far_1e5",
-         "in double from farther away"},
+        {0, false, 1e1, inf, inf, "quadric/shell_cyl_far_1e1", "a placed cylinder in float is right while seen from at most 10 radii"},
+        {1, false, 1e5, inf, inf,
+         "quadric/shell_cyl_far_1e1 quadric/shell_cyl_far_1e2 quadric/shell_cyl_far_1e3 quadric/shell_cyl_far_1e4 quadric/shell_cyl_far_1e5",
+         "the ray re-centred on the shell before the transform keeps it right up to 1e5 radii away in float"},
+        {1, true, inf, inf, inf, "quadric/shell_cyl_far_1e5", "re-centred, in double"},
     };
     t[std::size_t(Kind::cone)] = {
-        {0, false, 1e2, inf, inf, "quadric/shell_cone_far_1e1 quadric/shell_cone_far_1e2",
-         "a placed cone frustum in float is right while seen from at most 100 radii"},
-        {0, true, 1e5, inf, inf, "quadric/shell_cone_far_1e2 quadric/shell_cone_far_1e4 quadric/shell_cone_far_1e5",
-         "in double from farther away"},
+        {0, false, 1e1, inf, inf, "quadric/shell_cone_far_1e1", "a placed cone frustum in float is right while seen from at most 10 radii"},
+        {1, false, 1e5, inf, inf,
+         "quadric/shell_cone_far_1e1 quadric/shell_cone_far_1e2 quadric/shell_cone_far_1e3 quadric/shell_cone_far_1e4 "
+         "quadric/shell_cone_far_1e5",
+         "the ray re-centred on the frustum before the transform keeps it right up to 1e5 radii away in float"},
+        {1, true, inf, inf, inf, "quadric/shell_cone_far_1e5", "re-centred, in double"},
     };
+    // Tori: far is over the tube radius r, aspect = 2 (R + r) / r (10 for R = 4 r; 202 for R = 100 r).
+    // Ferrari's closed form is never chosen: in float it misses rays at 5 sizes already, and in
+    // double its figures change with the build's contraction (it passes the lab's cases in the
+    // release build and fails them without FMA contraction).
     t[std::size_t(Kind::torus)] = {
-        {0, false, 0, 0, 0, "torus/camera_5x", "Ferrari's closed form"},
-        {1, false, 2.5e3, inf, 202, "torus/camera_5x torus/camera_50x torus/camera_500x torus/thin_tube torus/along_axis",
-         "the robust isolation is right from 500 torus sizes (2500 tube radii) and on a tube 100 times thinner than its ring"},
-        {1, true, inf, inf, inf, "torus/camera_500x torus/thin_tube", "the robust isolation in double"},
+        {1, false, 2.5e3, inf, 10, "torus/camera_5x torus/camera_50x torus/camera_500x torus/along_axis",
+         "the robust isolation in float is right up to 500 torus sizes away (2500 tube radii)"},
+        {1, true, 5.05e4, inf, 202, "torus/camera_500x torus/thin_tube torus/thin_500x torus/along_axis",
+         "the robust isolation in double is right on a tube 100 times thinner than its ring, seen from 500 sizes"},
     };
     t[std::size_t(Kind::polygon)] = {{0, false, inf, inf, inf, "", "the polygon's only method (float)"}};
     t[std::size_t(Kind::csg)] = {{0, false, inf, inf, inf, "", "the CSG tree's only method (float leaves)"}};
@@ -85,7 +101,7 @@ const std::vector<PlanOption>& plan_options(Kind k) {
 namespace {
 
 constexpr double kTau = 0x1p-12;     // float step over a primitive's size: represented well enough
-constexpr double kTauEye = 0x1p-8;   // float step of the eye over the smallest object (a rigid shift)
+constexpr double kTauEye = 1.0 / 16;  // the eye's rounding shifts the view by at most 1/16 of a pixel
 
 bool supports_f64_storage(Kind k) {
   bool s = false;
@@ -157,19 +173,22 @@ Plan make_plan(const scene::Scene& s, const Profile& p, Model m) {
     }
     plan.frame = cand[pick].kind;
     plan.origin = cand[pick].origin;
-    const double w0 = score(cand[0]), wp = score(cand[pick]);
+    // The reason: each kind's float step over its size in world coordinates and in the frame.
+    auto per_kind = [&](const FrameError& e) {
+      std::string t;
+      for (int k = 0; k < kKinds; ++k)
+        if (p.kinds[std::size_t(k)].count)
+          t += fmt::format("{}{} {}{}", t.empty() ? "" : ", ", kinds::kind_name(Kind(k)), fmt_pow2(e.contact[std::size_t(k)]),
+                           store64[std::size_t(k)] ? " (stored in double)" : "");
+      return t + fmt::format("; the eye's rounding shifts the view by {} pixel", fmt_ratio(e.eye));
+    };
     if (pick == 0)
-      plan.frame_reason = fmt::format(
-          "world coordinates represent the scene: the float step is at most {} of each primitive's size (the limit is {}), and the eye's at "
-          "most {} of the smallest object",
-          fmt_pow2(cand[0].e.worst(store64)), fmt_pow2(kTau), fmt_pow2(cand[0].e.eye));
+      plan.frame_reason = fmt::format("world coordinates represent the scene (float step over each primitive's size at most {}: {})",
+                                      fmt_pow2(kTau), per_kind(cand[0].e));
     else
-      plan.frame_reason = fmt::format(
-          "{}: in world coordinates the float step reaches {} of a primitive's size or the eye's {} of the smallest object ({}x the "
-          "limits); relative to the {} it is {} and {}",
-          m == Model::exact ? "the exact model re-centres" : "re-centred", fmt_pow2(cand[0].e.worst(store64)), fmt_pow2(cand[0].e.eye),
-          fmt_ratio(w0), pick == 1 ? "scene's centre" : "camera", fmt_pow2(cand[pick].e.worst(store64)), fmt_pow2(cand[pick].e.eye));
-    (void)wp;
+      plan.frame_reason = fmt::format("{}: in world coordinates the float step over a primitive's size is {}; relative to the {} it is {}",
+                                      m == Model::exact ? "the exact model re-centres" : "re-centred", per_kind(cand[0].e),
+                                      pick == 1 ? "scene's centre" : "camera", per_kind(cand[pick].e));
     const FrameError& fe = cand[pick].e;
 
     // ---- each kind ----

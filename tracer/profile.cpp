@@ -72,10 +72,24 @@ Profile make_profile(const scene::Scene& s) {
   p.extent = p.bounds.empty() ? 0 : p.bounds.max_extent();
   p.coord_max = p.bounds.empty() ? 0 : std::max(max_abs(p.bounds.lo), max_abs(p.bounds.hi));
   p.object_min = quantile(extents_all, 0.01);
-  p.origins = p.bounds;
+  const scene::Camera& cam = s.camera;
+  p.pixel_angle = v.angle * M_PI / 180.0 / double(std::max({cam.width, cam.height, 1}));
+  // Ray origins: the eye and every primitive that is not huge; the eye's distance to the nearest box.
   p.origins.grow(p.camera);
-  for (const auto& L : s.lights) p.origins.grow(L.pos);
-  p.camera_distance = p.bounds.empty() ? 0 : near_dist(p.bounds, p.camera);
+  double near = 1e300;
+  kinds::AllKinds::each([&]<class K>() {
+    K::each(s, [&](std::uint32_t i) {
+      const scene::Bounds b = K::bounds(s, i);
+      if (b.empty()) return;
+      near = std::min(near, near_dist(b, p.camera));
+      if (K::feature(s, i).extent > 1e3 * p.object_min) {
+        ++p.huge;
+        return;
+      }
+      p.origins.grow(b);
+    });
+  });
+  p.camera_distance = near < 1e300 ? near : 0;
   for (const auto& L : s.lights)
     if (!p.bounds.empty()) p.light_distance_max = std::max(p.light_distance_max, std::sqrt(dot(L.pos - p.bounds.centre(), L.pos - p.bounds.centre())));
 
@@ -129,7 +143,8 @@ FrameError frame_error(const scene::Scene& s, const Profile& p, const Vec3d& ori
     });
     e.contact[std::size_t(K::id)] = worst;
   });
-  e.eye = float_step(max_abs(p.camera - origin)) / small;
+  const double dist = std::max(p.camera_distance, small);
+  e.eye = p.pixel_angle > 0 ? float_step(max_abs(p.camera - origin)) * std::sqrt(3.0) / dist / p.pixel_angle : 0;
   return e;
 }
 
@@ -162,6 +177,8 @@ nlohmann::json Profile::json() const {
           {"camera", v3(camera)},
           {"camera_stated", stated_camera},
           {"camera_distance", camera_distance},
+          {"pixel_angle", pixel_angle},
+          {"huge_primitives", huge},
           {"light_distance_max", light_distance_max},
           {"object_min", object_min},
           {"kinds", k}};

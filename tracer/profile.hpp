@@ -47,13 +47,17 @@ struct Profile {
   double coord_max = 0;             // largest |coordinate| of the bounds
   Vec3d camera{0, 0, 0};            // the eye (scene/camera.hpp: the scene's, or the stated one)
   bool stated_camera = false;
-  double camera_distance = 0;       // from the eye to the nearest point of the bounds (0 inside)
+  double camera_distance = 0;       // from the eye to the nearest primitive's box (0 inside one)
+  double pixel_angle = 0;           // the view's angle per pixel (radians)
   double light_distance_max = 0;    // from the bounds' centre to the farthest light
-  // The box every ray origin lies in: bounds, camera and lights.
-  scene::Bounds origins;
   // The smallest object extent (1st percentile over every primitive's extent, so that a few
   // slivers do not decide): the scale at which the scene must stay right.
   double object_min = 0;
+  // The box ray origins come from: the eye and every primitive but the huge ones (over a thousand
+  // times the smallest object: a planet, a vast floor, whose far parts are not where the scene's
+  // rays start). Lights are where shadow rays end, not where they start.
+  scene::Bounds origins;
+  std::size_t huge = 0;             // primitives left out of `origins`
   std::array<KindProfile, kKinds> kinds{};
   std::size_t primitives = 0;
 
@@ -66,7 +70,8 @@ Profile make_profile(const scene::Scene& s);
 // float step of its primitives' coordinates relative to O over the primitive's own extent (how far
 // rounding to float in that frame moves its surface against its size), or over the scene's
 // smallest object for a primitive a thousand times larger than that (a planet: small objects rest
-// on it). For the eye (`eye`), its float step over the smallest object (a rigid shift of the view).
+// on it). For the eye (`eye`), the shift its rounding gives the whole view, in pixels (its float step
+// over its distance to the nearest object, over the angle of a pixel).
 struct FrameError {
   std::array<double, kKinds> contact{};
   double eye = 0;

@@ -34,12 +34,16 @@ struct ConeKind {
   struct Pre {};
   template <class F>
   static RB_INLINE Pre<F> pre(const Ray<F>&) { return {}; }
-  static constexpr std::array<MethodInfo, 1> methods{
-      {{"transformed", "the unit cone x^2 + y^2 = z^2 cut to the frustum in its own frame, the ray transformed into it (seed 000)", true,
-        false}}};
+  static constexpr std::array<MethodInfo, 2> methods{{
+      {"transformed", "the unit cone x^2 + y^2 = z^2 cut to the frustum in its own frame, the ray transformed into it (seed 000)", true,
+       false},
+      {"recentred", "the same with the ray's origin first moved along it to the frustum: right from far away in float", true, false},
+  }};
   template <int M, class F>
   static RB_INLINE Hit<F> hit(const Ray<F>& r, const Pre<F>&, const Prim<F>& p) {
-    return intersect_transformed(r, p, [](const Ray<F>& l, const Cone<F>& c) { return intersect_cone(l, c); });
+    auto k = [](const Ray<F>& l, const Cone<F>& c) { return intersect_cone(l, c); };
+    if constexpr (M == 0) return intersect_transformed(r, p, k);
+    else return intersect_transformed_recentred(r, p, Vec3<F>{F(0), F(0), F(0.5) * (p.prim.z0 + p.prim.z1)}, k);
   }
   static Surface surface(const HitQuery& q, std::uint32_t i) { return detail::shell_surface(q, q.scene->cones.at(i)); }
 };

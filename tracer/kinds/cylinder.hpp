@@ -46,7 +46,9 @@ inline Surface shell_surface(const HitQuery& q, const scene::ConeIn& c) {
   Vec3f n = unit_or(radial - a * (len > 0 ? (r1 - r0) / len : 0.0), -q.ray.d);
   if (c.base_r < 0 || c.apex_r < 0) n = -n;
   Surface h;
-  h.p = q.p;
+  // Onto the shell: the radius at the point's height along the axis, in the same radial direction.
+  const double s = dot(rel, a), rs = r0 + (len > 0 ? (r1 - r0) * s / len : 0.0);
+  h.p = ql > 0 ? c.base + a * s + radial * rs : q.p;
   h.ng = h.ns = n;
   h.mat = c.mat;
   return h;
@@ -87,11 +89,15 @@ struct CylinderKind {
   struct Pre {};
   template <class F>
   static RB_INLINE Pre<F> pre(const Ray<F>&) { return {}; }
-  static constexpr std::array<MethodInfo, 1> methods{
-      {{"transformed", "the unit cylinder x^2 + y^2 = r^2 in its own frame, the ray transformed into it (seed 000)", true, false}}};
+  static constexpr std::array<MethodInfo, 2> methods{{
+      {"transformed", "the cylinder x^2 + y^2 = r^2 in its own frame, the ray transformed into it (seed 000)", true, false},
+      {"recentred", "the same with the ray's origin first moved along it to the shell: right from far away in float", true, false},
+  }};
   template <int M, class F>
   static RB_INLINE Hit<F> hit(const Ray<F>& r, const Pre<F>&, const Prim<F>& p) {
-    return intersect_transformed(r, p, [](const Ray<F>& l, const Cylinder<F>& c) { return intersect_cylinder(l, c); });
+    auto k = [](const Ray<F>& l, const Cylinder<F>& c) { return intersect_cylinder(l, c); };
+    if constexpr (M == 0) return intersect_transformed(r, p, k);
+    else return intersect_transformed_recentred(r, p, Vec3<F>{p.prim.cx, p.prim.cy, F(0.5) * (p.prim.z0 + p.prim.z1)}, k);
   }
   static Surface surface(const HitQuery& q, std::uint32_t i) { return detail::shell_surface(q, q.scene->cones.at(i)); }
 };

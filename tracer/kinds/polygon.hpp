@@ -123,8 +123,9 @@ struct PolygonKind {
     const auto& pg = s.polygons.at(i);
     const Vec3d* v = s.poly_verts.data() + pg.first;
     Surface h;
-    h.p = q.p;
-    h.ng = detail::unit_or(newell_normal(v, pg.count), -q.ray.d);
+    const Vec3d n = detail::unit_d(newell_normal(v, pg.count));
+    h.p = detail::onto_plane(q.p, n, v[0]);
+    h.ng = detail::unit_or(n, -q.ray.d);
     h.ns = s.poly_normals.empty() ? h.ng : detail::interpolate(v, s.poly_normals.data() + pg.first, pg.count, q.p, h.ng);
     h.mat = pg.mat;
     return h;

@@ -66,7 +66,8 @@ struct SphereKind {
   static Surface surface(const HitQuery& q, std::uint32_t i) {
     const auto& sp = q.scene->spheres.at(i);
     Surface h;
-    h.p = q.p;
+    const Vec3d n = detail::unit_d(q.p - sp.c);
+    h.p = dot(n, n) > 0 ? sp.c + n * sp.r : q.p;
     h.ng = h.ns = detail::unit_or(q.p - sp.c, -q.ray.d);
     h.mat = sp.mat;
     return h;

@@ -67,7 +67,8 @@ struct TorusKind {
     const double rl = std::sqrt(dot(radial, radial));
     const Vec3d ring = rl > 0 ? t.c + radial * (t.R / rl) : t.c;  // the tube's centre nearest to p
     Surface h;
-    h.p = q.p;
+    const Vec3d n = detail::unit_d(q.p - ring);
+    h.p = rl > 0 && dot(n, n) > 0 ? ring + n * t.r : q.p;
     h.ng = h.ns = detail::unit_or(q.p - ring, -q.ray.d);
     h.mat = t.mat;
     return h;

@@ -66,13 +66,14 @@ struct TriangleKind {
     const auto& tr = s.triangles.at(i);
     const Vec3d v[3] = {s.verts[tr.v[0]], s.verts[tr.v[1]], s.verts[tr.v[2]]};
     Surface h;
-    h.p = q.p;
-    h.ng = detail::unit_or(cross(v[1] - v[0], v[2] - v[0]), -q.ray.d);
+    const Vec3d n = detail::unit_d(cross(v[1] - v[0], v[2] - v[0]));
+    h.p = detail::onto_plane(q.p, n, v[0]);
+    h.ng = detail::unit_or(n, -q.ray.d);
     if (s.vert_normals.empty()) {
       h.ns = h.ng;
     } else {
-      const Vec3f n[3] = {s.vert_normals[tr.v[0]], s.vert_normals[tr.v[1]], s.vert_normals[tr.v[2]]};
-      h.ns = detail::interpolate(v, n, 3, q.p, h.ng);
+      const Vec3f vn[3] = {s.vert_normals[tr.v[0]], s.vert_normals[tr.v[1]], s.vert_normals[tr.v[2]]};
+      h.ns = detail::interpolate(v, vn, 3, q.p, h.ng);
     }
     h.mat = tr.mat;
     return h;

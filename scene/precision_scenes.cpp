@@ -1,0 +1,204 @@
+// Scenes that test whether a tracer models enough precision (`precision:NAME`): small objects on a
+// planet, a scene far from the origin, small things seen from far away, thin tubes, a scene mixing
+// scales. Each is a complete scene (camera, lights, materials) that renders and traces like any
+// other; the accuracy lab's whole-scene family (accuracy/scenes.cpp) traces them against an exact
+// reference, and `raybench plan precision:NAME` shows what each needs. Coordinates are chosen so
+// that they are not floats (6400000.3, radius 1.7): rounding them to float moves them.
+//   ball_ground     a ball of radius 2 resting on a square floor, a second smaller ball, one light
+//                   to the side (a small scene at the origin: it needs nothing special)
+//   ball_ground_far the same moved 6.4e6 along x (x = 6400000.3 ...)
+//   planet          the balls on a planet of radius 6.4e6 (the floor is the planet), the camera a
+//                   few units above its surface
+//   mesh_spheres    a closed triangle mesh (an icosphere of 1,280 triangles), spheres and a floor
+//                   polygon near the origin; mesh_spheres_1e3 .. mesh_spheres_1e7 the same moved
+//                   that far from the origin
+//   far_spheres     64 small spheres (radius 0.01..0.1) seen from 5,000 away through a narrow view
+//   thin_torus      a torus whose tube is 100 times thinner than its ring, seen from 500 sizes away
+//   far_cylinders   NFF cylinders and cone frusta seen from 1e4 of their radii
+//   mixed_scales    a planet of radius 6.4e6 with a mesh, spheres and a cylinder on it, and a moon
+//                   of radius 1.7e6 at 3.8e8
+#include "scene/sources.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <map>
+
+namespace rb::scene {
+
+namespace {
+
+constexpr double kPrecisionPlanetR = 6.4e6;
+
+struct PrecisionBuilder {
+  Scene s;
+  explicit PrecisionBuilder(std::string name) {
+    s.name = std::move(name);
+    s.background = {0.078f, 0.361f, 0.753f};
+    s.camera.angle = 40;
+    s.camera.width = s.camera.height = 512;
+    s.camera.up = {0, 1, 0};
+  }
+  std::uint32_t material(Vec3f color, float kd, float ks = 0, float shine = 0, float checker = 0, Vec3f color2 = {0, 0, 0}) {
+    Material m;
+    m.color = color, m.kd = kd, m.ks = ks, m.shine = shine, m.checker = checker, m.color2 = color2;
+    s.materials.push_back(m);
+    return std::uint32_t(s.materials.size() - 1);
+  }
+  void floor(const Vec3d& c, double half, std::uint32_t mat) {
+    const auto first = std::uint32_t(s.poly_verts.size());
+    s.poly_verts.insert(s.poly_verts.end(), {c + Vec3d{-half, 0, -half}, c + Vec3d{-half, 0, half}, c + Vec3d{half, 0, half},
+                                             c + Vec3d{half, 0, -half}});
+    s.polygons.push_back({first, 4, mat});
+  }
+  void sphere(const Vec3d& c, double r, std::uint32_t mat) { s.spheres.push_back({c, r, mat}); }
+  // A closed icosphere of 20 * 4^levels triangles (shared vertices).
+  void icosphere(const Vec3d& c, double r, int levels, std::uint32_t mat) {
+    const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+    std::vector<Vec3d> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+                            {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+    std::vector<std::array<std::uint32_t, 3>> f = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+                                                   {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
+                                                   {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+    for (int l = 0; l < levels; ++l) {
+      std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> mid;
+      auto m = [&](std::uint32_t a, std::uint32_t b) {
+        const auto key = std::minmax(a, b);
+        const auto it = mid.find(key);
+        if (it != mid.end()) return it->second;
+        v.push_back((v[a] + v[b]) * 0.5);
+        return mid[key] = std::uint32_t(v.size() - 1);
+      };
+      std::vector<std::array<std::uint32_t, 3>> g;
+      for (const auto& q : f) {
+        const auto a = m(q[0], q[1]), b = m(q[1], q[2]), cc = m(q[2], q[0]);
+        g.push_back({q[0], a, cc}), g.push_back({q[1], b, a}), g.push_back({q[2], cc, b}), g.push_back({a, b, cc});
+      }
+      f = g;
+    }
+    const auto base = std::uint32_t(s.verts.size());
+    for (const auto& p : v) s.verts.push_back(c + p * (r / std::sqrt(dot(p, p))));
+    for (const auto& q : f) s.triangles.push_back({{base + q[0], base + q[1], base + q[2]}, mat});
+  }
+  void view(const Vec3d& from, const Vec3d& at, double angle) {
+    s.camera.from = from, s.camera.at = at, s.camera.angle = angle;
+  }
+};
+
+// The balls: radius 2 resting on the ground at `g` (the ground's top point below the ball), and a
+// radius-0.7 ball to the front right; a light up and to the side; a camera 4.1 above the ground.
+void put_balls(PrecisionBuilder& b, const Vec3d& g) {
+  const auto red = b.material({0.85f, 0.2f, 0.15f}, 0.7f, 0.3f, 40), white = b.material({0.9f, 0.9f, 0.85f}, 0.8f, 0.1f, 20);
+  b.sphere(g + Vec3d{0.3, 2.0, -0.1}, 2.0, red);
+  b.sphere(g + Vec3d{3.1, 0.7, 1.7}, 0.7, white);
+  b.s.lights.push_back({g + Vec3d{17.3, 13.1, 6.7}, {1, 1, 1}});
+  b.view(g + Vec3d{0.7, 4.1, 12.3}, g + Vec3d{0.9, 1.3, 0.1}, 40);
+}
+
+Scene ball_ground_scene(const Vec3d& at, const std::string& name) {
+  PrecisionBuilder b(name);
+  b.floor(at, 30.3, b.material({0.8f, 0.8f, 0.8f}, 0.8f, 0, 0, 1.0f, {0.35f, 0.35f, 0.4f}));
+  put_balls(b, at);
+  return std::move(b.s);
+}
+
+Scene planet_scene() {
+  PrecisionBuilder b("precision:planet");
+  const Vec3d top{0.3, 0, -0.2};  // the ground under the balls: the planet's top point
+  b.sphere(top - Vec3d{0, kPrecisionPlanetR, 0}, kPrecisionPlanetR, b.material({0.45f, 0.6f, 0.35f}, 0.8f));
+  put_balls(b, top);
+  return std::move(b.s);
+}
+
+Scene mesh_spheres_scene(double offset, const std::string& name) {
+  PrecisionBuilder b(name);
+  const Vec3d o{offset, offset * 0.37, -offset * 0.61};
+  b.floor(o + Vec3d{0, -1.3, 0}, 12.3, b.material({0.8f, 0.8f, 0.8f}, 0.8f, 0, 0, 1.0f, {0.3f, 0.3f, 0.35f}));
+  b.icosphere(o + Vec3d{0.1, 0.05, 0.2}, 1.3, 3, b.material({0.3f, 0.5f, 0.9f}, 0.7f, 0.3f, 30));
+  const auto m = b.material({0.9f, 0.7f, 0.2f}, 0.7f, 0.3f, 40);
+  b.sphere(o + Vec3d{2.7, -0.6, 0.9}, 0.7, m);
+  b.sphere(o + Vec3d{-2.3, -0.9, 1.3}, 0.4, m);
+  b.sphere(o + Vec3d{-1.1, -1.1, 2.6}, 0.2, m);
+  b.sphere(o + Vec3d{1.3, -1.2, 2.9}, 0.1, m);
+  b.s.lights.push_back({o + Vec3d{-9.7, 13.3, 7.1}, {1, 1, 1}});
+  b.view(o + Vec3d{0.3, 2.1, 9.7}, o + Vec3d{0.1, -0.3, 0.3}, 45);
+  return std::move(b.s);
+}
+
+Scene far_spheres_scene() {
+  PrecisionBuilder b("precision:far_spheres");
+  const auto m = b.material({0.9f, 0.5f, 0.2f}, 0.8f, 0.2f, 30);
+  std::uint64_t x = 88172645463325252ull;
+  auto U = [&] {
+    x ^= x << 13, x ^= x >> 7, x ^= x << 17;
+    return double(x >> 11) * 0x1p-53;
+  };
+  for (int i = 0; i < 64; ++i) b.sphere({U() * 2 - 1, U() * 2 - 1, U() * 2 - 1}, 0.01 + 0.09 * U(), m);
+  b.s.lights.push_back({{4003.1, 3001.7, 5002.3}, {1, 1, 1}});
+  b.view({3001.7, 1700.3, 3900.1}, {0.013, -0.021, 0.007}, 0.04);
+  return std::move(b.s);
+}
+
+Scene thin_torus_scene() {
+  PrecisionBuilder b("precision:thin_torus");
+  b.s.tori.push_back({{0.11, -0.07, 0.03}, {0.3, 1.0, 0.2}, 1.0, 0.01, b.material({0.9f, 0.8f, 0.3f}, 0.7f, 0.3f, 50)});
+  b.s.tori.push_back({{0.13, -0.05, 0.01}, {1.0, 0.1, -0.3}, 0.61, 0.0061, b.material({0.3f, 0.8f, 0.9f}, 0.7f, 0.3f, 50)});
+  b.s.lights.push_back({{300.3, 700.1, 400.7}, {1, 1, 1}});
+  b.view({250.1, 150.3, 330.7}, {0.1, -0.06, 0.02}, 0.35);
+  return std::move(b.s);
+}
+
+Scene far_cylinders_scene() {
+  PrecisionBuilder b("precision:far_cylinders");
+  const auto m = b.material({0.6f, 0.7f, 0.8f}, 0.8f, 0.2f, 20);
+  for (int i = 0; i < 6; ++i) {
+    const double a = 1.047 * i;
+    const Vec3d base{3.1 * std::cos(a), -1.0, 3.1 * std::sin(a)};
+    b.s.cones.push_back({base, 0.51, base + Vec3d{0.1, 2.3, 0.05}, i % 2 ? 0.51 : 0.23, m});
+  }
+  b.s.lights.push_back({{3100.3, 7000.1, 5000.7}, {1, 1, 1}});
+  b.view({2900.1, 1700.3, 3800.7}, {0.1, 0.1, 0.02}, 0.18);
+  return std::move(b.s);
+}
+
+Scene mixed_scales_scene() {
+  PrecisionBuilder b("precision:mixed_scales");
+  const Vec3d top{0.3, 0, -0.2};
+  b.sphere(top - Vec3d{0, kPrecisionPlanetR, 0}, kPrecisionPlanetR, b.material({0.45f, 0.6f, 0.35f}, 0.8f));
+  b.sphere(top + Vec3d{-1.7e8, 2.9e8, -2.1e8}, 1.7e6, b.material({0.8f, 0.8f, 0.75f}, 0.9f));  // a moon, 3.8e8 away
+  b.icosphere(top + Vec3d{-2.1, 1.3, -0.7}, 1.3, 2, b.material({0.3f, 0.5f, 0.9f}, 0.7f, 0.3f, 30));
+  const auto m = b.material({0.9f, 0.7f, 0.2f}, 0.7f, 0.3f, 40);
+  b.sphere(top + Vec3d{1.7, 0.7, 0.9}, 0.7, m);
+  b.sphere(top + Vec3d{0.4, 0.05, 2.1}, 0.05, m);
+  b.s.cones.push_back({top + Vec3d{3.3, 0, -1.9}, 0.3, top + Vec3d{3.3, 2.7, -1.9}, 0.3, m});
+  b.s.lights.push_back({top + Vec3d{17.3, 13.1, 6.7}, {1, 1, 1}});
+  b.view(top + Vec3d{0.7, 3.1, 9.3}, top + Vec3d{0.2, 1.1, 0.1}, 50);
+  return std::move(b.s);
+}
+
+}  // namespace
+
+std::vector<std::string> precision_scene_names() {
+  return {"ball_ground", "ball_ground_far", "planet", "mesh_spheres", "mesh_spheres_1e3", "mesh_spheres_1e5", "mesh_spheres_1e7",
+          "far_spheres", "thin_torus", "far_cylinders", "mixed_scales"};
+}
+
+Scene precision_scene(const std::string& name) {
+  // The floor at y = 0.5: mid-cell of the checkerboard (cell 1), so its own height never flips the
+  // parity.
+  if (name == "ball_ground") return ball_ground_scene({0, 0.5, 0}, "precision:ball_ground");
+  if (name == "ball_ground_far") return ball_ground_scene({6400000.3, 0.5, 0}, "precision:ball_ground_far");
+  if (name == "planet") return planet_scene();
+  if (name == "mesh_spheres") return mesh_spheres_scene(0, "precision:mesh_spheres");
+  for (int e : {3, 5, 7})
+    if (name == fmt::format("mesh_spheres_1e{}", e)) return mesh_spheres_scene(std::pow(10.0, e) * 1.0000003, "precision:" + name);
+  if (name == "far_spheres") return far_spheres_scene();
+  if (name == "thin_torus") return thin_torus_scene();
+  if (name == "far_cylinders") return far_cylinders_scene();
+  if (name == "mixed_scales") return mixed_scales_scene();
+  std::string all;
+  for (const auto& n : precision_scene_names()) all += (all.empty() ? "" : ", ") + n;
+  throw SceneError("precision:" + name + ": unknown scene (" + all + ")");
+}
+
+}  // namespace rb::scene
