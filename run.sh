@@ -16,7 +16,7 @@ PACKAGES=(g++ cmake ninja-build git pkg-config
           googletest libgtest-dev libcli11-dev nlohmann-json3-dev libfmt-dev
           libtinyobjloader-dev libgmp-dev libmpfr-dev libembree-dev
           python3-matplotlib python3-scipy
-          libstb-dev openmpi-bin libopenmpi-dev lld)
+          libstb-dev openmpi-bin libopenmpi-dev lld libsqlite3-dev)
 
 setup() {
   local missing=()
@@ -69,7 +69,7 @@ pgo_traces() {  # binary, out dir, seed, count, repetitions, scenes...
         local tag
         tag=$(echo "$scene-$rays-$k" | tr '/:.' '___')
         "$bin" trace "$scene" --rays "$rays" --packet "$k" --threads 1 --seed "$seed" --count "$count" \
-          -r "$reps" --brute 0 --no-embree --json "$dir/trace-$tag.json" 2>/dev/null ||
+          -r "$reps" --brute 0 --no-embree --json "$dir/trace-$tag.json" >/dev/null 2>&1 ||
           echo "[pgo] warning: trace $scene $rays K=$k failed with $bin" >&2
       done
     done
@@ -82,10 +82,10 @@ pgo_train() {  # name of the profile: honest | tuned
   mkdir -p "$prof"
   echo "[pgo] training the $name profile"
   if [ "$name" = honest ]; then
-    "$gen" bench --seed 7 --repetitions 1 --min-time 0.01 --out "$prof/train-bench.json" >/dev/null
+    "$gen" bench --seed 7 --repetitions 1 --min-time 0.01 --json "$prof/train-bench.json" >/dev/null
     pgo_traces "$gen" "$prof/train-trace" 7 131072 1 "${PGO_TRAIN_SCENES[@]}"
   else
-    "$gen" bench --repetitions 1 --min-time 0.05 --out "$prof/train-bench.json" >/dev/null
+    "$gen" bench --repetitions 1 --min-time 0.05 --json "$prof/train-bench.json" >/dev/null
     pgo_traces "$gen" "$prof/train-trace" 1 524288 1 "${PGO_TRACE_SCENES[@]}"
   fi
   mv "$prof/raw" "$prof/$name"
@@ -114,7 +114,7 @@ pgo() {
       local b=${order[$(( (i + round - 1) % 3 ))]}
       echo "[pgo] kernel benchmarks, round $round of 3: $b build"
       mkdir -p "$PGO_OUT/$b"
-      "${bins[$b]}" bench --repetitions 2 --min-time 0.05 --out "$PGO_OUT/$b/bench-$round.json" >/dev/null
+      "${bins[$b]}" bench --repetitions 2 --min-time 0.05 --json "$PGO_OUT/$b/bench-$round.json" >/dev/null
       echo "bench-$round-$b $(cut -d' ' -f1 /proc/loadavg)" >>"$PGO_OUT/load.txt"
     done
   done
