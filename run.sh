@@ -5,6 +5,8 @@
 #                     code in the `exact` preset (target rb_tests_optimised, label `optimised`), then
 #                     build and run the whole test suite in the `debug` preset (ASan+UBSan)
 # Other targets: ./run.sh setup (packages only), ./run.sh build PRESET,
+#               ./run.sh install-check (cmake --install into a scratch prefix, then the installed
+#               `raybench report` run from another folder, its history and a comparison),
 #               ./run.sh pgo (profile-guided optimisation: train, rebuild, compare; fills the report's
 #               PGO section), ./run.sh pgo-test (the test suite built with the PGO profile).
 set -euo pipefail
@@ -134,6 +136,34 @@ pgo() {
     --minutes $(( (SECONDS - t0 + 59) / 60 ))
 }
 
+# ---- the installed binary -----------------------------------------------------------------------
+# cmake --install into a scratch prefix, then from another folder: the installed `raybench report`
+# (it finds its chart scripts and meshes in PREFIX/share/raybench), the run in its default history
+# (results/history.sqlite of that folder), and the report compared with itself.
+install_check() {
+  setup
+  build release --target raybench
+  local prefix work
+  prefix=$(mktemp -d /tmp/raybench-prefix.XXXXXX)
+  work=$(mktemp -d /tmp/raybench-work.XXXXXX)
+  cmake --install build/release --prefix "$prefix" >/dev/null
+  echo "[install-check] installed into $prefix; running from $work"
+  (
+    cd "$work"
+    export PATH="$prefix/bin:$PATH"
+    raybench --version | tail -1
+    raybench report --out report "$@"
+    for f in report/index.md report/summary.json report/bench.json report/simd_speedup.png results/history.sqlite; do
+      [ -s "$f" ] || { echo "[install-check] missing: $work/$f" >&2; exit 1; }
+    done
+    raybench history >history.txt
+    head -4 history.txt
+    raybench compare report report --threshold 5 >/dev/null
+  )
+  echo "[install-check] ok: the installed raybench ran its report from $work"
+  rm -rf "$prefix" "$work"
+}
+
 case "${1:-}" in
   setup) setup ;;
   build) setup; build "${2:-release}" ;;
@@ -153,6 +183,7 @@ case "${1:-}" in
     ctest --preset debug
     ;;
   pgo) pgo ;;
+  install-check) shift; install_check "$@" ;;
   pgo-test)
     setup
     [ -d build/pgo-profiles/honest ] || { echo "error: no profile yet: run ./run.sh pgo first" >&2; exit 1; }
@@ -160,7 +191,7 @@ case "${1:-}" in
     ctest --preset pgo-use
     ;;
   *)
-    echo "usage: $0 report [raybench report options] | test | setup | build PRESET | pgo | pgo-test" >&2
+    echo "usage: $0 report [raybench report options] | test | setup | build PRESET | pgo | pgo-test | install-check" >&2
     exit 2
     ;;
 esac
