@@ -89,8 +89,9 @@ int main(int argc, char** argv) {
   report->footer(
       "Runs the ops table, the scalar-vs-SIMD kernel benchmarks, scene loading, tracing\n"
       "beside Embree, the recursive renderer, the accuracy lab and CSG on the embedded\n"
-      "scenes, and writes OUT/index.md with JSON and PNG charts beside it (about 3 min\n"
-      "on a 2-core machine). Two report folders compare with `raybench compare A B`.");
+      "scenes, and writes OUT/index.md with JSON and PNG charts beside it (a few\n"
+      "minutes on a 2-core machine). Two report folders compare with\n"
+      "`raybench compare A B`; each run is kept in results/history.sqlite.");
 
   // ---- ops ----
   std::string ops_json;

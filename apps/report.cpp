@@ -392,7 +392,7 @@ int run_report(const ReportOptions& o) {
   write_file(out / "index.md", md);
   // The terminal summary goes to stdout, unless --json without a file puts the summary JSON there.
   const bool json_stdout = o.json && (o.json_file.empty() || o.json_file == "-");
-  (json_stdout ? std::cerr : std::cout) << terminal_summary(summary, goals, rows.size() / 2, clock.s())
+  (json_stdout ? std::cerr : std::cout) << fit_columns(terminal_summary(summary, goals, rows.size() / 2, clock.s()), 4)
                                         << "report written: " << fs::absolute(out / "index.md").string() << "\n";
   if (json_stdout) std::cout << summary.dump(2) << "\n";
   else if (o.json) write_file(o.json_file, summary.dump(2) + "\n");
