@@ -5,6 +5,8 @@
 #                     code in the `exact` preset (target rb_tests_optimised, label `optimised`), then
 #                     build and run the whole test suite in the `debug` preset (ASan+UBSan)
 # Other targets: ./run.sh setup (packages only), ./run.sh build PRESET,
+#               ./run.sh install-check (cmake --install into a scratch prefix, then the installed
+#               `raybench report` run from another folder, its history and a comparison),
 #               ./run.sh pgo (profile-guided optimisation: train, rebuild, compare; fills the report's
 #               PGO section), ./run.sh pgo-test (the test suite built with the PGO profile).
 set -euo pipefail
@@ -16,7 +18,7 @@ PACKAGES=(g++ cmake ninja-build git pkg-config
           googletest libgtest-dev libcli11-dev nlohmann-json3-dev libfmt-dev
           libtinyobjloader-dev libgmp-dev libmpfr-dev libembree-dev
           python3-matplotlib python3-scipy
-          libstb-dev openmpi-bin libopenmpi-dev lld)
+          libstb-dev openmpi-bin libopenmpi-dev lld libsqlite3-dev)
 
 setup() {
   local missing=()
@@ -69,7 +71,7 @@ pgo_traces() {  # binary, out dir, seed, count, repetitions, scenes...
         local tag
         tag=$(echo "$scene-$rays-$k" | tr '/:.' '___')
         "$bin" trace "$scene" --rays "$rays" --packet "$k" --threads 1 --seed "$seed" --count "$count" \
-          -r "$reps" --brute 0 --no-embree --json "$dir/trace-$tag.json" 2>/dev/null ||
+          -r "$reps" --brute 0 --no-embree --json "$dir/trace-$tag.json" >/dev/null 2>&1 ||
           echo "[pgo] warning: trace $scene $rays K=$k failed with $bin" >&2
       done
     done
@@ -82,10 +84,10 @@ pgo_train() {  # name of the profile: honest | tuned
   mkdir -p "$prof"
   echo "[pgo] training the $name profile"
   if [ "$name" = honest ]; then
-    "$gen" bench --seed 7 --repetitions 1 --min-time 0.01 --out "$prof/train-bench.json" >/dev/null
+    "$gen" bench --seed 7 --repetitions 1 --min-time 0.01 --json "$prof/train-bench.json" >/dev/null
     pgo_traces "$gen" "$prof/train-trace" 7 131072 1 "${PGO_TRAIN_SCENES[@]}"
   else
-    "$gen" bench --repetitions 1 --min-time 0.05 --out "$prof/train-bench.json" >/dev/null
+    "$gen" bench --repetitions 1 --min-time 0.05 --json "$prof/train-bench.json" >/dev/null
     pgo_traces "$gen" "$prof/train-trace" 1 524288 1 "${PGO_TRACE_SCENES[@]}"
   fi
   mv "$prof/raw" "$prof/$name"
@@ -114,7 +116,7 @@ pgo() {
       local b=${order[$(( (i + round - 1) % 3 ))]}
       echo "[pgo] kernel benchmarks, round $round of 3: $b build"
       mkdir -p "$PGO_OUT/$b"
-      "${bins[$b]}" bench --repetitions 2 --min-time 0.05 --out "$PGO_OUT/$b/bench-$round.json" >/dev/null
+      "${bins[$b]}" bench --repetitions 2 --min-time 0.05 --json "$PGO_OUT/$b/bench-$round.json" >/dev/null
       echo "bench-$round-$b $(cut -d' ' -f1 /proc/loadavg)" >>"$PGO_OUT/load.txt"
     done
   done
@@ -132,6 +134,35 @@ pgo() {
     --honest "bench --seed 7 (other rays and primitives, 1 repetition of 0.01 s); traces of ${PGO_TRAIN_SCENES[*]} with ray seed 7, 131072 rays" \
     --tuned "the measured workload itself: bench on the default data; traces of ${PGO_TRACE_SCENES[*]} with ray seed 1, 524288 rays" \
     --minutes $(( (SECONDS - t0 + 59) / 60 ))
+}
+
+# ---- the installed binary -----------------------------------------------------------------------
+# cmake --install into a scratch prefix, then from another folder: the installed `raybench report`
+# (it finds its chart scripts and meshes in PREFIX/share/raybench), the run in its default history
+# (results/history.sqlite of that folder), and the report compared with itself.
+install_check() {
+  setup
+  build release --target raybench
+  local prefix work
+  prefix=$(mktemp -d /tmp/raybench-prefix.XXXXXX)
+  work=$(mktemp -d /tmp/raybench-work.XXXXXX)
+  cmake --install build/release --prefix "$prefix" >/dev/null
+  echo "[install-check] installed into $prefix; running from $work"
+  (
+    cd "$work"
+    export PATH="$prefix/bin:$PATH"
+    raybench --version | tail -1
+    raybench report --out report "$@" 2>&1 | tee report.log
+    grep -q '^\[report 8/8, ' report.log || { echo "[install-check] the report's stages were not numbered" >&2; exit 1; }
+    for f in report/index.md report/summary.json report/bench.json report/simd_speedup.png results/history.sqlite; do
+      [ -s "$f" ] || { echo "[install-check] missing: $work/$f" >&2; exit 1; }
+    done
+    raybench history >history.txt
+    head -4 history.txt
+    raybench compare report report --threshold 5 >/dev/null
+  )
+  echo "[install-check] ok: the installed raybench ran its report from $work"
+  rm -rf "$prefix" "$work"
 }
 
 case "${1:-}" in
@@ -153,6 +184,7 @@ case "${1:-}" in
     ctest --preset debug
     ;;
   pgo) pgo ;;
+  install-check) shift; install_check "$@" ;;
   pgo-test)
     setup
     [ -d build/pgo-profiles/honest ] || { echo "error: no profile yet: run ./run.sh pgo first" >&2; exit 1; }
@@ -160,7 +192,7 @@ case "${1:-}" in
     ctest --preset pgo-use
     ;;
   *)
-    echo "usage: $0 report [raybench report options] | test | setup | build PRESET | pgo | pgo-test" >&2
+    echo "usage: $0 report [raybench report options] | test | setup | build PRESET | pgo | pgo-test | install-check" >&2
     exit 2
     ;;
 esac

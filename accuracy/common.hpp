@@ -72,7 +72,7 @@ struct Ctx {
     if (o->progress) o->progress(std::max(f, 0.0), family + "/" + name);
   }
   bool selected(const std::string& family, const std::string& name) const {
-    return o->filter.empty() || (family + "/" + name).find(o->filter) != std::string::npos;
+    return o->filter.empty() || selects(o->filter, family + "/" + name);
   }
 };
 

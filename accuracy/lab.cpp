@@ -1,6 +1,16 @@
 #include "accuracy/common.hpp"
 
+#include <regex>
+
 namespace rb::acc {
+
+bool selects(const std::string& filter, const std::string& family_case) {
+  if (filter.empty()) return true;
+  static thread_local std::string last;
+  static thread_local std::regex re;
+  if (filter != last) re = std::regex(filter, std::regex::extended | std::regex::nosubs), last = filter;
+  return std::regex_search(family_case, re);
+}
 
 std::vector<CaseInfo> case_list() {
   std::vector<CaseInfo> all;

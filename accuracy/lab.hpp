@@ -25,7 +25,7 @@ struct Options {
   bool full = false;              // larger ray counts and every case variant
   std::uint32_t seed = 1;         // seed of every generator
   std::size_t rays = 0;           // rays per case (0: 10000 quick, 100000 full)
-  std::string filter;             // substring of "family/case" (empty: all)
+  std::string filter;             // regex searched in "family/case" (POSIX extended; empty: all)
   bool timing = true;             // measure ns per test (off: every ns figure is NaN)
   std::function<void(double, const std::string&)> progress;  // fraction done, what
 };
@@ -50,6 +50,10 @@ struct CaseInfo {
   std::string family, name, what;
 };
 std::vector<CaseInfo> case_list();
+
+// Whether --filter selects the case "family/case": a POSIX extended regular expression searched in
+// it, as every --filter of the command line. Throws std::regex_error on a bad expression.
+bool selects(const std::string& filter, const std::string& family_case);
 
 // Runs every selected case of every family. Rows come out in a stable order.
 std::vector<Row> run_lab(const Options& o);

@@ -1,7 +1,10 @@
 // Runs the registered kernel benchmarks in this process (`raybench bench`, `raybench report`):
 // Google Benchmark writes every figure to its JSON file, while the terminal shows one progress bar
-// on stderr instead of Google Benchmark's console table.
+// on stderr instead of Google Benchmark's console table (`raybench bench` prints its own table from
+// the JSON afterwards, apps/cmd_bench.cpp).
+#include "apps/cli.hpp"
 #include "apps/machine.hpp"
+#include "apps/progress.hpp"
 #include "apps/report.hpp"
 #include "bench/register.hpp"
 
@@ -13,34 +16,25 @@
 #include <iostream>
 #include <regex>
 #include <set>
-#include <unistd.h>
 
 namespace rb::app {
 namespace {
 
-// How many registered benchmarks the filter selects, by Google Benchmark's rule: a POSIX extended
-// regex searched in the name, a leading '-' negates it, "all" selects everything.
-std::size_t matching(const std::string& filter) {
-  const auto& names = rb::bench::registered_names();
-  if (filter.empty() || filter == "all") return names.size();
-  const bool neg = filter[0] == '-';
-  try {
-    const std::regex re(neg ? filter.substr(1) : filter, std::regex::extended);
-    std::size_t n = 0;
-    for (const auto& s : names) n += std::regex_search(s, re) != neg;
-    return n;
-  } catch (const std::regex_error&) {
-    return names.size();  // Google Benchmark reports the bad filter itself
+void ensure_registered() {
+  static bool registered = false;
+  if (!registered) {
+    rb::bench::register_all_benchmarks();
+    registered = true;
   }
 }
 
-// Collects nothing (the JSON file reporter keeps the figures); draws "[####    ] 12/315 name".
-// On a terminal the bar is redrawn in place; otherwise (a log, CI) one line per tenth of the run.
+// Collects nothing (the JSON file reporter keeps the figures); draws the one progress bar
+// (apps/progress.hpp) with the benchmark under way.
 class ProgressReporter : public benchmark::BenchmarkReporter {
  public:
-  ProgressReporter(std::size_t total, std::string what) : total_(total), what_(std::move(what)), tty_(isatty(2) != 0) {}
+  ProgressReporter(std::size_t total, const std::string& what) : total_(total), what_(what), bar_(what) {}
   bool ReportContext(const Context&) override {
-    draw("");
+    bar_.update(0);
     return true;
   }
   void ReportRuns(const std::vector<Run>& runs) override {
@@ -50,55 +44,52 @@ class ProgressReporter : public benchmark::BenchmarkReporter {
     ++done_;
     for (const auto& r : runs)
       if (r.error_occurred) errors_.push_back(r.benchmark_name() + ": " + r.error_message);
-    draw(runs.front().run_name.str());
+    bar_.update(double(done_) / double(std::max(total_, done_)), fmt::format("{}/{} {}", done_, std::max(total_, done_), runs.front().run_name.str()));
   }
   void Finalize() override {
-    if (tty_) std::cerr << "\r\x1b[K";
-    std::cerr << fmt::format("{}: {} benchmarks in {:.0f} s\n", what_, done_, seconds());
+    bar_.done();
+    std::cerr << fmt::format("{}: {} benchmarks in {}\n", what_, done_, format_duration(bar_.seconds()));
     for (const auto& e : errors_) std::cerr << "  error: " << e << "\n";
   }
   std::size_t done() const { return done_; }
   std::size_t errors() const { return errors_.size(); }
 
  private:
-  double seconds() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count(); }
-  void draw(const std::string& name) {
-    const std::size_t total = std::max(total_, done_);
-    const double f = total ? double(done_) / double(total) : 1.0;
-    if (tty_) {
-      constexpr int kWidth = 30;
-      const int n = int(f * kWidth);
-      std::cerr << fmt::format("\r\x1b[K[{}{}] {}/{} {:.0f} s {}", std::string(std::size_t(n), '#'),
-                               std::string(std::size_t(kWidth - n), ' '), done_, total, seconds(), name)
-                << std::flush;
-    } else if (int tenth = int(f * 10); tenth > last_tenth_) {
-      last_tenth_ = tenth;
-      std::cerr << fmt::format("{}: {:3d}% ({}/{}, {:.0f} s) {}\n", what_, tenth * 10, done_, total, seconds(), name);
-    }
-  }
   std::size_t total_, done_ = 0;
   std::string what_;
-  bool tty_;
-  int last_tenth_ = 0;
+  ProgressBar bar_;
   std::vector<std::string> errors_;
   std::set<std::string> seen_;
-  std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
 };
 
 }  // namespace
 
+std::vector<std::string> benchmark_names(const std::string& filter) {
+  ensure_registered();
+  const auto& names = rb::bench::registered_names();
+  if (filter.empty() || filter == "all") return names;
+  // Google Benchmark's rule: a POSIX extended regex searched in the name, a leading '-' negates it.
+  const bool neg = filter[0] == '-';
+  const std::regex re = filter_regex(neg ? filter.substr(1) : filter);
+  std::vector<std::string> out;
+  for (const auto& s : names)
+    if (filter_matches(re, s) != neg) out.push_back(s);
+  return out;
+}
+
 int run_benchmarks(const BenchOptions& o) {
-  static bool registered = false;
-  if (!registered) { rb::bench::register_all_benchmarks(); registered = true; }
+  ensure_registered();
   rb::bench::bench_data_seed() = o.seed ? o.seed : rb::bench::kBenchSeed;
-  const std::size_t total = matching(o.filter);
+  const std::size_t total = benchmark_names(o.filter).size();  // throws on a bad regex
   if (total == 0) {
-    std::cerr << "raybench: no benchmark matches the filter '" << o.filter << "' (names are kernel/method/variant/case)\n";
-    return 2;
+    std::cerr << error_line(o.command, "", fmt::format("--filter '{}' selects no benchmark (names are kernel/method/variant/case; "
+                                                       "--list shows them)", o.filter))
+              << "\n";
+    return kExitNothing;
   }
-  if (std::ofstream f(o.json_out); !f) {  // Google Benchmark would exit() on an unwritable file
-    std::cerr << "raybench: cannot write " << o.json_out << "\n";
-    return 1;
+  if (const std::string why = check_output_file(o.json_out); !why.empty()) {  // Google Benchmark would exit()
+    std::cerr << error_line(o.command, o.json_out, why) << "\n";
+    return kExitError;
   }
   const Machine m = machine();
   benchmark::AddCustomContext("raybench_cpu", m.cpu);
@@ -107,6 +98,8 @@ int run_benchmarks(const BenchOptions& o) {
   benchmark::AddCustomContext("raybench_pgo", m.pgo);
   benchmark::AddCustomContext("raybench_git", m.git);
   benchmark::AddCustomContext("raybench_simd", "xsimd 8.1 fma3<avx2> 8 x float");
+  benchmark::AddCustomContext("raybench_seed", std::to_string(rb::bench::bench_data_seed()));
+  benchmark::AddCustomContext("raybench_repetitions", std::to_string(o.repetitions));
   std::vector<std::string> args = {"raybench",
                                    "--benchmark_out=" + o.json_out,
                                    "--benchmark_out_format=json",
@@ -122,10 +115,10 @@ int run_benchmarks(const BenchOptions& o) {
   const std::size_t n = benchmark::RunSpecifiedBenchmarks(&progress);
   benchmark::Shutdown();
   if (n == 0) {
-    std::cerr << "raybench: no benchmark ran (filter '" << o.filter << "')\n";
-    return 2;
+    std::cerr << error_line(o.command, "", "no benchmark ran (--filter '" + o.filter + "')") << "\n";
+    return kExitNothing;
   }
-  return progress.errors() ? 1 : 0;
+  return progress.errors() ? kExitError : kExitOk;
 }
 
 }  // namespace rb::app

@@ -1,4 +1,5 @@
 // `raybench info SCENE`: what a scene holds and what it costs in memory.
+#include "apps/cli.hpp"
 #include "apps/commands.hpp"
 #include "apps/scene_info.hpp"
 #include "kernels/csg.hpp"
@@ -134,13 +135,21 @@ std::string scene_info_text(const json& j) {
   o += fmt::format("camera      from {} at {} up {}, angle {} deg, hither {}, {}x{}\n", v3(c["from"]), v3(c["at"]), v3(c["up"]),
                    c["angle"].get<double>(), c["hither"].get<double>(), c["width"].get<int>(), c["height"].get<int>());
   o += fmt::format("lights      {}\nmaterials   {}\n", j["lights"].get<std::size_t>(), j["materials"].get<std::size_t>());
-  o += fmt::format("{:<10} {:>10} {:>10} {:>12}   {}\n", "kind", "count", "vertices", "input", "kernel batch");
+  // Within 80 columns: a row per kind (input form), then its kernel batches indented below it.
+  o += fmt::format("{:<10} {:>10} {:>10} {:>12}\n", "kind", "count", "vertices", "input form");
+  o += "  kernel batch (SoA, padded to 8 lanes)                           memory\n";
   for (const auto& k : j["kinds"]) {
-    std::string batches;
-    for (const auto& b : k["batches"]) batches += fmt::format("{}{} {}", batches.empty() ? "" : "; ", b["batch"].get<std::string>(), mib(b["bytes"]));
-    if (k.contains("note")) batches = k["note"].get<std::string>();
-    o += fmt::format("{:<10} {:>10} {:>10} {:>12}   {}\n", k["kind"].get<std::string>(), k["count"].get<std::size_t>(),
-                     k.contains("vertices") ? std::to_string(k["vertices"].get<std::size_t>()) : "-", mib(k["input_bytes"]), batches);
+    o += fmt::format("{:<10} {:>10} {:>10} {:>12}\n", k["kind"].get<std::string>(), k["count"].get<std::size_t>(),
+                     k.contains("vertices") ? std::to_string(k["vertices"].get<std::size_t>()) : "-", mib(k["input_bytes"]));
+    if (k.contains("note")) {
+      o += wrap_words("  " + k["note"].get<std::string>(), 80, "    ");
+      continue;
+    }
+    for (const auto& b : k["batches"]) {
+      const std::string name = b["batch"].get<std::string>(), size = mib(b["bytes"]);
+      if (display_width(name) + 2 + 1 + 12 <= 80) o += fmt::format("  {:<63} {:>12}\n", name, size);
+      else o += wrap_words("  " + name, 80, "    ") + fmt::format("{:>78}\n", size);
+    }
   }
   o += fmt::format("{:<10} {:>10} {:>10} {:>12}\n", "total", j["primitives"].get<std::size_t>(), "", mib(j["input_bytes"]));
   if (j.contains("load_ms")) o += fmt::format("loaded in   {:.1f} ms\n", j["load_ms"].get<double>());
@@ -165,6 +174,11 @@ std::string scene_info_markdown(const json& j) {
 
 int run_info_command(const std::string& scene, const JsonOut& out) {
   json j;
+  if (!is_generated_scene(scene))
+    if (const std::string why = check_input_file(scene); !why.empty()) {
+      std::cerr << error_line("info", scene, why) << "\n";
+      return kExitError;
+    }
   try {
     const auto t0 = std::chrono::steady_clock::now();
     const rb::scene::Scene s = rb::scene::load_scene(scene);
@@ -174,11 +188,10 @@ int run_info_command(const std::string& scene, const JsonOut& out) {
     j["load_ms"] = ms;
   } catch (const std::exception& e) {
     // Loader errors name the file and line; a generator's name the scene.
-    const std::string what = e.what();
-    std::cerr << "raybench info: " << (what.find(scene) == std::string::npos ? scene + ": " : "") << what << "\n";
-    return 1;
+    std::cerr << error_line("info", scene, e.what()) << "\n";
+    return kExitError;
   }
-  return write_result("info", out.json, out.file, [&] { return scene_info_text(j); }, [&] { return j; });
+  return write_result("info", out, [&] { return fit_columns(scene_info_text(j), 12); }, [&] { return j; }, "the scene description");
 }
 
 }  // namespace rb::app

@@ -1,19 +1,46 @@
 // `raybench trace SCENE`: trace a whole scene with the BVH, beside Embree on the same rays.
+#include "apps/cli.hpp"
 #include "apps/commands.hpp"
+#include "apps/machine.hpp"
 #include "apps/trace_run.hpp"
+
+#include <fmt/format.h>
 
 #include <iostream>
 
 namespace rb::app {
 
-int run_trace_command(const TraceRunOptions& o, const JsonOut& out) {
+int run_trace_command(const TraceRunOptions& opt, const JsonOut& out) {
+  TraceRunOptions o = opt;
+  if (!is_generated_scene(o.scene))
+    if (const std::string why = check_input_file(o.scene); !why.empty()) {
+      std::cerr << error_line("trace", o.scene, why) << "\n";
+      return kExitError;
+    }
+  std::string warn;
+  o.threads = resolve_threads(o.threads, &warn);
+  std::cerr << fmt::format("raybench trace {}: {} rays, {} thread(s) of {} hardware threads, {} warm-up + {} timed run(s) per engine\n",
+                           o.scene, o.ray_set, o.threads, hardware_threads(), o.warmup, o.repetitions);
+  if (!warn.empty()) std::cerr << wrap_words(warn);
+  nlohmann::json j;
   try {
-    const nlohmann::json j = run_trace(o, true);
-    return write_result("trace", out.json, out.file, [&] { return trace_text(j); }, [&] { return j; });
+    j = run_trace(o, true);
+  } catch (const NothingToDo& e) {
+    std::cerr << error_line("trace", o.scene, e.what()) << "\n";
+    return kExitNothing;
   } catch (const std::exception& e) {
-    std::cerr << "raybench trace: " << o.scene << ": " << e.what() << "\n";
-    return 1;
+    std::cerr << error_line("trace", o.scene, e.what()) << "\n";
+    return kExitError;
   }
+  const double load = load_average();
+  j["machine"] = machine().json();
+  const int rc = write_result("trace", out, [&] { return fit_columns(trace_text(j), 11); }, [&] { return j; }, "the trace result");
+  for (const char* p : {"", "embree_"})
+    if (j.contains(std::string(p) + "cv") && j[std::string(p) + "cv"].is_number())
+      if (const std::string w = noise_warning(j[std::string(p) + "cv"].get<double>(), *p ? "Embree's runs" : "raybench's runs"); !w.empty())
+        std::cerr << wrap_words(w);
+  if (const std::string w = busy_warning(load, o.threads); !w.empty()) std::cerr << wrap_words(w);
+  return rc;
 }
 
 }  // namespace rb::app

@@ -1,5 +1,8 @@
 #include "apps/machine.hpp"
 
+#include "apps/build_info.hpp"
+#include "apps/cli.hpp"
+
 #include <fmt/format.h>
 
 #include <array>
@@ -9,10 +12,6 @@
 #include <fstream>
 #include <memory>
 #include <thread>
-
-#ifndef RB_SOURCE_DIR
-#define RB_SOURCE_DIR "."
-#endif
 
 namespace rb::app {
 
@@ -40,15 +39,15 @@ Machine machine() {
     }
   }
   m.cores = int(std::thread::hardware_concurrency());
-  m.compiler = "g++ " __VERSION__;
-  m.build_type = RB_BUILD_TYPE;
-  m.build_flags = RB_BUILD_FLAGS;
-  m.fp_contract = RB_FP_CONTRACT_NAME;
-  m.pgo = RB_PGO_PHASE[0] ? RB_PGO_PHASE : "none";
-  m.git = run_capture(std::string("git -C '") + RB_SOURCE_DIR + "' rev-parse --short HEAD");
-  if (!m.git.empty() && !run_capture(std::string("git -C '") + RB_SOURCE_DIR + "' status --porcelain --untracked-files=no").empty())
-    m.git += "-dirty";
-  if (m.git.empty()) m.git = "unknown";
+  // The build's description and revision were recorded when this binary was built
+  // (apps/build_info.hpp), not read from whatever source tree is checked out now.
+  const BuildInfo& b = build_info();
+  m.compiler = b.compiler;
+  m.build_type = b.build_type;
+  m.build_flags = b.build_flags;
+  m.fp_contract = b.fp_contract;
+  m.pgo = b.pgo;
+  m.git = b.git();
   const std::time_t t = std::time(nullptr);
   char buf[64];
   std::strftime(buf, sizeof buf, "%Y-%m-%d %H:%M:%S UTC", std::gmtime(&t));
@@ -57,9 +56,27 @@ Machine machine() {
 }
 
 nlohmann::json Machine::json() const {
+  const BuildInfo& b = build_info();
   return {{"cpu", cpu}, {"cores", cores}, {"host_simd", host_flags}, {"compiler", compiler}, {"build_type", build_type},
           {"build_flags", build_flags}, {"fp_contract", fp_contract}, {"pgo", pgo}, {"git", git}, {"date", date},
-          {"simd_arch", "xsimd 8.1 fma3<avx2>, 8 x float"}};
+          {"simd_arch", "xsimd 8.1 fma3<avx2>, 8 x float"}, {"version", b.version}, {"git_revision", b.git_revision},
+          {"git_dirty", b.git_dirty}, {"git_time", b.git_time}};
+}
+
+std::string Machine::text() const {
+  const BuildInfo& b = build_info();
+  std::string t;
+  auto row = [&](const char* key, const std::string& value) { t += wrap_words(fmt::format("{:<13} {}", key, value), 80, std::string(14, ' ')); };
+  row("cpu", cpu);
+  row("isa", host_flags + " (kernels pinned to AVX2+FMA: xsimd 8.1 fma3<avx2>, 8 x float)");
+  row("threads", std::to_string(cores) + " hardware threads");
+  row("version", b.version);
+  row("git", git + (b.git_time.empty() ? "" : " (" + b.git_time + ")") + ", recorded at build time");
+  row("build", build_type + ", -ffp-contract=" + fp_contract + ", PGO " + pgo);
+  row("build flags", build_flags);
+  row("compiler", compiler);
+  row("date", date);
+  return t;
 }
 
 std::string Machine::markdown() const {

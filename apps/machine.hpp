@@ -12,6 +12,7 @@ struct Machine {
   int cores = 0;
   nlohmann::json json() const;
   std::string markdown() const;
+  std::string text() const;  // `raybench machine`: one "key  value" line each, within 80 columns
 };
 
 Machine machine();

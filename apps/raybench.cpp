@@ -1,187 +1,478 @@
 // raybench: the command-line front end. `raybench --help` lists the subcommands. The only file that
 // includes CLI11 (header-only, about 6 s of compile time per file that includes it): the subcommands
 // in other files are plain functions of the options parsed here (apps/commands.hpp).
+//
+// The conventions every subcommand follows (README "Command-line conventions", apps/cli.hpp):
+// exit status 0 done, 1 a parse or input error, 2 nothing to do; one error line naming the input
+// and the reason; every output path checked before the work starts; --json [FILE|-] everywhere;
+// --filter a regex everywhere; --threads 0 all hardware threads; help within 80 columns.
 #include "apps/accuracy_run.hpp"
+#include "apps/build_info.hpp"
+#include "apps/cli.hpp"
 #include "apps/commands.hpp"
+#include "apps/compare.hpp"
+#include "apps/history.hpp"
 #include "apps/machine.hpp"
 #include "apps/render_options.hpp"
 #include "apps/report.hpp"
+#include "apps/results.hpp"
 #include "apps/trace_options.hpp"
-#include "bench/ops_table.hpp"
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <fstream>
 #include <iostream>
+#include <memory>
+
+namespace {
+
+using rb::app::JsonOut;
+
+// --json [FILE|-]: no FILE or '-' writes to stdout (put it after the positional arguments).
+CLI::Option* add_json(CLI::App* sub, std::string& file, const std::string& what) {
+  return sub->add_option("--json", file, what)->expected(0, 1)->type_name("[FILE|-]");
+}
+JsonOut json_out(CLI::App* sub, const std::string& file) { return {sub->count("--json") > 0, file, {}}; }
+
+// The command line as typed, for the results history.
+std::string command_line(int argc, char** argv) {
+  std::string s;
+  for (int i = 0; i < argc; ++i) {
+    std::string a = argv[i];
+    if (i == 0) a = "raybench";
+    const bool plain = !a.empty() && a.find_first_of(" \t\n'\"\\$`*?[]{}()<>|&;#~") == std::string::npos;
+    if (!plain) {
+      std::string q = "'";
+      for (char c : a) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+      a = q + "'";
+    }
+    s += (i ? " " : "") + a;
+  }
+  return s;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
+  using namespace rb::app;
   CLI::App app{
       "raybench: a data-oriented SIMD benchmark engine for ray x scene intersection.\n"
-      "Every intersection method is one kernel template run as scalar float/double, as 8-lane AVX2 SIMD\n"
-      "and as an operation-counting number. Start with `raybench report`."};
+      "Every intersection method is one kernel template run as scalar float/double,\n"
+      "as 8-lane AVX2 SIMD and as an operation-counting number.\n"
+      "Start with `raybench report`; `raybench COMMAND --help` explains each command."};
+  app.name("raybench");
+  app.set_version_flag("--version", version_text(), "Version, git revision and build flags");
   app.require_subcommand(1);
+  app.footer(
+      "Conventions: exit status 0 done, 1 a parse or input error, 2 nothing to do;\n"
+      "--json [FILE|-] (no FILE or '-': stdout) and --filter REGEX on every command\n"
+      "that has results or names; --threads 0 uses every hardware thread;\n"
+      "--history FILE (or RAYBENCH_HISTORY) keeps a run in the results history.");
 
-  rb::app::ReportOptions ro;
-  auto* report = app.add_subcommand("report", "The main job: ops table, scalar-vs-SIMD benchmarks and charts on the embedded "
-                                              "defaults; writes OUT/index.md with JSON and PNG beside it");
+  // ---- report ----
+  ReportOptions ro;
+  std::string report_history;
+  bool report_no_history = false;
+  auto* report = app.add_subcommand("report", "The main job: every measurement, as a report");
   report->add_option("-o,--out", ro.out, "Output folder")->capture_default_str();
-  report->add_option("-r,--repetitions", ro.repetitions, "Benchmark repetitions (the report quotes medians)")
+  report->add_option("-r,--repetitions", ro.repetitions, "Benchmark repetitions (medians quoted)")
       ->capture_default_str()->check(CLI::Range(1, 100));
   report->add_option("--min-time", ro.min_time, "Seconds per benchmark repetition")->capture_default_str()->check(CLI::Range(0.001, 10.0));
-  report->add_option("--filter", ro.filter, "Only benchmarks whose name (kernel/method/variant/case) matches this regex")
+  report->add_option("--filter", ro.filter, "Only the benchmarks whose name\n(kernel/method/variant/case) matches this regex")
       ->capture_default_str();
   report->add_flag("!--no-charts", ro.charts, "Skip the matplotlib charts");
+  add_json(report, ro.json_file, "The summary JSON also to FILE (no FILE: stdout,\nthe terminal summary then to stderr)");
+  report->add_option("--history", report_history, "Keep the run in this results history\n(default: $RAYBENCH_HISTORY, else\nresults/history.sqlite)")
+      ->type_name("FILE");
+  report->add_flag("--no-history", report_no_history, "Do not keep the run in a results history");
+  report->footer(
+      "Runs the ops table, the scalar-vs-SIMD kernel benchmarks, scene loading, tracing\n"
+      "beside Embree, the recursive renderer, the accuracy lab and CSG on the embedded\n"
+      "scenes, and writes OUT/index.md with JSON and PNG charts beside it (a few\n"
+      "minutes on a 2-core machine). Two report folders compare with\n"
+      "`raybench compare A B`; each run is kept in results/history.sqlite.");
 
+  // ---- ops ----
   std::string ops_json;
-  auto* ops = app.add_subcommand("ops", "Operations per intersection: the lecture's counts beside Counted<float> and per-lane "
-                                        "Counted<simd8> measurements, with the reason for every difference");
-  ops->add_option("--json", ops_json, "Write the rows as a JSON array to this file instead of the table (no FILE or '-': stdout)")
-      ->expected(0, 1);
+  bool ops_notes = false;
+  auto* ops = app.add_subcommand("ops", "Operations per intersection, lecture vs measured");
+  ops->add_flag("--notes", ops_notes, "Under every row, the reason for each difference");
+  add_json(ops, ops_json, "Write the rows as JSON to FILE (no FILE: stdout)");
+  ops->footer(
+      "For every kernel and method: the lecture's operation counts beside those\n"
+      "measured by running the kernel with Counted<float> on a ray that hits and one\n"
+      "that misses, and the per-lane count of the 8-lane SIMD instantiation.");
 
-  rb::app::BenchOptions bo;
-  auto* bench = app.add_subcommand("bench", "Run the kernel benchmarks (Google Benchmark) and write their JSON, every repetition "
-                                            "and its aggregates (what Google Benchmark's compare.py reads)");
-  bench->add_option("-o,--out", bo.json_out, "JSON output file")->capture_default_str();
-  bench->add_option("--filter", bo.filter, "Regex on kernel/method/variant/case")->capture_default_str();
-  bench->add_option("-r,--repetitions", bo.repetitions, "Repetitions")->capture_default_str()->check(CLI::Range(1, 100));
+  // ---- bench ----
+  BenchOptions bo;
+  std::string bench_json, bench_history;
+  bool bench_list = false;
+  auto* bench = app.add_subcommand("bench", "Kernel benchmarks: scalar against 8-lane SIMD");
+  bench->add_option("--filter", bo.filter, "Only the benchmarks whose name\n(kernel/method/variant/case) matches this regex")
+      ->capture_default_str();
+  bench->add_option("-r,--repetitions", bo.repetitions, "Repetitions (the median is quoted)")->capture_default_str()->check(CLI::Range(1, 100));
   bench->add_option("--min-time", bo.min_time, "Seconds per repetition")->capture_default_str()->check(CLI::Range(0.001, 10.0));
-  bench->add_option("--seed", bo.seed, "Seed of the benchmark rays and primitives (0: the report's data)")->capture_default_str();
+  bench->add_option("--seed", bo.seed, "Seed of the rays and primitives\n(0: the report's data)")->capture_default_str();
+  bench->add_flag("--list", bench_list, "List the benchmarks the filter selects and exit");
+  add_json(bench, bench_json, "Google Benchmark JSON, every repetition, to FILE\n(no FILE: stdout instead of the table)");
+  bench->add_option("--history", bench_history, "Keep the run in this results history\n(default: $RAYBENCH_HISTORY)")->type_name("FILE");
+  bench->footer(
+      "Google Benchmark medians, L1-resident, one thread: every kernel x {true scalar,\n"
+      "8 rays x 1 primitive, 1 ray x 8 primitives} x {hit, miss, half}. The table shows\n"
+      "the median tests per second, the coefficient of variation over the repetitions,\n"
+      "operations per test and the SIMD speedup over the scalar form. The --json file\n"
+      "is what Google Benchmark's compare.py and `raybench compare` read.");
 
-  // The subcommands of their own files (apps/commands.hpp): only their options are parsed here.
+  // ---- info ----
   std::string info_scene, info_json;
-  auto* info = app.add_subcommand("info", "Describe a scene: primitive counts per kind, bounds, camera, lights, materials and memory "
-                                          "per batch (input form and SoA kernel batch)");
-  info->add_option("scene", info_scene, "A .obj/.ply/.nff file, a .json scene (CSG trees), spd:NAME[:SIZE] (balls gears mount rings teapot tetra tree), lecture:NAME or csg:NAME (spheres_minus lens die torus_box ellipsoid_minus_cylinder)")
-      ->required();
-  info->add_option("--json", info_json, "Write the description as JSON to this file instead of the table (no FILE or '-': stdout)")
-      ->expected(0, 1);
+  auto* info = app.add_subcommand("info", "Describe a scene: counts, bounds, memory");
+  info->add_option("scene", info_scene, "A scene (see below)")->required();
+  add_json(info, info_json, "Write the description as JSON to FILE\n(no FILE: stdout)");
+  info->footer(
+      "Scenes: a .obj, .ply or .nff file, a .json scene (CSG trees),\n"
+      "spd:NAME[:SIZE] (balls gears mount rings teapot tetra tree), lecture:NAME, or\n"
+      "csg:NAME (spheres_minus lens die torus_box ellipsoid_minus_cylinder).\n"
+      "Shows primitive counts per kind, bounds, camera, lights, materials and the\n"
+      "memory of the input form and of each SoA kernel batch.");
 
-  auto* query = app.add_subcommand(
-      "query",
-      "One-off intersection queries: JSON lines on stdin, e.g.\n"
-      "  {\"primitive\": {\"type\":\"sphere\",\"center\":[0,0,5],\"radius\":1}, \"ray\": {\"origin\":[0,0,0],\"direction\":[0,0,1]}}\n"
-      "One JSON line out per query with hit, t, point, normal, uv for every method that applies (or \"method\": NAME).\n"
-      "Types: sphere(center,radius[,pole,equator]) triangle(v0,v1,v2) plane(point,normal[,u,v]) parallelogram(origin,u,v)\n"
-      "polygon(vertices) box(min,max) cylinder(base,axis,radius,height[,caps]) cone(apex,axis,angle|radius+height[,caps])\n"
-      "torus(center,axis,major,minor) quadric(coefficients: a b c d e f g h j k of seed 004).\n"
-      "CSG trees: union|intersection(children or left,right) difference(left,right) of sphere box polyhedron cylinder cone torus\n"
-      "ellipsoid quadric leaves, each node with an optional transform (the JSON scene format); their answer adds \"intervals\".\n"
-      "A malformed line gets {\"line\": N, \"error\": ...} (and a line on stderr); the exit status is 1 if any line failed.");
+  // ---- query ----
   bool query_double = false;
-  query->add_flag("--double", query_double, "Run the kernels in double precision (on the same float-rounded primitive and ray)");
+  std::string query_json;
+  auto* query = app.add_subcommand("query", "One-off intersection queries (JSON lines)");
+  query->add_flag("--double", query_double, "Run the kernels in double precision (on the\nsame float-rounded primitive and ray)");
+  add_json(query, query_json, "Write the answers to FILE (no FILE: stdout)");
+  query->footer(
+      "JSON lines on stdin, one JSON line out per query, e.g.\n"
+      "  {\"primitive\": {\"type\":\"sphere\",\"center\":[0,0,5],\"radius\":1},\n"
+      "   \"ray\": {\"origin\":[0,0,0],\"direction\":[0,0,1]}}\n"
+      "The answer: hit, t, point, normal, uv for every method that applies (or\n"
+      "\"method\": NAME). Types: sphere(center,radius[,pole,equator]) triangle(v0,v1,v2)\n"
+      "plane(point,normal[,u,v]) parallelogram(origin,u,v) polygon(vertices)\n"
+      "box(min,max) cylinder(base,axis,radius,height[,caps])\n"
+      "cone(apex,axis,angle|radius+height[,caps]) torus(center,axis,major,minor)\n"
+      "quadric(coefficients: a b c d e f g h j k of seed 004). CSG trees:\n"
+      "union|intersection(children or left,right), difference(left,right) of sphere,\n"
+      "box, polyhedron, cylinder, cone, torus, ellipsoid and quadric leaves, each node\n"
+      "with an optional transform (the JSON scene format); their answer adds\n"
+      "\"intervals\". A malformed line gets {\"line\": N, \"error\": ...} and a line on\n"
+      "stderr; the exit status is 1 if any line failed.");
 
-  rb::app::TraceRunOptions to;
-  std::string trace_json;
-  auto* trace = app.add_subcommand("trace", "Trace a whole scene through the 8-wide BVH (single rays or packets, TBB threads) "
-                                            "beside Embree on the same rays: Mrays/s, build time, memory, traversal cost, mismatch rate");
-  trace->add_option("scene", to.scene, "A .obj/.ply/.nff/.json file, spd:NAME[:SIZE], lecture:NAME or csg:NAME (as `raybench info`)")->required();
-  trace->add_option("--rays", to.ray_set, "Ray set: primary, shadow, diffuse or random")
-      ->check(CLI::IsMember({"primary", "shadow", "diffuse", "random"}))->capture_default_str();
-  trace->add_option("--threads", to.threads, "Threads for tracing (TBB) and for both builds")->check(CLI::Range(1, 256))->capture_default_str();
+  // ---- trace ----
+  TraceRunOptions to;
+  std::string trace_json, trace_history;
+  auto* trace = app.add_subcommand("trace", "Trace a scene through the BVH beside Embree");
+  trace->add_option("scene", to.scene, "A scene, as `raybench info` takes it")->required();
+  trace->add_option("--rays", to.ray_set, "Ray set")->check(CLI::IsMember({"primary", "shadow", "diffuse", "random"}))->capture_default_str();
+  trace->add_option("--threads", to.threads, "Threads for tracing and both builds\n(0: every hardware thread)")
+      ->check(CLI::Range(0, 256))->capture_default_str();
   trace->add_option("--packet", to.packet, "Rays per packet: 1 (single rays), 8 or 16")->check(CLI::IsMember({1, 8, 16}))->capture_default_str();
-  trace->add_option("--count", to.count, "About this many rays (primary: the nearest square image of 4x4 tiles)")
+  trace->add_option("--count", to.count, "About this many rays (primary: the nearest\nsquare image of 4x4 tiles)")
       ->check(CLI::Range(std::size_t(1), std::size_t(1) << 28))->capture_default_str();
   trace->add_option("--seed", to.seed, "Seed of the ray set")->capture_default_str();
-  trace->add_option("--model", to.model, "How the scene is modelled: auto (what it needs, see `raybench plan`), fast (world "
-                                         "coordinates, the cheapest method of every kind in float) or exact (the most accurate of everything)")
+  trace->add_option("--model", to.model, "How the scene is modelled: auto (what it\nneeds: `raybench plan`), fast or exact")
       ->check(CLI::IsMember({"auto", "fast", "exact"}))->capture_default_str();
-  trace->add_option("--slab", to.slab, "Slab test: plan (the model's), conservative (fast test on widened boxes, robust for far origins), "
-                                       "fast (on boxes as built) or robust (Ize 2013: far distance scaled by 1 + 2 gamma(3))")
+  trace->add_option("--slab", to.slab, "Slab test: plan (the model's), conservative,\nfast or robust")
       ->check(CLI::IsMember({"plan", "conservative", "fast", "robust"}))->capture_default_str();
-  trace->add_option("-r,--repetitions", to.repetitions, "Timed runs (the median is quoted)")->check(CLI::Range(1, 100))->capture_default_str();
-  trace->add_option("--brute", to.brute_rays, "Rays checked against the brute-force loop over all objects (-1: a budget by scene size)")
+  trace->add_option("-r,--repetitions", to.repetitions, "Timed runs per engine (the median is quoted)")
+      ->check(CLI::Range(1, 100))->capture_default_str();
+  trace->add_option("--warmup", to.warmup, "Untimed runs per engine before the timed ones")->check(CLI::Range(0, 100))->capture_default_str();
+  trace->add_option("--brute", to.brute_rays, "Rays checked against the brute-force loop\n(-1: a budget by scene size, 0: none)")
       ->capture_default_str();
   trace->add_flag("!--no-embree", to.embree, "Skip Embree");
-  trace->add_option("--json", trace_json, "Write the result as JSON to this file (no argument or '-': stdout) instead of the table")
-      ->expected(0, 1);
+  add_json(trace, trace_json, "Write the result as JSON to FILE\n(no FILE: stdout instead of the table)");
+  trace->add_option("--history", trace_history, "Keep the run in this results history\n(default: $RAYBENCH_HISTORY)")->type_name("FILE");
+  trace->footer(
+      "One binned-SAH build gives a binary and an 8-wide BVH; the rays (primary,\n"
+      "shadow, diffuse or random, from one seed) are traced as single rays or\n"
+      "packets on TBB threads, and Embree 3 traces the same float triangles and rays in\n"
+      "the same process. After --warmup untimed runs the two engines alternate run by\n"
+      "run; the table gives the median Mrays/s with its range and coefficient of\n"
+      "variation, build time, memory, traversal cost and the rate of rays the engines\n"
+      "disagree on. A warning follows when the runs varied by over 5 % or the machine\n"
+      "was busy.");
 
-  rb::app::RenderRunOptions rdo;
-  std::string render_json;
-  auto* render = app.add_subcommand(
-      "render",
-      "Render a scene with the recursive ray tracer (shadows, Lambert + Phong, reflection, Snell refraction) through the BVH: "
-      "a PNG, rays by kind, tests by primitive kind, time and Mrays/s. --spd follows Haines' SPD protocol and shows his "
-      "published counts beside ours. Under `mpirun -n N` the tiles are split across the ranks");
-  render->add_option("scene", rdo.scene, "A .obj/.ply/.nff file, spd:NAME[:SIZE] or lecture:NAME (as `raybench info`)")->required();
-  render->add_option("-o,--out", rdo.out, "PNG file to write");
-  render->add_option("--width", rdo.width, "Image width in pixels (default 512, or the NFF file's resolution)")->check(CLI::Range(1, 16384));
+  // ---- render ----
+  RenderRunOptions rdo;
+  rdo.warmup = 1;
+  rdo.repetitions = 3;
+  std::string render_json, render_history;
+  auto* render = app.add_subcommand("render", "Render a scene with the recursive ray tracer");
+  render->add_option("scene", rdo.scene, "A scene, as `raybench info` takes it")->required();
+  render->add_option("-o,--out", rdo.out, "PNG file to write (default: SCENE.png in the\ncurrent folder)")->type_name("FILE");
+  render->add_option("--width", rdo.width, "Image width in pixels (default 512, or the\nNFF file's resolution)")->check(CLI::Range(1, 16384));
   render->add_option("--height", rdo.height, "Image height in pixels (default: the width)")->check(CLI::Range(1, 16384));
-  render->add_option("--depth", rdo.depth, "Maximum ray tree depth, the eye ray being depth 1")->check(CLI::Range(1, 64))->capture_default_str();
-  render->add_option("--threads", rdo.threads, "TBB threads (per MPI rank)")->check(CLI::Range(1, 256))->capture_default_str();
-  render->add_flag("--spd", rdo.spd,
-                   "Haines' SPD protocol: rays through the 513 x 513 pixel corners of a 512 x 512 image averaged, depth 5, every ray "
-                   "hitting a reflector or transmitter spawns a reflection ray, one-sided opaque surfaces except the teapot");
-  render->add_flag("!--no-counts", rdo.count_tests,
-                   "Skip counting box and primitive tests (the plain traversal, as `raybench trace` times it); rays are still counted");
-  render->add_option("--secondary-packet", rdo.secondary_packet,
-                     "Reflection, refraction and shadow rays: 1 one by one, 8 sorted by direction octant and traced as 8-ray packets")
+  render->add_option("--depth", rdo.depth, "Maximum ray tree depth (the eye ray is 1)")->check(CLI::Range(1, 64))->capture_default_str();
+  render->add_option("--threads", rdo.threads, "TBB threads per MPI rank\n(0: every hardware thread)")->check(CLI::Range(0, 256))->capture_default_str();
+  render->add_flag("--spd", rdo.spd, "Haines' SPD protocol, his counts beside ours");
+  render->add_flag("!--no-counts", rdo.count_tests, "Skip counting box and primitive tests");
+  render->add_option("--secondary-packet", rdo.secondary_packet, "Reflection, refraction and shadow rays: 1 one\nby one, 8 sorted by octant into packets")
       ->check(CLI::IsMember({1, 8}))->capture_default_str();
-  render->add_option("--model", rdo.model, "How the scene is modelled: auto (what it needs, see `raybench plan`), fast or exact")
+  render->add_option("--model", rdo.model, "How the scene is modelled: auto (what it\nneeds: `raybench plan`), fast or exact")
       ->check(CLI::IsMember({"auto", "fast", "exact"}))->capture_default_str();
-  render->add_option("--json", render_json, "Write the result as JSON to this file (no argument or '-': stdout) instead of the summary")
-      ->expected(0, 1);
+  render->add_option("-r,--repetitions", rdo.repetitions, "Timed renders (the median is quoted)")->check(CLI::Range(1, 100))->capture_default_str();
+  render->add_option("--warmup", rdo.warmup, "Untimed renders before the timed ones")->check(CLI::Range(0, 100))->capture_default_str();
+  add_json(render, render_json, "Write the result as JSON to FILE\n(no FILE: stdout instead of the summary)");
+  render->add_option("--history", render_history, "Keep the run in this results history\n(default: $RAYBENCH_HISTORY)")->type_name("FILE");
+  render->footer(
+      "The recursive ray tracer through the 8-wide BVH: shadows, Lambert and Phong,\n"
+      "reflection, Snell refraction. Writes the image (SCENE.png in the current folder\n"
+      "without -o) and prints rays by kind, box and primitive tests by kind, the time\n"
+      "split and Mrays/s (median of the timed renders, with range and CV).\n"
+      "--spd follows Haines' SPD protocol (513 x 513 corner rays averaged, depth 5,\n"
+      "one-sided opaque surfaces but the teapot's) and shows his published counts\n"
+      "beside ours. Under `mpirun -n N` the tiles are split across the ranks.");
 
+  // ---- accuracy ----
   rb::acc::Options ao;
-  std::string accuracy_json;
+  std::string accuracy_json, accuracy_history;
   bool accuracy_list = false;
-  auto* accuracy = app.add_subcommand("accuracy",
-                                      "The accuracy lab: adversarial seeded rays per primitive family (edges and vertices of closed meshes, "
-                                      "far and grazing rays, planets, apexes, tangents, slab planes, spawned rays) against exact references "
-                                      "from the same float inputs; false hits/misses, leaks, t error in ulps, self-hits, ns per test");
-  accuracy->add_flag("--full", ao.full, "Every case with 100000 rays (default: 10000 rays per case, about ten seconds)");
+  auto* accuracy = app.add_subcommand("accuracy", "The accuracy lab: where each method fails");
+  accuracy->add_flag("--full", ao.full, "Every case with 100000 rays (default: 10000)");
   accuracy->add_option("--seed", ao.seed, "Seed of every case generator")->capture_default_str();
   accuracy->add_option("--rays", ao.rays, "Rays per case (overrides the mode's count)")->check(CLI::Range(std::size_t(8), std::size_t(1) << 24));
-  accuracy->add_option("--filter", ao.filter, "Only cases whose family/case contains this text (e.g. triangle/octa, torus/)");
+  accuracy->add_option("--filter", ao.filter, "Only the cases whose family/case matches this\nregex (e.g. triangle/octa, ^torus/)");
   accuracy->add_flag("!--no-timing", ao.timing, "Skip the ns-per-test timing");
-  accuracy->add_flag("--list", accuracy_list, "List the cases and exit");
-  accuracy->add_option("--json", accuracy_json, "Write the rows as JSON to this file (no argument or '-': stdout) instead of the table")
-      ->expected(0, 1);
+  accuracy->add_flag("--list", accuracy_list, "List the cases the filter selects and exit");
+  add_json(accuracy, accuracy_json, "Write the rows as JSON to FILE\n(no FILE: stdout instead of the table)");
+  accuracy->add_option("--history", accuracy_history, "Keep the run in this results history\n(default: $RAYBENCH_HISTORY)")->type_name("FILE");
+  accuracy->footer(
+      "Adversarial, seeded rays per primitive family (edges and vertices of closed\n"
+      "meshes, far and grazing rays, planets, apexes, tangents, slab planes, spawned\n"
+      "rays) against exact references from the same float inputs: false hits and\n"
+      "misses, leaks, t error in ulps, self-hits and ns per test, per method in float,\n"
+      "double and 8-lane SIMD.");
 
+  // ---- csg ----
   int csg_reps = 5;
   std::size_t csg_rays = std::size_t(1) << 15;
-  auto* csg = app.add_subcommand("csg", "CSG queries on the embedded CSG scenes: operations per query and queries per second, "
-                                        "scalar against 8-ray packets (the report's CSG section, as markdown)");
+  bool csg_markdown = false;
+  std::string csg_json;
+  auto* csg = app.add_subcommand("csg", "CSG queries per second, scalar vs 8-ray packets");
   csg->add_option("-r,--repetitions", csg_reps, "Timed runs (the median is quoted)")->check(CLI::Range(1, 100))->capture_default_str();
   csg->add_option("--rays", csg_rays, "Rays per scene")->check(CLI::Range(std::size_t(8), std::size_t(1) << 24))->capture_default_str();
+  csg->add_flag("--markdown", csg_markdown, "The report's CSG section (markdown, with the\noperations per query) instead of the table");
+  add_json(csg, csg_json, "Write the figures as JSON to FILE\n(no FILE: stdout instead of the table)");
 
+  // ---- compare ----
+  CompareOptions co;
+  std::string compare_a, compare_b, compare_json;
+  double compare_threshold = -1, compare_noise = 5;
+  bool compare_markdown = false;
+  auto* compare = app.add_subcommand("compare", "Compare two results: ratios and U-test p-values");
+  compare->add_option("A", compare_a, "The baseline: a JSON result or a report folder")->required();
+  compare->add_option("B", compare_b, "The result to compare with it, of the same kind")->required();
+  compare->add_option("--threshold", compare_threshold, "Exit 1 when a row is worse than A beyond noise\nby more than PCT percent")
+      ->type_name("PCT")->check(CLI::Range(0.0, 1e6));
+  compare->add_option("--alpha", co.alpha, "Significance level of the U test")->capture_default_str()->check(CLI::Range(1e-9, 0.5));
+  compare->add_option("--noise", compare_noise, "A single figure (no repetitions) differs when\nit moved by more than PCT percent")
+      ->type_name("PCT")->capture_default_str()->check(CLI::Range(0.0, 1e6));
+  compare->add_option("--filter", co.filter, "Only the rows whose section/name matches this\nregex");
+  compare->add_option("--metric", co.metric, "Only this metric (e.g. tests_per_s,\nmrays_per_s, false_hit_ppm)");
+  compare->add_flag("--all", co.all, "Also list the seeded figures that did not change");
+  compare->add_flag("--markdown", compare_markdown, "Markdown tables instead of the text table");
+  add_json(compare, compare_json, "Write the comparison as JSON to FILE\n(no FILE: stdout instead of the table)");
+  compare->footer(
+      "A and B: JSON results of one kind (bench, trace, render, accuracy, csg) or two\n"
+      "report folders. Per row: both figures, B/A, and for repeated measurements the\n"
+      "two-sided Mann-Whitney U test's p-value (as Google Benchmark's compare.py); a\n"
+      "timing differs beyond noise when p < alpha, or, as a single figure, when it\n"
+      "moved by more than --noise. Seeded figures (accuracy rates, test counts) differ\n"
+      "when they are not equal. The summary gives the geometric mean of the speed\n"
+      "ratios and how many rows are faster or slower. With --threshold, a regression\n"
+      "exits 1: `raybench compare base.json new.json --threshold 5` guards CI.");
+
+  // ---- history ----
+  HistoryOptions ho;
+  std::string history_json;
+  auto* history = app.add_subcommand("history", "The results history: runs, a metric over time");
+  history->add_option("--history", ho.path, "The history file (default: $RAYBENCH_HISTORY,\nelse results/history.sqlite)")->type_name("FILE");
+  history->add_option("--filter", ho.filter, "Only figures whose section/name matches this\nregex");
+  history->add_option("--metric", ho.metric, "Follow this metric across the runs (e.g.\ntests_per_s, mrays_per_s)");
+  history->add_option("--plot", ho.plot, "Draw the metric across the runs into this PNG")->type_name("FILE");
+  add_json(history, history_json, "Write the runs or the series as JSON to FILE\n(no FILE: stdout instead of the table)");
+  history->footer(
+      "Runs of bench, trace, render, accuracy and report are kept with --history FILE\n"
+      "or RAYBENCH_HISTORY (report: results/history.sqlite by default), keyed by the\n"
+      "git revision and dirty flag the binary was built from, its build flags and\n"
+      "PGO phase, the machine and the time. Without --metric: the runs. With --metric:\n"
+      "its value in every run (several figures: their geometric mean and range).");
+
+  // ---- machine ----
+  std::string machine_json;
+  // ---- plan ----
   std::string plan_scene, plan_json, plan_model = "auto";
   bool plan_verify = false;
-  auto* plan = app.add_subcommand(
-      "plan",
-      "How a scene is modelled for tracing (model no more than it needs): its numerical profile per primitive kind (sizes, "
-      "coordinates against them, how far away each kind is seen), then the frame of reference, each kind's method, precision and "
-      "storage, the slab test and the spawn offset of secondary rays, each with its reason and the accuracy-lab cases it rests on");
-  plan->add_option("scene", plan_scene, "A scene (as `raybench info`)")->required();
-  plan->add_option("--model", plan_model, "auto (the default), fast or exact")->check(CLI::IsMember({"auto", "fast", "exact"}))->capture_default_str();
-  plan->add_flag("--verify", plan_verify, "Run the lab cases each choice rests on and show their failure figures (a few seconds)");
-  plan->add_option("--json", plan_json, "Write the profile and plan as JSON to this file (no FILE or '-': stdout)")->expected(0, 1);
+  auto* plan = app.add_subcommand("plan", "How a scene is modelled for tracing, and why");
+  plan->add_option("scene", plan_scene, "A scene, as `raybench info` takes it")->required();
+  plan->add_option("--model", plan_model, "auto (what the scene needs), fast or exact")
+      ->check(CLI::IsMember({"auto", "fast", "exact"}))->capture_default_str();
+  plan->add_flag("--verify", plan_verify, "Run the lab cases every choice rests on and\nshow their failure figures (a few seconds)");
+  add_json(plan, plan_json, "Write the profile and the plan as JSON to\nFILE (no FILE: stdout instead of the text)");
+  plan->footer(
+      "Model no more than a scene needs. The scene's numerical profile per primitive\n"
+      "kind (sizes, coordinates against them, how far away each kind is seen), then\n"
+      "the plan: the frame of reference coordinates are taken in before they are\n"
+      "rounded to float, each kind's method, precision and storage, the slab test\n"
+      "and where secondary rays start, each with its reason and the accuracy lab's\n"
+      "cases it rests on. `trace` and `render` follow the plan (--model auto).");
 
-  auto* mach = app.add_subcommand("machine", "Print the machine and build description recorded with every result (JSON)");
+  auto* mach = app.add_subcommand("machine", "The machine and build recorded with results");
+  add_json(mach, machine_json, "The JSON block every result carries, to FILE\n(no FILE: stdout)");
 
-  CLI11_PARSE(app, argc, argv);
-  try {
-    if (*report) return rb::app::run_report(ro);
-    if (*ops) {
-      const auto rows = rb::opstable::build();
-      return rb::app::write_result("ops", !ops_json.empty(), ops_json, [&] { return rb::opstable::to_text(rows); },
-                                   [&] { return rb::opstable::to_json(rows); }, std::to_string(rows.size()) + " rows");
+  // A misspelled command gets the closest one's name, before CLI11 would answer "A subcommand is
+  // required" or reject the argument.
+  std::vector<std::string> commands;
+  for (const auto* s : app.get_subcommands({})) commands.push_back(s->get_name());
+  std::string sub_name;
+  if (argc > 1 && argv[1][0] != '-') {
+    sub_name = argv[1];
+    if (std::find(commands.begin(), commands.end(), sub_name) == commands.end()) {
+      const std::string near = closest_name(sub_name, commands);
+      std::cerr << "raybench: '" << sub_name << "' is not a command" << (near.empty() ? "" : "; did you mean '" + near + "'?")
+                << " (raybench --help lists them)\n";
+      return kExitError;
     }
-    if (*bench) {
-      const int rc = rb::app::run_benchmarks(bo);
-      if (rc == 0) std::cerr << "wrote " << bo.json_out << "\n";
-      return rc;
-    }
-    if (*info) return rb::app::run_info_command(info_scene, {info->count("--json") > 0, info_json});
-    if (*query) return rb::app::run_query(std::cin, std::cout, std::cerr, query_double);
-    if (*trace) return rb::app::run_trace_command(to, {trace->count("--json") > 0, trace_json});
-    if (*render) return rb::app::run_render_command(rdo, {render->count("--json") > 0, render_json});
-    if (*accuracy) return rb::app::run_accuracy_command(ao, accuracy_list, {accuracy->count("--json") > 0, accuracy_json});
-    if (*csg) return rb::app::run_csg_command(csg_reps, csg_rays);
-    if (*plan) return rb::app::run_plan_command(plan_scene, plan_model, plan_verify, {plan->count("--json") > 0, plan_json});
-    if (*mach) { std::cout << rb::app::machine().json().dump(2) << "\n"; return 0; }
-  } catch (const std::exception& e) {
-    std::cerr << "raybench: " << e.what() << "\n";
-    return 1;
   }
-  return 0;
+  if (argc == 1) {
+    std::cerr << app.help() << "\nraybench: a command is required\n";
+    return kExitError;
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    std::string msg = e.what();
+    // An unknown option: name the closest option of the command.
+    if (dynamic_cast<const CLI::ExtrasError*>(&e)) {
+      const CLI::App* sub = sub_name.empty() ? &app : app.get_subcommand(sub_name);
+      std::vector<std::string> opts;
+      for (const auto* o : sub->get_options())
+        for (const auto& l : o->get_lnames()) opts.push_back("--" + l);
+      for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a.rfind("--", 0) == 0 && msg.find(a) != std::string::npos) {
+          const std::string near = closest_name(a.substr(0, a.find('=')), opts);
+          if (!near.empty()) msg += "; did you mean " + near + "?";
+          break;
+        }
+      }
+    }
+    std::cerr << error_line(sub_name.empty() ? "" : sub_name, "", msg) << " (raybench " << (sub_name.empty() ? "" : sub_name + " ")
+              << "--help)\n";
+    return kExitError;
+  }
+
+  // Every output is checked before the work starts: a long run must not end in "cannot write".
+  std::vector<std::pair<CLI::App*, std::string>> files = {
+      {report, ro.json_file}, {ops, ops_json},       {bench, bench_json}, {info, info_json},         {query, query_json},
+      {trace, trace_json},    {render, render_json}, {render, rdo.out},   {accuracy, accuracy_json}, {csg, csg_json},
+      {compare, compare_json}, {history, history_json}, {history, ho.plot}, {mach, machine_json}, {plan, plan_json}};
+  for (const auto& [sub, path] : files) {
+    if (!*sub || path.empty() || path == "-") continue;
+    if (const std::string why = check_output_file(path); !why.empty()) {
+      std::cerr << error_line(sub->get_name(), path, why) << "\n";
+      return kExitError;
+    }
+  }
+  if (*report)
+    if (const std::string why = check_output_dir(ro.out); !why.empty()) {
+      std::cerr << error_line("report", ro.out, why) << "\n";
+      return kExitError;
+    }
+
+  // The results history, opened (and created) before the work starts too.
+  std::unique_ptr<History> hist;
+  const std::string cmdline = command_line(argc, argv);
+  auto open_history = [&](const std::string& option, const std::string& fallback) {
+    const std::string path = history_path(option, fallback);
+    if (path.empty()) return true;
+    try {
+      hist = std::make_unique<History>(path);
+    } catch (const std::exception& e) {
+      std::cerr << error_line(sub_name, "", e.what()) << "\n";
+      return false;
+    }
+    return true;
+  };
+  auto keep = [&](const std::string& kind, const nlohmann::json& doc) {
+    nlohmann::json m = machine_of(doc);
+    if (m.is_null()) m = machine().json();
+    const long long id = hist->store(kind, cmdline, m, figures_of(kind, doc).figures);
+    std::cerr << "kept as run " << id << " in the results history " << hist->path() << "\n";
+  };
+  auto recorder = [&](const std::string& kind) -> std::function<void(const nlohmann::json&)> {
+    if (!hist) return {};
+    return [&, kind](const nlohmann::json& doc) { keep(kind, doc); };
+  };
+
+  int rc = kExitOk;
+  try {
+    if (*report) {
+      ro.json = report->count("--json") > 0;
+      if (!report_no_history && !open_history(report_history, kReportHistory)) return kExitError;
+      rc = run_report(ro);
+      if (rc == 0 && hist) {
+        const ResultSet r = load_results(ro.out);
+        const long long id = hist->store("report", cmdline, r.machine.is_null() ? machine().json() : r.machine, r.figures);
+        std::cerr << "kept as run " << id << " in the results history " << hist->path() << "\n";
+      }
+    } else if (*ops) {
+      rc = run_ops_command(ops_notes, json_out(ops, ops_json));
+    } else if (*bench) {
+      if (!bench_list && !open_history(bench_history, "")) return kExitError;
+      JsonOut out = json_out(bench, bench_json);
+      out.record = recorder("bench");
+      rc = run_bench_command(bo, bench_list, out);
+    } else if (*info) {
+      rc = run_info_command(info_scene, json_out(info, info_json));
+    } else if (*query) {
+      if (query->count("--json") && !query_json.empty() && query_json != "-") {
+        std::ofstream f(query_json);
+        rc = run_query(std::cin, f, std::cerr, query_double);
+        f.flush();
+        if (!f) {
+          std::cerr << error_line("query", query_json, "write failed") << "\n";
+          rc = kExitError;
+        }
+      } else {
+        rc = run_query(std::cin, std::cout, std::cerr, query_double);
+      }
+    } else if (*trace) {
+      if (!open_history(trace_history, "")) return kExitError;
+      JsonOut out = json_out(trace, trace_json);
+      out.record = recorder("trace");
+      rc = run_trace_command(to, out);
+    } else if (*render) {
+      if (!open_history(render_history, "")) return kExitError;
+      JsonOut out = json_out(render, render_json);
+      out.record = recorder("render");
+      rc = run_render_command(rdo, out);
+    } else if (*accuracy) {
+      if (!accuracy_list && !open_history(accuracy_history, "")) return kExitError;
+      JsonOut out = json_out(accuracy, accuracy_json);
+      out.record = recorder("accuracy");
+      rc = run_accuracy_command(ao, accuracy_list, out);
+    } else if (*csg) {
+      rc = run_csg_command(csg_reps, csg_rays, csg_markdown, json_out(csg, csg_json));
+    } else if (*compare) {
+      co.threshold = compare_threshold >= 0 ? compare_threshold / 100 : -1;
+      co.noise = compare_noise / 100;
+      rc = run_compare_command(compare_a, compare_b, co, compare_markdown, json_out(compare, compare_json));
+    } else if (*history) {
+      rc = run_history_command(ho, json_out(history, history_json));
+    } else if (*plan) {
+      rc = run_plan_command(plan_scene, plan_model, plan_verify, json_out(plan, plan_json));
+    } else if (*mach) {
+      rc = run_machine_command(json_out(mach, machine_json));
+    }
+  } catch (const NothingToDo& e) {
+    std::cerr << error_line(sub_name, "", e.what()) << "\n";
+    rc = kExitNothing;
+  } catch (const std::exception& e) {
+    std::cerr << error_line(sub_name, "", e.what()) << "\n";
+    rc = kExitError;
+  }
+  if (rc != kExitOk) remove_unwritten_outputs();
+  return rc;
 }

@@ -1,5 +1,8 @@
 #include "apps/render_run.hpp"
 
+#include "apps/cli.hpp"
+#include "apps/progress.hpp"
+#include "apps/stats.hpp"
 #include "bench/trace.hpp"
 #include "scene/sources.hpp"
 #ifdef RB_HAVE_MPI
@@ -45,6 +48,7 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
   const auto t0 = std::chrono::steady_clock::now();
   scene::Scene s = scene::load_scene(o.scene);
   const double load_ms = ms_since(t0);
+  if (s.primitive_count() == 0) throw NothingToDo("the scene has no primitives: nothing to render");
 
   const auto tp = std::chrono::steady_clock::now();
   const tracer::Plan plan = tracer::make_plan(s, tracer::parse_model(o.model));
@@ -72,21 +76,32 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
   if (mpi) rank = mpi->rank(), ranks = mpi->size();
   if (mpi) mpi->barrier();
 #endif
-  trace::Progress bar(fmt::format("render {}", o.scene));
   const bool show = o.progress && rank == 0;
-  auto progress = [&](std::size_t done, std::size_t total) { if (show) bar.update(double(done) / double(std::max<std::size_t>(1, total))); };
+  ProgressBar bar(fmt::format("render {}", o.scene), show ? ProgressBar::Mode::automatic : ProgressBar::Mode::off);
+  // Warm-up renders first (not in the median), then the timed ones; the image and the counts are
+  // those of the last render (every render computes the same).
+  const int runs = std::max(0, o.warmup) + std::max(1, o.repetitions);
+  int run = 0;
+  auto progress = [&](std::size_t done, std::size_t total) {
+    bar.update((double(run) + double(done) / double(std::max<std::size_t>(1, total))) / double(runs));
+  };
   std::vector<float> samples;
-  const auto t1 = std::chrono::steady_clock::now();
+  std::vector<double> trace_seconds;
   render::RenderStats st;
+  for (run = 0; run < runs; ++run) {
+    const auto t1 = std::chrono::steady_clock::now();
 #ifdef RB_HAVE_MPI
-  if (mpi) st = render::render_tiles_mpi(*mpi, r, samples, o.threads, progress);
-  else st = render::render_tiles(r, samples, o.threads, 0, 1, progress);
+    if (mpi) st = render::render_tiles_mpi(*mpi, r, samples, o.threads, progress);
+    else st = render::render_tiles(r, samples, o.threads, 0, 1, progress);
 #else
-  (void)mpi;
-  st = render::render_tiles(r, samples, o.threads, 0, 1, progress);
+    (void)mpi;
+    st = render::render_tiles(r, samples, o.threads, 0, 1, progress);
 #endif
-  const double trace_ms = ms_since(t1);
-  if (show) bar.done();
+    if (run >= o.warmup) trace_seconds.push_back(ms_since(t1) / 1e3);
+  }
+  const stats::Summary spread = stats::summarize(trace_seconds);
+  const double trace_ms = 1e3 * spread.median;
+  bar.done();
   if (rank != 0) return json();
 
   const std::vector<float> img = r.resolve(samples);
@@ -123,7 +138,13 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
          {"build_ms", build_ms},
          {"preprocess_ms", load_ms + plan_ms + build_ms},
          {"trace_ms", trace_ms},
-         {"mrays_per_s", trace_ms > 0 ? rays / (trace_ms * 1e3) : 0.0}};
+         {"mrays_per_s", trace_ms > 0 ? rays / (trace_ms * 1e3) : 0.0},
+         {"warmup", std::max(0, o.warmup)},
+         {"repetitions", trace_seconds.size()},
+         {"trace_seconds", trace_seconds},
+         {"trace_ms_min", 1e3 * spread.min},
+         {"trace_ms_max", 1e3 * spread.max},
+         {"cv", std::isfinite(spread.cv) ? json(spread.cv) : json(nullptr)}};
   if (!o.out.empty()) j["image"] = o.out;
   if (const auto f = haines_figures(spd_name(o.scene))) {
     j["haines"] = {{"eye_hit_rays", f->eye_hit}, {"reflect_rays", f->reflect}, {"refract_rays", f->refract},
@@ -177,6 +198,10 @@ std::string render_text(const json& j) {
   t += fmt::format("time: preprocess {:.1f} ms (load {:.1f}, plan {:.1f}, BVH {:.1f}), trace {:.1f} ms, {:.2f} Mrays/s\n",
                    j["preprocess_ms"].get<double>(), j["load_ms"].get<double>(), j["plan_ms"].get<double>(), j["build_ms"].get<double>(),
                    j["trace_ms"].get<double>(), j["mrays_per_s"].get<double>());
+  if (j.contains("trace_seconds") && j["trace_seconds"].size() > 1)
+    t += fmt::format("      trace: median of {} renders after {} warm-up, range {:.1f}-{:.1f} ms{}\n", j["trace_seconds"].size(),
+                     j["warmup"].get<int>(), j["trace_ms_min"].get<double>(), j["trace_ms_max"].get<double>(),
+                     j["cv"].is_null() ? "" : fmt::format(", CV {:.1f} %", 100 * j["cv"].get<double>()));
   if (j.contains("image")) t += fmt::format("wrote {}\n", j["image"].get<std::string>());
   return t;
 }

@@ -1,6 +1,9 @@
 #include "apps/report.hpp"
 
+#include "apps/cli.hpp"
 #include "apps/machine.hpp"
+#include "apps/paths.hpp"
+#include "apps/progress.hpp"
 #include "apps/report_sections.hpp"
 #include "bench/ops_table.hpp"
 
@@ -15,10 +18,6 @@
 #include <map>
 #include <regex>
 #include <sstream>
-
-#ifndef RB_SOURCE_DIR
-#define RB_SOURCE_DIR "."
-#endif
 
 namespace rb::app {
 namespace fs = std::filesystem;
@@ -306,7 +305,20 @@ std::string pgo_section(const fs::path& out) {
 int run_report(const ReportOptions& o) {
   const Clock clock;
   const fs::path out = o.out;
+  // Nothing to do is found before the work starts: a --filter that selects no benchmark.
+  if (benchmark_names(o.filter).empty()) {
+    std::cerr << error_line("report", "", fmt::format("--filter '{}' selects no benchmark (raybench bench --list shows them)", o.filter))
+              << "\n";
+    return kExitNothing;
+  }
   fs::create_directories(out);
+  // The numbered stages, each with the report's elapsed time.
+  constexpr int kStages = 8;
+  int stage = 0;
+  auto next_stage = [&](const std::string& what) {
+    std::cerr << fmt::format("[report {}/{}, {}] {}\n", ++stage, kStages, format_duration(clock.s()), what);
+    return fmt::format("[report {}/{}]", stage, kStages);
+  };
   const Machine m = machine();
   json summary;
   summary["machine"] = m.json();
@@ -315,7 +327,7 @@ int run_report(const ReportOptions& o) {
         "Speeds are medians over " + std::to_string(o.repetitions) + " repetitions, ratios are taken within this run.\n\n";
   md += "## Machine and build\n\n" + m.markdown() + "\n";
 
-  std::cerr << "[report 1/3] operations per intersection (Counted<float>, Counted<simd8>)\n";
+  next_stage("operations per intersection (Counted<float>, Counted<simd8>)");
   const auto rows = rb::opstable::build();
   write_file(out / "ops.json", rb::opstable::to_json(rows).dump(2));
   md += "## 1. Operations per intersection\n\n"
@@ -325,17 +337,20 @@ int run_report(const ReportOptions& o) {
         "(an FMA is compared with the slide as 1\u00b1 + 1*). Negation and sign operations are free. Raw rows: [ops.json](ops.json).\n\n";
   md += rb::opstable::to_markdown(rows) + "\n";
 
-  std::cerr << "[report 2/3] scalar vs SIMD benchmarks (" << o.repetitions << " repetitions x " << o.min_time << " s each)\n";
+  const std::string bench_label = next_stage(fmt::format("scalar vs SIMD benchmarks ({} repetitions x {} s each)", o.repetitions, o.min_time));
   const fs::path bj = out / "bench.json";
   BenchOptions bo;
   bo.json_out = bj.string();
   bo.repetitions = o.repetitions;
   bo.min_time = o.min_time;
   bo.filter = o.filter;
-  bo.every_repetition = false;
-  bo.what = "[report 2/3] benchmarks";
+  bo.every_repetition = true;  // every repetition kept: `raybench compare` tests two reports' repetitions
+  bo.what = bench_label + " benchmarks";
+  bo.command = "report";
   if (const int rc = run_benchmarks(bo); rc != 0) return rc;
-  const json bench = load_benchmark_json(bj);
+  json bench = load_benchmark_json(bj);
+  bench["machine"] = summary["machine"];  // bench.json is a result of its own: the block every result carries
+  write_file(bj, bench.dump(2));
   md += "## 2. Scalar against SIMD, L1-resident\n\n"
         "256 rays x 64 primitives per iteration, every pair tested (~16k tests, all data in L1). `scalar` is compiled with "
         "`-fno-tree-vectorize -fno-tree-slp-vectorize` in its own translation unit; the SIMD mappings run the same kernel text "
@@ -352,31 +367,37 @@ int run_report(const ReportOptions& o) {
         "can choose the scalar form for it knowingly.\n\n";
   md += simd_target_section(summary) + "\n";
 
-  std::cerr << "[report 3/3] scenes\n";
+  next_stage("scenes: load and generation times, memory");
   md += report_section_scenes(o, out, summary);
 
-  std::cerr << "[report] tracing whole scenes (raybench BVH beside Embree)\n";
+  next_stage("tracing whole scenes (raybench BVH beside Embree)");
   md += report_section_tracing(o, out, summary);
+  next_stage("rendering: SPD, lecture and CSG scenes");
   md += report_section_render(o, out, summary);
 
-  std::cerr << "[report] accuracy lab\n";
+  next_stage("accuracy lab");
   md += report_section_accuracy(o, out, summary);
 
+  next_stage("CSG queries, scalar against 8-ray packets");
   md += report_section_csg(o, out, summary);
 
   md += pgo_section(out);
 
-  std::cerr << "[report] charts\n";
+  next_stage("charts and index.md");
   write_file(out / "summary.json", summary.dump(2));
   if (o.charts) {
-    const std::string cmd = std::string("/usr/bin/python3 '") + RB_SOURCE_DIR + "/tools/charts.py' '" + out.string() + "'";
+    const std::string cmd = "/usr/bin/python3 " + shell_quote(tool_path("charts.py")) + " " + shell_quote(out.string());
     const int rc = std::system(cmd.c_str());
     if (rc != 0) md += "_Charts were not drawn: `" + cmd + "` failed (is python3-matplotlib installed?)._\n\n";
   }
   md += fmt::format("---\nReport written in {:.0f} s by `raybench report --out {}`.\n", clock.s(), o.out);
   write_file(out / "index.md", md);
-  std::cout << terminal_summary(summary, goals, rows.size() / 2, clock.s())
-            << "report written: " << fs::absolute(out / "index.md").string() << "\n";
+  // The terminal summary goes to stdout, unless --json without a file puts the summary JSON there.
+  const bool json_stdout = o.json && (o.json_file.empty() || o.json_file == "-");
+  (json_stdout ? std::cerr : std::cout) << fit_columns(terminal_summary(summary, goals, rows.size() / 2, clock.s()), 4)
+                                        << "report written: " << fs::absolute(out / "index.md").string() << "\n";
+  if (json_stdout) std::cout << summary.dump(2) << "\n";
+  else if (o.json) write_file(o.json_file, summary.dump(2) + "\n");
   return 0;
 }
 

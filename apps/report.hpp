@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace rb::app {
 
@@ -13,6 +14,8 @@ struct ReportOptions {
   double min_time = 0.05;       // seconds per benchmark repetition
   std::string filter = ".";     // benchmark name filter (regex)
   bool charts = true;
+  bool json = false;            // --json: the summary JSON also to json_file ("" or "-": stdout)
+  std::string json_file;
 };
 
 int run_report(const ReportOptions& o);
@@ -26,7 +29,13 @@ struct BenchOptions {
   bool every_repetition = true;         // false: medians and the other aggregates only
   std::uint32_t seed = 0;               // seed of the rays and primitives; 0: the report's data
   std::string what = "raybench bench";  // the progress bar's label
+  std::string command = "bench";        // the subcommand named in error lines
 };
+
+// The registered benchmarks whose name the filter selects (Google Benchmark's rule: a POSIX
+// extended regex searched in the name, a leading '-' negates it). Throws std::invalid_argument on
+// a bad regex.
+std::vector<std::string> benchmark_names(const std::string& filter);
 
 // Runs the benchmarks in this process with a progress bar on stderr, writing every figure as
 // Google Benchmark JSON to `json_out`. 0 on success, 2 when the filter selects nothing, 1 when the

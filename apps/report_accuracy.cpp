@@ -3,6 +3,7 @@
 // "where each method fails", the targets checked against this run, and the cost of spawning
 // secondary rays with an offset.
 #include "apps/accuracy_run.hpp"
+#include "apps/paths.hpp"
 #include "apps/report.hpp"
 #include "apps/report_sections.hpp"
 
@@ -289,8 +290,8 @@ std::string report_section_accuracy(const ReportOptions& o, const fs::path& out,
   }
   summary["accuracy"] = {{"best", best}, {"targets", tj}, {"seconds", secs}, {"rows", rows.size()}};
   if (o.charts) {
-    const std::string cmd = std::string("/usr/bin/python3 '") + RB_SOURCE_DIR + "/tools/accuracy_charts.py' '" + (out / "accuracy.json").string() +
-                            "' '" + out.string() + "'";
+    const std::string cmd = "/usr/bin/python3 " + shell_quote(tool_path("accuracy_charts.py")) + " " + shell_quote((out / "accuracy.json").string()) +
+                            " " + shell_quote(out.string());
     if (std::system(cmd.c_str()) != 0) md += "_Accuracy charts were not drawn: `" + cmd + "` failed (is python3-matplotlib installed?)._\n\n";
   }
   return md;

@@ -1,5 +1,6 @@
 // Report section: the embedded scenes (data/meshes and the generators), how long each takes to
 // load or generate, its peak memory, and a `raybench info` table per scene.
+#include "apps/paths.hpp"
 #include "apps/report.hpp"
 #include "apps/report_sections.hpp"
 #include "apps/scene_info.hpp"
@@ -81,7 +82,7 @@ std::string report_section_scenes(const ReportOptions&, const fs::path& out, jso
   std::vector<Timed> done;
   std::vector<std::string> pending;
   // Embedded meshes.
-  const fs::path meshes = fs::path(RB_SOURCE_DIR) / "data" / "meshes";
+  const fs::path meshes = fs::path(data_dir()) / "meshes";
   std::vector<fs::path> files;
   if (fs::is_directory(meshes))
     for (const auto& e : fs::directory_iterator(meshes))

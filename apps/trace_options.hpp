@@ -18,6 +18,7 @@ struct TraceRunOptions {
   std::string model = "auto";  // auto | fast | exact (tracer/plan.hpp)
   std::string slab = "plan";   // plan (the model's) | conservative | fast | robust
   int repetitions = 5;
+  int warmup = 1;             // untimed runs of each engine before the timed ones
   long long brute_rays = -1;  // -1: a budget by scene size; 0: none
   bool embree = true;
 };

@@ -1,5 +1,8 @@
 #include "apps/trace_run.hpp"
 
+#include "apps/cli.hpp"
+#include "apps/progress.hpp"
+#include "apps/stats.hpp"
 #include "scene/sources.hpp"
 
 #include <fmt/format.h>
@@ -8,6 +11,7 @@
 #include <tbb/parallel_for.h>
 
 #include <chrono>
+#include <cmath>
 #include <stdexcept>
 
 namespace rb::app {
@@ -79,16 +83,37 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   const bvh::Slab slab = to.slab_given ? to.slab : accel_.plan().slab;
 
   trace::ThreadScope ts(o.threads);
-  const int steps = o.repetitions * (embree_.ok ? 2 : 1) + 2;
+  const int runs = std::max(0, o.warmup) + o.repetitions;
+  const int steps = runs * (embree_.ok ? 2 : 1) + 2;
   int step = 0;
-  trace::Progress bar(fmt::format("trace {} {}", source_, o.ray_set));
-  auto tick = [&](int, int) { if (progress) bar.update(double(++step) / steps); };
+  ProgressBar bar(fmt::format("trace {} {}", source_, o.ray_set), progress ? ProgressBar::Mode::automatic : ProgressBar::Mode::off);
+  auto tick = [&](int, int) { bar.update(double(++step) / steps); };
 
   std::vector<bvh::HitRec> ours, theirs;
   const std::size_t tile = 256;
   trace::Tracer mine = [&](std::size_t b, std::size_t e, bvh::HitRec* out) { accel_.trace(rays, b, e, out, to); };
-  std::vector<double> secs = trace::time_runs(ts, mine, n, ours, o.repetitions, tile, tick);
+  const bool coherent = o.packet > 1 && (set == trace::RaySet::primary || set == trace::RaySet::shadow);
+  trace::Tracer theirs_t = [&](std::size_t b0, std::size_t e0, bvh::HitRec* out) {
+    trace::embree_trace(*embree_.scene, rays, b0, e0, out, any, o.packet, coherent);
+  };
+  // Warm-up runs first (caches, page faults, the thread pool's start; not in the median), then the
+  // two engines alternate run by run, so that a change in the machine's load falls on both alike.
+  std::vector<double> secs, es;
+  for (int r = 0; r < runs; ++r) {
+    const double s = trace::time_runs(ts, mine, n, ours, 1, tile, tick).front();
+    if (r >= o.warmup) secs.push_back(s);
+    if (!embree_.ok) continue;
+    const double e = trace::time_runs(ts, theirs_t, n, theirs, 1, tile, tick).front();
+    if (r >= o.warmup) es.push_back(e);
+  }
   const double mrays = double(n) / trace::median(secs) / 1e6;
+  // Spread of the timed runs: the range in Mrays/s and the coefficient of variation of the times.
+  auto spread = [&](json& j, const std::string& prefix, const std::vector<double>& t) {
+    const stats::Summary sm = stats::summarize(t);
+    j[prefix + "mrays_per_s_min"] = double(n) / sm.max / 1e6;
+    j[prefix + "mrays_per_s_max"] = double(n) / sm.min / 1e6;
+    j[prefix + "cv"] = std::isfinite(sm.cv) ? json(sm.cv) : json(nullptr);
+  };
 
   // Traversal cost per ray (one extra single-threaded counted pass, not timed).
   bvh::TraceCounters cnt;
@@ -110,8 +135,10 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   j["packet"] = o.packet;
   j["slab"] = bvh::slab_name(slab);
   j["repetitions"] = o.repetitions;
+  j["warmup"] = o.warmup;
   j["mrays_per_s"] = mrays;
   j["seconds"] = secs;
+  spread(j, "", secs);
   j["nodes_per_ray"] = double(cnt.nodes) / double(std::max<std::size_t>(1, n));
   j["box_tests_per_ray"] = double(cnt.boxes) / double(std::max<std::size_t>(1, n));
   j["prim_tests_per_ray"] = double(cnt.prims) / double(std::max<std::size_t>(1, n));
@@ -122,13 +149,9 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   for (auto it = b.begin(); it != b.end(); ++it) j[it.key()] = it.value();
 
   if (embree_.ok) {
-    const bool coherent = o.packet > 1 && (set == trace::RaySet::primary || set == trace::RaySet::shadow);
-    trace::Tracer theirs_t = [&](std::size_t b0, std::size_t e0, bvh::HitRec* out) {
-      trace::embree_trace(*embree_.scene, rays, b0, e0, out, any, o.packet, coherent);
-    };
-    std::vector<double> es = trace::time_runs(ts, theirs_t, n, theirs, o.repetitions, tile, tick);
     j["embree_mrays_per_s"] = double(n) / trace::median(es) / 1e6;
     j["embree_seconds"] = es;
+    spread(j, "embree_", es);
     j["embree_call"] = std::string(any ? (o.packet == 1 ? "rtcOccluded1" : "rtcOccluded8") : (o.packet == 1 ? "rtcIntersect1" : "rtcIntersect8")) +
                        (o.packet == 16 ? " x2" : "") + (coherent ? " coherent" : "");
     const trace::Compare c = trace::compare(ours, theirs, n, any);
@@ -149,11 +172,7 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   if (nb > 0) {
     std::vector<bvh::HitRec> brute(nb);
     const auto t0 = std::chrono::steady_clock::now();
-    ts.run([&] {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nb / 16), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin() * 16; i < r.end() * 16; ++i) brute[i] = accel_.brute_force(rays.get(i), any);
-      });
-    });
+    ts.parallel_for(nb, 16, [&](std::size_t i) { brute[i] = accel_.brute_force(rays.get(i), any); });
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const trace::Compare c = trace::compare(ours, brute, nb, any);
     j["brute_rays"] = nb;
@@ -166,13 +185,14 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
     j["brute_mismatch_rate"] = nullptr;
   }
   tick(0, 0);
-  if (progress) bar.done();
+  bar.done();
   return j;
 }
 
 json run_trace(const TraceRunOptions& o, bool progress) {
   const auto t0 = std::chrono::steady_clock::now();
   rb::scene::Scene s = rb::scene::load_scene(o.scene);
+  if (s.primitive_count() == 0) throw NothingToDo("the scene has no primitives: nothing to trace");
   const double load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   TraceSession session(std::move(s), o.scene, o.threads, o.embree, o.model);
   json j = session.run(o, progress);
@@ -202,13 +222,21 @@ std::string trace_text(const json& j) {
   o += fmt::format("memory     raybench {:.1f} B/prim (8-wide nodes + leaf-ordered batches); Embree {} B/prim (BVH)\n",
                    j["bytes_per_prim"].get<double>(), num_or_dash(j["embree_bytes_per_prim"], "{:.1f}"));
   o += fmt::format("model      {} (frame {}; `raybench plan` explains the choices)\n", j["model"].get<std::string>(), j["frame"].get<std::string>());
-  o += fmt::format("trace      raybench packet {}, {} thread(s), {} slab test: {:.2f} Mrays/s (median of {})\n", j["packet"].get<int>(),
-                   j["threads"].get<int>(), j["slab"].get<std::string>(), j["mrays_per_s"].get<double>(), j["repetitions"].get<int>());
+  // The median with its range and coefficient of variation over the timed runs (after the warm-up).
+  auto timing = [&](const std::string& p) {
+    return fmt::format("{:.2f} Mrays/s (median of {}, range {:.2f}-{:.2f}{})", j[p + "mrays_per_s"].get<double>(), j["repetitions"].get<int>(),
+                       j[p + "mrays_per_s_min"].get<double>(), j[p + "mrays_per_s_max"].get<double>(),
+                       j[p + "cv"].is_null() ? "" : fmt::format(", CV {:.1f} %", 100 * j[p + "cv"].get<double>()));
+  };
+  o += fmt::format("trace      raybench packet {}, {} thread(s), {} slab test, {} warm-up run(s):\n", j["packet"].get<int>(),
+                   j["threads"].get<int>(), j["slab"].get<std::string>(), j["warmup"].get<int>());
+  o += "           " + timing("") + "\n";
   o += fmt::format("           {:.2f} nodes, {:.2f} box tests, {:.2f} primitive tests per ray\n", j["nodes_per_ray"].get<double>(),
                    j["box_tests_per_ray"].get<double>(), j["prim_tests_per_ray"].get<double>());
   if (!j["embree_mrays_per_s"].is_null()) {
-    o += fmt::format("           Embree {}: {:.2f} Mrays/s; raybench / Embree = {:.2f}\n", j["embree_call"].get<std::string>(),
-                     j["embree_mrays_per_s"].get<double>(), j["mrays_per_s"].get<double>() / j["embree_mrays_per_s"].get<double>());
+    o += fmt::format("           Embree {}, runs alternating with raybench's:\n           {}\n", j["embree_call"].get<std::string>(),
+                     timing("embree_"));
+    o += fmt::format("           raybench / Embree = {:.2f}\n", j["mrays_per_s"].get<double>() / j["embree_mrays_per_s"].get<double>());
     o += fmt::format("mismatch   {:.4f}% ({} of {} rays; {} hits at the same t on another primitive)\n", 100 * j["mismatch_rate"].get<double>(),
                      j["mismatches"].get<std::size_t>(), j["rays"].get<std::size_t>(), j["other_prim_same_t"].get<std::size_t>());
   } else {

@@ -151,17 +151,62 @@ std::string to_markdown(const std::vector<Row>& rows) {
   return s;
 }
 
-std::string to_text(const std::vector<Row>& rows) {
-  std::string s = fmt::format("{:<10} {:<16} {:<5} {:<22} {:<44} {:<18} {}\n", "kernel", "method", "case", "lecture",
-                              "measured (float)", "diff", "simd8 per lane (mixed packet)");
+namespace {
+// Words of `text` on lines of at most `width` columns, each line after the first starting with
+// `indent`.
+std::string wrap_words(const std::string& text, std::size_t width, const std::string& indent) {
+  std::string out, line;
+  auto cols = [](const std::string& l) {  // display columns: UTF-8 continuation bytes take none
+    std::size_t n = 0;
+    for (unsigned char c : l) n += (c & 0xC0) != 0x80;
+    return n;
+  };
+  std::size_t i = text.find_first_not_of(' ');
+  if (i == std::string::npos) return text + "\n";
+  line = text.substr(0, i);  // the first line keeps its indentation
+  bool fresh = true;
+  while (i < text.size()) {
+    std::size_t j = text.find(' ', i);
+    if (j == std::string::npos) j = text.size();
+    const std::string w = text.substr(i, j - i);
+    i = j + 1;
+    if (w.empty()) continue;
+    if (!fresh && cols(line) + 1 + cols(w) > width) {
+      out += line + "\n";
+      line = indent;
+      fresh = true;
+    }
+    line += (fresh ? "" : " ") + w;
+    fresh = false;
+  }
+  return out + line + "\n";
+}
+}  // namespace
+
+// The terminal table, within 80 columns: per kernel, method and case the Counted<float> count,
+// then (indented) the lecture's count with the difference and the SIMD per-lane count where it
+// differs from the scalar one; with `notes`, the reason for every difference.
+std::string to_text(const std::vector<Row>& rows, bool notes) {
+  std::string s = fmt::format("{:<28} {:<4} {}\n", "kernel/method", "case", "Counted<float> operations per test");
+  s += "      then the lecture's count (measured - lecture) and, where it differs, the\n"
+       "      simd8 count per lane in a packet whose other lanes take the other case\n"
+       "      (\u00b1 add/sub, * mul, / div, cmp compares, sel selects; FMA = 1\u00b1 1*)\n";
   for (std::size_t i = 0; i + 1 < rows.size(); i += 2) {
     const Row& f = rows[i];
     const Row& v = rows[i + 1];
-    s += fmt::format("{:<10} {:<16} {:<5} {:<22} {:<44} {:<18} {}\n", f.kernel, f.method, f.kase, lecture_str(f.lecture),
-                     f.measured.str(), diff_str(f), v.measured.str());
-    if (f.iterations) s += fmt::format("{:>12}iterations per ray: mean {:.2f}, max {:.0f}\n", "- ", f.iterations->first, f.iterations->second);
-    if (!f.note.empty()) s += fmt::format("{:>12}{}\n", "- ", f.note);
+    const std::string km = f.kernel + "/" + f.method;
+    s += fmt::format("{:<28} {:<4} {}\n", km, f.kase, f.measured.str());
+    std::string more;
+    if (f.lecture) {
+      const std::string d = diff_str(f);
+      more = "lecture " + lecture_str(f.lecture) + (d == "0" ? " (equal)" : " (" + d + ")");
+    }
+    if (v.measured.str() != f.measured.str()) more += (more.empty() ? "" : "; ") + std::string("simd8 ") + v.measured.str();
+    if (f.iterations) more += (more.empty() ? "" : "; ") + fmt::format("iterations per ray: mean {:.2f}, max {:.0f}", f.iterations->first, f.iterations->second);
+    if (!more.empty()) s += wrap_words("      " + more, 80, "      ");
+    if (notes && !f.note.empty()) s += wrap_words("      note: " + f.note, 80, "        ");
   }
+  if (!notes) s += "\nThe reason for every difference: raybench ops --notes\n";
   return s;
 }
 

@@ -43,6 +43,7 @@ Diff diff(const Row& r);
 
 nlohmann::json to_json(const std::vector<Row>& rows);
 std::string to_markdown(const std::vector<Row>& rows);
-std::string to_text(const std::vector<Row>& rows);
+// The terminal table within 80 columns; `notes`: the reason for every difference under its row.
+std::string to_text(const std::vector<Row>& rows, bool notes = false);
 
 }  // namespace rb::opstable

@@ -132,11 +132,7 @@ std::vector<double> time_runs(ThreadScope& ts, const Tracer& t, std::size_t rays
   std::vector<double> secs;
   for (int r = 0; r < reps; ++r) {
     const auto t0 = std::chrono::steady_clock::now();
-    ts.run([&] {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles, 1), [&](const tbb::blocked_range<std::size_t>& br) {
-        for (std::size_t k = br.begin(); k < br.end(); ++k) t(k * tile, std::min(rays, (k + 1) * tile), out.data());
-      });
-    });
+    ts.parallel_for(tiles, 1, [&](std::size_t k) { t(k * tile, std::min(rays, (k + 1) * tile), out.data()); });
     secs.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     if (progress) progress(r + 1, reps);
   }

@@ -323,14 +323,10 @@ RenderStats render_tiles(const Renderer& r, std::vector<float>& samples, int thr
   std::atomic<std::size_t> done{0};
   const auto caller = std::this_thread::get_id();
   tracer::ThreadScope ts(threads);
-  ts.run([&] {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mine.size(), 1), [&](const tbb::blocked_range<std::size_t>& br) {
-      for (std::size_t i = br.begin(); i != br.end(); ++i) {
-        r.render_tile(mine[i], samples.data(), per[i]);
-        const std::size_t d = ++done;
-        if (progress && std::this_thread::get_id() == caller) progress(d, mine.size());
-      }
-    });
+  ts.parallel_for(mine.size(), 1, [&](std::size_t i) {
+    r.render_tile(mine[i], samples.data(), per[i]);
+    const std::size_t d = ++done;
+    if (progress && std::this_thread::get_id() == caller) progress(d, mine.size());
   });
   if (progress) progress(mine.size(), mine.size());
   RenderStats st;

@@ -1,0 +1,201 @@
+#include "apps/cli.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fcntl.h>
+#include <fstream>
+#include <sstream>
+#include <sys/stat.h>
+#include <thread>
+#include <unistd.h>
+
+namespace rb::app {
+
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  const std::size_t n = a.size(), m = b.size();
+  std::vector<std::vector<std::size_t>> d(n + 1, std::vector<std::size_t>(m + 1));
+  for (std::size_t i = 0; i <= n; ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= m; ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= n; ++i)
+    for (std::size_t j = 1; j <= m; ++j) {
+      const std::size_t cost = a[i - 1] == b[j - 1] ? 0 : 1;
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  return d[n][m];
+}
+
+std::string closest_name(const std::string& word, const std::vector<std::string>& names) {
+  const std::size_t limit = word.size() <= 4 ? 1 : word.size() <= 8 ? 2 : 3;
+  std::string best;
+  std::size_t best_d = limit + 1;
+  for (const auto& n : names) {
+    const std::size_t d = edit_distance(word, n);
+    if (d < best_d) best_d = d, best = n;
+  }
+  return best;
+}
+
+std::string error_line(const std::string& command, const std::string& input, const std::string& reason) {
+  std::string r = reason;
+  for (std::size_t p; (p = r.find('\n')) != std::string::npos;) r.replace(p, 1, "; ");
+  while (!r.empty() && (r.back() == ' ' || r.back() == ';')) r.pop_back();
+  std::string line = command.empty() ? "raybench: " : "raybench " + command + ": ";
+  if (!input.empty() && r.rfind(input, 0) != 0) line += input + ": ";
+  return line + r;
+}
+
+namespace {
+std::vector<std::string>& created_outputs() {
+  static std::vector<std::string> v;
+  return v;
+}
+}  // namespace
+
+std::string check_output_file(const std::string& path) {
+  if (path.empty() || path == "-") return "";
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0) {
+    if (S_ISDIR(st.st_mode)) return std::strerror(EISDIR);
+    // No O_TRUNC: the old content stays until the new result is written.
+    const int fd = ::open(path.c_str(), O_WRONLY);
+    if (fd < 0) return std::strerror(errno);
+    ::close(fd);
+    return "";
+  }
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0666);
+  if (fd < 0) return std::strerror(errno);
+  ::close(fd);
+  created_outputs().push_back(path);
+  return "";
+}
+
+std::string check_output_dir(const std::string& path) {
+  if (path.empty()) return std::strerror(ENOENT);
+  std::string prefix;
+  // Create the folder and its missing parents, with the system's reason on failure.
+  std::size_t pos = 0;
+  while (pos != std::string::npos) {
+    pos = path.find('/', pos + 1);
+    prefix = path.substr(0, pos);
+    if (prefix.empty()) continue;
+    struct stat st {};
+    if (::stat(prefix.c_str(), &st) == 0) {
+      if (!S_ISDIR(st.st_mode)) return std::strerror(ENOTDIR);
+      continue;
+    }
+    if (::mkdir(prefix.c_str(), 0777) != 0 && errno != EEXIST) return std::strerror(errno);
+  }
+  if (::access(path.c_str(), W_OK | X_OK) != 0) return std::strerror(errno);
+  return "";
+}
+
+void remove_unwritten_outputs() {
+  for (const auto& p : created_outputs()) {
+    struct stat st {};
+    if (::stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode) && st.st_size == 0) ::unlink(p.c_str());
+  }
+  created_outputs().clear();
+}
+
+bool is_generated_scene(const std::string& source) {
+  for (const char* p : {"spd:", "lecture:", "csg:"})
+    if (source.rfind(p, 0) == 0) return true;
+  return false;
+}
+
+std::string check_input_file(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) return std::strerror(errno);
+  if (S_ISDIR(st.st_mode)) return std::strerror(EISDIR);
+  const int fd = ::open(path.c_str(), O_RDONLY);
+  if (fd < 0) return std::strerror(errno);
+  ::close(fd);
+  return "";
+}
+
+unsigned hardware_threads() { return std::max(1u, std::thread::hardware_concurrency()); }
+
+int resolve_threads(int requested, std::string* warning) {
+  const int hw = int(hardware_threads());
+  const int n = requested <= 0 ? hw : requested;
+  if (warning && n > hw)
+    *warning = fmt::format("warning: {} threads asked for, the machine has {} hardware threads: they share cores, "
+                           "so the timings do not show how the code scales",
+                           n, hw);
+  return n;
+}
+
+double load_average() {
+  std::ifstream f("/proc/loadavg");
+  double l = -1;
+  if (!(f >> l)) return -1;
+  return l;
+}
+
+std::string busy_warning(double load, int threads) {
+  if (load < 0 || load <= double(threads) + 0.75) return "";
+  return fmt::format("warning: the machine was busy (1-minute load average {:.2f} with {} thread(s) of ours on {} hardware "
+                     "threads): other work shared the cores, the figures may be low and noisy",
+                     load, threads, hardware_threads());
+}
+
+std::string noise_warning(double cv, const std::string& what) {
+  if (!(cv > 0.05)) return "";
+  return fmt::format("warning: {} varied by {:.1f} % (coefficient of variation over 5 %): more --repetitions, or a quieter "
+                     "machine, give a firmer median",
+                     what, 100 * cv);
+}
+
+std::size_t display_width(const std::string& s) {
+  std::size_t n = 0;
+  for (unsigned char c : s) n += (c & 0xC0) != 0x80;
+  return n;
+}
+
+std::string wrap_words(const std::string& text, std::size_t width, const std::string& indent) {
+  std::string out, line;
+  bool fresh = true;  // nothing but the indent on this line yet
+  std::size_t i = text.find_first_not_of(' ');
+  if (i == std::string::npos) return text + "\n";
+  line = text.substr(0, i);  // the first line keeps its own indentation
+  while (i < text.size()) {
+    std::size_t j = text.find(' ', i);
+    if (j == std::string::npos) j = text.size();
+    const std::string w = text.substr(i, j - i);
+    i = j + 1;
+    // An empty word is a second space in a row: kept inside a line (alignment), dropped at a break.
+    if (w.empty() && fresh) continue;
+    if (!fresh && !w.empty() && display_width(line) + 1 + display_width(w) > width) {
+      out += line + "\n";
+      line = indent;
+      fresh = true;
+    }
+    line += (fresh ? "" : " ") + w;
+    fresh = false;
+  }
+  return out + line + "\n";
+}
+
+std::string fit_columns(const std::string& text, std::size_t indent, std::size_t width) {
+  std::istringstream in(text);
+  std::string line, out;
+  while (std::getline(in, line)) out += display_width(line) <= width ? line + "\n" : wrap_words(line, width, std::string(indent, ' '));
+  return out;
+}
+
+std::regex filter_regex(const std::string& filter) {
+  try {
+    return std::regex(filter, std::regex::extended | std::regex::nosubs);
+  } catch (const std::regex_error& e) {
+    throw std::invalid_argument(fmt::format("--filter '{}': invalid regular expression ({})", filter, e.what()));
+  }
+}
+
+bool filter_matches(const std::regex& re, const std::string& name) { return std::regex_search(name, re); }
+
+}  // namespace rb::app

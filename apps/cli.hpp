@@ -1,0 +1,75 @@
+// The command line's conventions, shared by every subcommand (README "Command-line conventions",
+// docs/DESIGN.md section 15): exit statuses, one error line naming the input and the reason,
+// output paths checked before the work starts, --threads 0, --filter as a regex, the closest name
+// for a misspelling, and the warnings that go with a timed run (busy machine, noisy repetitions).
+// No CLI11 here: apps/raybench.cpp parses, these are plain functions (and tested as such).
+#pragma once
+
+#include <regex>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace rb::app {
+
+// Exit statuses: 0 done, 1 a parse or input error (or, for `compare --threshold`, a regression),
+// 2 nothing to do (an empty scene, a filter that selects nothing).
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitError = 1;
+inline constexpr int kExitNothing = 2;
+
+// Thrown where the input is valid but selects nothing to do; the command exits 2.
+struct NothingToDo : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Optimal string alignment distance (insertions, deletions, substitutions, adjacent swaps).
+std::size_t edit_distance(const std::string& a, const std::string& b);
+// The name of `names` closest to `word`, or "" when none is close enough to be a likely typo
+// (distance at most 1 for words of up to 4 letters, 2 up to 8, 3 beyond).
+std::string closest_name(const std::string& word, const std::vector<std::string>& names);
+
+// "raybench COMMAND: INPUT: REASON", naming the input once even when REASON already starts with it
+// (the scene loaders' messages name the file and line themselves). Newlines become "; ".
+std::string error_line(const std::string& command, const std::string& input, const std::string& reason);
+
+// An output file, checked before the work starts: "" when it can be written (or is "" / "-", i.e.
+// stdout), else the system's reason (strerror). A file that did not exist is created empty, and
+// removed again by remove_unwritten_outputs() if the command ends before writing to it.
+std::string check_output_file(const std::string& path);
+// An output folder: created if missing; "" or the system's reason.
+std::string check_output_dir(const std::string& path);
+void remove_unwritten_outputs();
+
+// Scene sources that are not files: spd:NAME[:SIZE], lecture:NAME, csg:NAME.
+bool is_generated_scene(const std::string& source);
+// An input file: "" when it is a readable regular file, else the system's reason.
+std::string check_input_file(const std::string& path);
+
+// --threads: 0 means every hardware thread. Returns the count to run with; `warning` receives a
+// line when more threads are asked for than the machine has hardware threads.
+unsigned hardware_threads();
+int resolve_threads(int requested, std::string* warning);
+
+// The 1-minute load average (/proc/loadavg), or -1 when unknown.
+double load_average();
+// A warning when other work ran beside a run that used `threads` threads: the load average
+// (read after the run, so that it covers it) exceeded those threads by more than 0.75. "" else.
+std::string busy_warning(double load, int threads);
+// A warning when the repetitions' coefficient of variation exceeds 5 %. "" else.
+std::string noise_warning(double cv, const std::string& what);
+
+// Terminal text within 80 columns: the words of `text` on lines of at most `width` display columns
+// (UTF-8 code points), every line after the first starting with `indent`; ends with a newline.
+std::string wrap_words(const std::string& text, std::size_t width = 80, const std::string& indent = "");
+std::size_t display_width(const std::string& s);
+// Every line of `text` within `width` columns: longer lines wrapped at spaces, their continuation
+// indented by `indent` columns; shorter lines unchanged.
+std::string fit_columns(const std::string& text, std::size_t indent, std::size_t width = 80);
+
+// --filter: a POSIX extended regular expression searched in the name (as Google Benchmark's
+// --benchmark_filter). Throws std::invalid_argument("--filter 'X': invalid regular expression").
+std::regex filter_regex(const std::string& filter);
+bool filter_matches(const std::regex& re, const std::string& name);
+
+}  // namespace rb::app

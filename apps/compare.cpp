@@ -1,0 +1,299 @@
+#include "apps/compare.hpp"
+
+#include "apps/cli.hpp"
+#include "apps/stats.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <limits>
+#include <map>
+#include <set>
+
+namespace rb::app {
+
+using nlohmann::json;
+
+namespace {
+
+const char* kind_label(const std::string& k) { return k == "report" ? "a report folder" : "a result"; }
+
+std::string value_text(double v) {
+  if (!std::isfinite(v)) return "-";
+  const double a = std::fabs(v);
+  if (a >= 1e5) return fmt::format("{:.0f}", v);
+  if (a >= 100) return fmt::format("{:.1f}", v);
+  if (a >= 1 || a == 0) return fmt::format("{:.3f}", v);
+  if (a >= 1e-3) return fmt::format("{:.4f}", v);
+  return fmt::format("{:.3g}", v);
+}
+std::string ratio_text(double r) { return std::isfinite(r) ? fmt::format("{:.3f}", r) : "-"; }
+std::string p_text(double p) {
+  if (p < 0) return "-";
+  return p < 0.001 ? "<.001" : fmt::format("{:.3f}", p);
+}
+std::string direction_text(int d) { return d > 0 ? "higher is better" : d < 0 ? "lower is better" : "should not change"; }
+
+std::string describe(const ResultSet& r) {
+  const json& m = r.machine;
+  if (!m.is_object()) return "no machine block";
+  std::string s = "git " + m.value("git", std::string("?"));
+  if (m.contains("date")) s += ", " + m["date"].get<std::string>();
+  if (m.contains("build_type")) s += ", " + m["build_type"].get<std::string>();
+  return s;
+}
+
+// Notes on what differs between the two runs apart from the code.
+void machine_notes(const Comparison& c, std::vector<std::string>& notes) {
+  const json &a = c.a.machine, &b = c.b.machine;
+  if (!a.is_object() || !b.is_object())
+    notes.push_back("one side has no machine and build block: check that both ran on the same machine and build settings");
+  for (const char* k : {"cpu", "cores", "build_type", "build_flags", "fp_contract", "pgo", "compiler"})
+    if (a.is_object() && b.is_object() && a.contains(k) && b.contains(k) && a[k] != b[k])
+      notes.push_back(fmt::format("A and B differ in {} ({} / {}): the ratios compare that too, not only the code", k, a[k].dump(),
+                                  b[k].dump()));
+  for (const auto& [k, v] : c.a.config.items())
+    if (c.b.config.contains(k) && c.b.config[k] != v)
+      notes.push_back(fmt::format("A and B ran with different {} ({} / {})", k, v.dump(), c.b.config[k].dump()));
+}
+
+}  // namespace
+
+Comparison compare_results(ResultSet a, ResultSet b, const CompareOptions& o) {
+  if (a.kind != b.kind)
+    throw std::runtime_error(fmt::format("{} is {} of kind {}, {} {} of kind {}: compare two results of one kind", a.source, kind_label(a.kind),
+                                         a.kind, b.source, kind_label(b.kind), b.kind));
+  Comparison c;
+  c.kind = a.kind;
+  c.options = o;
+  std::regex re;
+  const bool filtered = !o.filter.empty();
+  if (filtered) re = filter_regex(o.filter);
+  auto keep = [&](const Figure& f) {
+    return (o.metric.empty() || f.metric == o.metric) && (!filtered || filter_matches(re, f.section + "/" + f.name));
+  };
+  // One trace or render each, run with different settings (threads, packet size, scene): its rows
+  // are named by the settings, so they are matched by metric alone (the notes name the settings).
+  if ((a.kind == "trace" || a.kind == "render") && !a.figures.empty() && !b.figures.empty() && a.figures[0].name != b.figures[0].name) {
+    c.notes.push_back(fmt::format("A ran \"{}\", B \"{}\": compared figure by figure", a.figures[0].name, b.figures[0].name));
+    for (auto& f : b.figures) f.name = a.figures[0].name;
+  }
+  std::map<std::string, std::size_t> in_b;
+  for (std::size_t i = 0; i < b.figures.size(); ++i) in_b[b.figures[i].key()] = i;
+  std::vector<Figure> only_a;
+  std::set<std::size_t> used_b;
+  bool few_reps = false;
+  std::size_t min_na = SIZE_MAX, min_nb = SIZE_MAX;
+  for (auto& fa : a.figures) {
+    if (!keep(fa)) continue;
+    const auto it = in_b.find(fa.key());
+    if (it == in_b.end()) {
+      only_a.push_back(fa);
+      continue;
+    }
+    used_b.insert(it->second);
+    ComparedRow r;
+    r.a = fa;
+    r.b = b.figures[it->second];
+    const double va = r.a.value, vb = r.b.value;
+    r.ratio = va != 0 && std::isfinite(va) && std::isfinite(vb) ? vb / va : stats::kNaN;
+    r.gain = r.a.direction > 0 ? r.ratio : r.a.direction < 0 ? (vb != 0 && std::isfinite(vb) ? va / vb : stats::kNaN) : stats::kNaN;
+    const bool both_finite = std::isfinite(va) && std::isfinite(vb);
+    if (r.a.timing) {
+      ++c.timings;
+      bool beyond = false;
+      if (r.a.samples.size() >= 2 && r.b.samples.size() >= 2) {
+        r.p = stats::mann_whitney_u(r.a.samples, r.b.samples).p;
+        beyond = r.p < o.alpha;
+        min_na = std::min(min_na, r.a.samples.size());
+        min_nb = std::min(min_nb, r.b.samples.size());
+      } else {
+        beyond = std::isfinite(r.gain) && std::fabs(r.gain - 1) > o.noise;
+      }
+      if (beyond && std::isfinite(r.gain) && r.gain != 1) r.verdict = r.gain > 1 ? "faster" : "slower";
+    } else {
+      ++c.figures;
+      const bool differ = both_finite ? std::fabs(vb - va) > 1e-12 * std::max(std::fabs(va), std::fabs(vb)) : std::isfinite(va) != std::isfinite(vb);
+      if (differ) r.verdict = r.a.direction == 0 ? "changed" : ((vb > va) == (r.a.direction > 0) ? "better" : "worse");
+    }
+    if (r.verdict == "faster") ++c.faster;
+    if (r.verdict == "slower") ++c.slower;
+    if (r.verdict == "better") ++c.better;
+    if (r.verdict == "worse") ++c.worse;
+    if (r.verdict == "changed") ++c.changed;
+    if (o.threshold >= 0 && (r.verdict == "slower" || r.verdict == "worse")) {
+      // How much worse: 1 / gain - 1 (a time that doubled, a rate that halved: 100 %); a failure rate
+      // that rose from 0 is infinitely worse.
+      const double worse = std::isfinite(r.gain) && r.gain > 0 ? 1 / r.gain - 1 : std::numeric_limits<double>::infinity();
+      r.regression = worse > o.threshold;
+      c.regressions += r.regression;
+    }
+    c.rows.push_back(std::move(r));
+  }
+  std::vector<Figure> only_b;
+  for (std::size_t i = 0; i < b.figures.size(); ++i)
+    if (!used_b.count(i) && keep(b.figures[i])) only_b.push_back(b.figures[i]);
+  a.figures = std::move(only_a);
+  b.figures = std::move(only_b);
+  c.a = std::move(a);
+  c.b = std::move(b);
+  if (c.rows.empty())
+    throw NothingToDo(fmt::format("no row is in both {} and {}{}", c.a.source, c.b.source,
+                                  filtered || !o.metric.empty() ? " (after --filter / --metric)" : ""));
+  std::vector<double> gains;
+  for (const auto& r : c.rows)
+    if (r.a.timing) gains.push_back(r.gain);
+  c.geomean_gain = stats::geometric_mean(gains);
+  machine_notes(c, c.notes);
+  if (min_na != SIZE_MAX) {
+    few_reps = stats::smallest_p(min_na, min_nb) >= o.alpha;
+    if (few_reps)
+      c.notes.push_back(fmt::format("with {} and {} repetitions the smallest possible p is {:.3f}: no timing can differ beyond noise "
+                                    "at p < {}; run more repetitions (9 or more, as Google Benchmark's compare.py advises)",
+                                    min_na, min_nb, stats::smallest_p(min_na, min_nb), o.alpha));
+  }
+  if (!c.a.figures.empty() || !c.b.figures.empty())
+    c.notes.push_back(fmt::format("{} figures only in A, {} only in B (not compared)", c.a.figures.size(), c.b.figures.size()));
+  return c;
+}
+
+std::string compare_summary_line(const Comparison& c) {
+  std::string s = fmt::format("{} rows compared", c.rows.size());
+  if (c.timings) {
+    const double g = c.geomean_gain;
+    s += fmt::format("; timings: B/A speed, geometric mean {} ({}); {} faster, {} slower beyond noise, {} within noise",
+                     ratio_text(g), std::isfinite(g) ? fmt::format("B {:.1f} % {}", std::fabs(g - 1) * 100, g >= 1 ? "faster" : "slower") : "-",
+                     c.faster, c.slower, c.timings - c.faster - c.slower);
+  }
+  if (c.figures)
+    s += fmt::format("; seeded figures: {} better, {} worse, {} changed, {} equal", c.better, c.worse, c.changed,
+                     c.figures - c.better - c.worse - c.changed);
+  if (c.options.threshold >= 0) s += fmt::format("; {} regression(s) beyond {:.3g} %", c.regressions, 100 * c.options.threshold);
+  return s;
+}
+
+namespace {
+
+struct Group {
+  std::string section, metric, unit;
+  int direction;
+  bool timing;
+  std::vector<const ComparedRow*> rows;
+};
+std::vector<Group> groups(const Comparison& c) {
+  std::vector<Group> g;
+  std::map<std::string, std::size_t> at;
+  for (const auto& r : c.rows) {
+    const std::string k = r.a.section + "\t" + r.a.metric;
+    if (!at.count(k)) {
+      at[k] = g.size();
+      g.push_back({r.a.section, r.a.metric, r.a.unit, r.a.direction, r.a.timing, {}});
+    }
+    g[at[k]].rows.push_back(&r);
+  }
+  return g;
+}
+bool shown(const Comparison& c, const ComparedRow& r) { return c.options.all || r.a.timing || !r.verdict.empty(); }
+
+}  // namespace
+
+std::string compare_text(const Comparison& c) {
+  std::string t = fmt::format("raybench compare: {} results\n", c.kind);
+  t += wrap_words(fmt::format("A  {}  ({})", c.a.source, describe(c.a)), 80, "     ");
+  t += wrap_words(fmt::format("B  {}  ({})", c.b.source, describe(c.b)), 80, "     ");
+  // Within 80 columns: the name, then A, B (units in the two-line header), B/A, p and the verdict.
+  constexpr std::size_t kName = 39;
+  const char* const kRow = "{:<39} {:>9} {:>9} {:>6} {:>5} {}\n";
+  for (const Group& g : groups(c)) {
+    std::size_t hidden = 0;
+    std::string body;
+    for (const ComparedRow* r : g.rows) {
+      if (!shown(c, *r)) {
+        ++hidden;
+        continue;
+      }
+      std::string name = r->a.name;
+      if (display_width(name) > kName) {
+        body += name + "\n";
+        name.clear();
+      }
+      const std::string verdict = r->verdict.empty() ? (r->a.timing ? "~" : "=") : r->verdict + (r->regression ? "!" : "");
+      body += fmt::format(fmt::runtime(kRow), name, value_text(r->a.value * r->a.scale), value_text(r->b.value * r->b.scale),
+                          ratio_text(r->ratio), p_text(r->p), verdict);
+    }
+    t += fmt::format("\n{}: {} ({}, {}{})\n", g.section, g.metric, g.unit, direction_text(g.direction), g.timing ? "" : ", seeded");
+    if (!body.empty()) {
+      t += fmt::format(fmt::runtime(kRow), "", "A", "B", "", "", "");
+      t += fmt::format(fmt::runtime(kRow), "row", g.unit.substr(0, 9), g.unit.substr(0, 9), "B/A", "p", "verdict");
+      t += body;
+    }
+    if (hidden) t += fmt::format("({} unchanged figures not listed; --all lists them)\n", hidden);
+  }
+  t += "\n" + wrap_words("summary: " + compare_summary_line(c), 80, "  ");
+  for (const auto& n : c.notes) t += wrap_words("note: " + n, 80, "  ");
+  for (const auto& r : c.rows)
+    if (r.regression)
+      t += wrap_words(fmt::format("regression: {} {}: {} -> {} {} ({}; threshold {:.3g} %)", r.a.name, r.a.metric, value_text(r.a.value * r.a.scale),
+                            value_text(r.b.value * r.b.scale), r.a.unit, r.verdict, 100 * c.options.threshold),
+                80, "  ");
+  t += wrap_words("p: two-sided Mann-Whitney U test over the repetitions (as Google Benchmark's compare.py); ~ within noise, "
+                  "= equal; ! a regression beyond --threshold");
+  return t;
+}
+
+std::string compare_markdown(const Comparison& c) {
+  std::string md = fmt::format("## raybench compare: {} results\n\n", c.kind);
+  md += fmt::format("- A: `{}` ({})\n- B: `{}` ({})\n\n", c.a.source, describe(c.a), c.b.source, describe(c.b));
+  md += "**Summary:** " + compare_summary_line(c) + ".\n\n";
+  for (const auto& n : c.notes) md += "- " + n + "\n";
+  if (!c.notes.empty()) md += "\n";
+  for (const Group& g : groups(c)) {
+    md += fmt::format("### {}: {} ({}, {})\n\n| row | A ({}) | B ({}) | B/A | p | verdict |\n|---|---:|---:|---:|---:|---|\n", g.section, g.metric,
+                      g.unit, direction_text(g.direction), g.unit, g.unit);
+    std::size_t hidden = 0;
+    for (const ComparedRow* r : g.rows) {
+      if (!shown(c, *r)) {
+        ++hidden;
+        continue;
+      }
+      md += fmt::format("| {} | {} | {} | {} | {} | {} |\n", r->a.name, value_text(r->a.value * r->a.scale), value_text(r->b.value * r->b.scale),
+                        ratio_text(r->ratio), p_text(r->p), r->regression ? "**" + r->verdict + " (regression)**" : r->verdict);
+    }
+    if (hidden) md += fmt::format("\n{} unchanged figures not listed.\n", hidden);
+    md += "\n";
+  }
+  return md;
+}
+
+json compare_json(const Comparison& c) {
+  json j;
+  j["kind"] = c.kind;
+  j["a"] = {{"source", c.a.source}, {"machine", c.a.machine}, {"config", c.a.config}};
+  j["b"] = {{"source", c.b.source}, {"machine", c.b.machine}, {"config", c.b.config}};
+  j["options"] = {{"alpha", c.options.alpha}, {"noise", c.options.noise},
+                  {"threshold", c.options.threshold >= 0 ? json(c.options.threshold) : json(nullptr)}, {"filter", c.options.filter},
+                  {"metric", c.options.metric}};
+  auto num = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
+  json rows = json::array();
+  for (const auto& r : c.rows)
+    rows.push_back({{"section", r.a.section}, {"name", r.a.name}, {"metric", r.a.metric}, {"unit", r.a.unit}, {"scale", r.a.scale},
+                    {"direction", r.a.direction}, {"timing", r.a.timing}, {"a", num(r.a.value)}, {"b", num(r.b.value)},
+                    {"a_samples", r.a.samples}, {"b_samples", r.b.samples}, {"ratio", num(r.ratio)}, {"gain", num(r.gain)},
+                    {"p", r.p < 0 ? json(nullptr) : json(r.p)}, {"verdict", r.verdict}, {"regression", r.regression}});
+  j["rows"] = rows;
+  auto names = [](const std::vector<Figure>& f) {
+    json a = json::array();
+    for (const auto& x : f) a.push_back(x.section + "/" + x.name + " " + x.metric);
+    return a;
+  };
+  j["only_in_a"] = names(c.a.figures);
+  j["only_in_b"] = names(c.b.figures);
+  j["summary"] = {{"rows", c.rows.size()},       {"timings", c.timings},   {"geomean_speed_ratio", num(c.geomean_gain)},
+                  {"faster", c.faster},           {"slower", c.slower},     {"seeded_figures", c.figures},
+                  {"better", c.better},           {"worse", c.worse},       {"changed", c.changed},
+                  {"regressions", c.regressions}, {"text", compare_summary_line(c)}};
+  j["notes"] = c.notes;
+  return j;
+}
+
+}  // namespace rb::app

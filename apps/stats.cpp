@@ -1,0 +1,132 @@
+#include "apps/stats.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+namespace rb::stats {
+
+double median(std::vector<double> v) {
+  if (v.empty()) return kNaN;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+double mean(const std::vector<double>& v) {
+  if (v.empty()) return kNaN;
+  return std::accumulate(v.begin(), v.end(), 0.0) / double(v.size());
+}
+
+double stddev(const std::vector<double>& v) {
+  if (v.size() < 2) return kNaN;
+  const double m = mean(v);
+  double s = 0;
+  for (double x : v) s += (x - m) * (x - m);
+  return std::sqrt(s / double(v.size() - 1));
+}
+
+double cv(const std::vector<double>& v) {
+  const double m = mean(v);
+  if (v.size() < 2 || m == 0) return kNaN;
+  return stddev(v) / std::fabs(m);
+}
+
+double geometric_mean(const std::vector<double>& v) {
+  double s = 0;
+  std::size_t n = 0;
+  for (double x : v)
+    if (std::isfinite(x) && x > 0) s += std::log(x), ++n;
+  return n ? std::exp(s / double(n)) : kNaN;
+}
+
+Summary summarize(const std::vector<double>& v) {
+  Summary s;
+  s.n = v.size();
+  if (v.empty()) return s;
+  s.median = median(v);
+  s.min = *std::min_element(v.begin(), v.end());
+  s.max = *std::max_element(v.begin(), v.end());
+  s.cv = cv(v);
+  return s;
+}
+
+namespace {
+
+// P(U' >= u) for the null distribution of the Mann-Whitney U of samples of sizes m and n (no
+// ties): the number of orderings of m x's and n y's with exactly k pairs (x, y) in which x
+// follows y, over all C(m + n, m) orderings. Recurrence on the last element of the ordering:
+// c(k; i, j) = c(k - j; i - 1, j) (an x, after all j y's) + c(k; i, j - 1) (a y). Only additions,
+// so doubles hold the counts with relative rounding error alone.
+double u_sf(double u, std::size_t m, std::size_t n) {
+  if (m > n) std::swap(m, n);  // the distribution is symmetric in the sample sizes
+  const std::size_t kmax = m * n;
+  // c[i][k] for the current j, i = 0..m.
+  std::vector<std::vector<double>> c(m + 1, std::vector<double>(kmax + 1, 0.0));
+  for (std::size_t i = 0; i <= m; ++i) c[i][0] = 1;  // j = 0: one ordering, k = 0
+  for (std::size_t j = 1; j <= n; ++j)
+    // c(k; 0, j) = [k == 0] stays; i increasing, so c[i - 1] already holds column j, while c[i]
+    // still holds c(k; i, j - 1).
+    for (std::size_t i = 1; i <= m; ++i)
+      for (std::size_t k = j; k <= kmax; ++k) c[i][k] += c[i - 1][k - j];
+  const std::vector<double>& f = c[m];
+  double total = 0, tail = 0;
+  for (std::size_t k = 0; k <= kmax; ++k) {
+    total += f[k];
+    if (double(k) >= u) tail += f[k];
+  }
+  return tail / total;
+}
+
+}  // namespace
+
+UTest mann_whitney_u(const std::vector<double>& a, const std::vector<double>& b) {
+  UTest r;
+  const std::size_t n1 = a.size(), n2 = b.size(), n = n1 + n2;
+  if (!n1 || !n2) return r;
+  // Midranks of the pooled samples (ties share the mean of their ranks) and the tie term.
+  std::vector<std::pair<double, int>> all;
+  all.reserve(n);
+  for (double x : a) all.push_back({x, 0});
+  for (double x : b) all.push_back({x, 1});
+  std::sort(all.begin(), all.end(), [](const auto& p, const auto& q) { return p.first < q.first; });
+  double r1 = 0, tie_term = 0;
+  bool ties = false;
+  for (std::size_t i = 0; i < n;) {
+    std::size_t j = i;
+    while (j < n && all[j].first == all[i].first) ++j;
+    const double t = double(j - i), rank = 0.5 * (double(i + 1) + double(j));  // ranks i+1 .. j
+    if (t > 1) ties = true, tie_term += t * t * t - t;
+    for (std::size_t k = i; k < j; ++k)
+      if (all[k].second == 0) r1 += rank;
+    i = j;
+  }
+  const double dn1 = double(n1), dn2 = double(n2), dn = double(n);
+  r.u1 = r1 - dn1 * (dn1 + 1) / 2;
+  r.u = std::max(r.u1, dn1 * dn2 - r.u1);
+  double p;
+  if ((n1 <= 8 || n2 <= 8) && !ties) {
+    r.exact = true;
+    p = 2 * u_sf(r.u, n1, n2);
+  } else {
+    const double mu = dn1 * dn2 / 2;
+    const double s = std::sqrt(dn1 * dn2 / 12 * ((dn + 1) - tie_term / (dn * (dn - 1))));
+    const double num = r.u - mu - 0.5;
+    // All values tied (s = 0): numerator -0.5 / 0 is -inf, P(Z >= -inf) = 1.
+    const double z = s > 0 ? num / s : -std::numeric_limits<double>::infinity();
+    p = std::erfc(z / std::sqrt(2.0));  // 2 P(Z >= z)
+  }
+  r.p = std::clamp(p, 0.0, 1.0);
+  return r;
+}
+
+double smallest_p(std::size_t n1, std::size_t n2) {
+  if (!n1 || !n2) return kNaN;
+  std::vector<double> a(n1), b(n2);
+  for (std::size_t i = 0; i < n1; ++i) a[i] = double(i);
+  for (std::size_t i = 0; i < n2; ++i) b[i] = double(n1 + i);
+  return mann_whitney_u(a, b).p;
+}
+
+}  // namespace rb::stats

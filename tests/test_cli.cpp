@@ -1,0 +1,372 @@
+// The command line's conventions (README "Command-line conventions"), each checked on the built
+// `raybench` as a user runs it, and the helpers behind them (apps/cli.hpp, apps/progress.hpp).
+#include "apps/build_info.hpp"
+#include "apps/cli.hpp"
+#include "apps/progress.hpp"
+#include "cli_test_util.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <regex>
+#include <sstream>
+
+namespace {
+
+using namespace rbtest;
+using rb::app::ProgressBar;
+
+const char* const kCommands[] = {"report", "ops", "bench", "info", "query", "trace", "render", "accuracy", "csg", "compare", "history", "machine"};
+
+// An octahedron: the smallest closed triangle mesh, so that Embree traces it too.
+const char* const kOctahedron =
+    "v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\n"
+    "f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n";
+
+// One error line on stderr, "raybench COMMAND: ...", naming `input` once. Before it, trace and
+// render may have printed their header ("raybench trace SCENE: ... thread(s) ..."), which is not an
+// error message.
+void expect_one_error_line(const Outcome& r, const std::string& command, const std::string& input) {
+  auto lines = r.err_lines();
+  if ((command == "trace" || command == "render") && lines.size() == 2 && has(lines[0], "thread(s) of")) lines.erase(lines.begin());
+  ASSERT_EQ(lines.size(), 1u) << r.err;
+  EXPECT_EQ(lines[0].rfind("raybench " + command + ":", 0), 0u) << lines[0];
+  if (!input.empty()) {
+    EXPECT_TRUE(has(lines[0], input)) << lines[0];
+    EXPECT_EQ(lines[0].find(input), lines[0].rfind(input)) << "names the input twice: " << lines[0];
+  }
+}
+
+// ---- helpers ----------------------------------------------------------------------------------
+
+TEST(CliHelpers, ClosestNameFindsTyposOnly) {
+  const std::vector<std::string> names(std::begin(kCommands), std::end(kCommands));
+  EXPECT_EQ(rb::app::closest_name("tarce", names), "trace");
+  EXPECT_EQ(rb::app::closest_name("rendr", names), "render");
+  EXPECT_EQ(rb::app::closest_name("acuracy", names), "accuracy");
+  EXPECT_EQ(rb::app::closest_name("hisotry", names), "history");
+  EXPECT_EQ(rb::app::closest_name("xyzzy", names), "");
+  EXPECT_EQ(rb::app::edit_distance("trace", "tarce"), 1u);  // an adjacent swap is one edit
+  EXPECT_EQ(rb::app::edit_distance("", "abc"), 3u);
+}
+
+TEST(CliHelpers, ErrorLineNamesTheInputOnce) {
+  EXPECT_EQ(rb::app::error_line("trace", "a.obj", "No such file or directory"), "raybench trace: a.obj: No such file or directory");
+  EXPECT_EQ(rb::app::error_line("info", "a.obj", "a.obj: line 3: bad vertex"), "raybench info: a.obj: line 3: bad vertex");
+  EXPECT_EQ(rb::app::error_line("x", "", "two\nlines"), "raybench x: two; lines");
+  EXPECT_EQ(rb::app::error_line("", "", "bad"), "raybench: bad");
+}
+
+TEST(CliHelpers, OutputChecksGiveTheSystemsReason) {
+  Scratch s("outputs");
+  std::ofstream(s / "file") << "x";
+  EXPECT_EQ(rb::app::check_output_file(s / "new.json"), "");
+  EXPECT_TRUE(fs::exists(s / "new.json"));
+  rb::app::remove_unwritten_outputs();  // created empty, never written: removed
+  EXPECT_FALSE(fs::exists(s / "new.json"));
+  EXPECT_EQ(rb::app::check_output_file(s / "file"), "");
+  EXPECT_EQ(slurp(s / "file"), "x");  // an existing file is not truncated by the check
+  EXPECT_EQ(rb::app::check_output_file(s / "file/x.json"), std::strerror(ENOTDIR));
+  EXPECT_EQ(rb::app::check_output_file(s.dir.string()), std::strerror(EISDIR));
+  EXPECT_EQ(rb::app::check_output_file("-"), "");
+  EXPECT_EQ(rb::app::check_output_dir(s / "a/b/c"), "");
+  EXPECT_TRUE(fs::is_directory(s / "a/b/c"));
+  EXPECT_EQ(rb::app::check_output_dir(s / "file/sub"), std::strerror(ENOTDIR));
+  EXPECT_EQ(rb::app::check_input_file(s / "missing.obj"), std::strerror(ENOENT));
+  EXPECT_EQ(rb::app::check_input_file(s.dir.string()), std::strerror(EISDIR));
+  EXPECT_EQ(rb::app::check_input_file(s / "file"), "");
+}
+
+TEST(CliHelpers, ThreadsZeroMeansAllAndTooManyWarns) {
+  std::string w;
+  EXPECT_EQ(rb::app::resolve_threads(0, &w), int(rb::app::hardware_threads()));
+  EXPECT_EQ(w, "");
+  EXPECT_EQ(rb::app::resolve_threads(1, &w), 1);
+  EXPECT_EQ(w, "");
+  const int more = int(rb::app::hardware_threads()) + 1;
+  EXPECT_EQ(rb::app::resolve_threads(more, &w), more);
+  EXPECT_TRUE(has(w, "warning")) << w;
+}
+
+TEST(CliHelpers, BusyAndNoiseWarnings) {
+  EXPECT_EQ(rb::app::busy_warning(0.9, 1), "");
+  EXPECT_EQ(rb::app::busy_warning(-1, 1), "");  // unknown load
+  EXPECT_TRUE(has(rb::app::busy_warning(2.5, 1), "busy"));
+  EXPECT_EQ(rb::app::busy_warning(2.5, 2), "");  // our own two threads
+  EXPECT_EQ(rb::app::noise_warning(0.049, "x"), "");
+  EXPECT_EQ(rb::app::noise_warning(std::nan(""), "x"), "");
+  EXPECT_TRUE(has(rb::app::noise_warning(0.08, "x"), "8.0 %"));
+}
+
+TEST(CliHelpers, FilterIsAnExtendedRegex) {
+  const std::regex re = rb::app::filter_regex("^torus/(tangent|far)");
+  EXPECT_TRUE(rb::app::filter_matches(re, "torus/tangent"));
+  EXPECT_FALSE(rb::app::filter_matches(re, "sphere/torus/tangent"));
+  EXPECT_THROW(rb::app::filter_regex("["), std::invalid_argument);
+}
+
+TEST(CliHelpers, WrapKeepsEightyColumnsAndIndentation) {
+  const std::string long_text(30, 'a');
+  const std::string w = rb::app::wrap_words("  key  " + long_text + " " + long_text + " " + long_text, 80, "       ");
+  EXPECT_LE(widest(w), 80u);
+  EXPECT_EQ(w.rfind("  key  aaa", 0), 0u);  // leading and inner spaces of the first line kept
+  EXPECT_TRUE(has(w, "\n       aaa"));
+  EXPECT_LE(widest(rb::app::fit_columns(std::string(200, 'x') + "\n" + long_text + " " + long_text + " " + long_text, 4)), 200u);
+}
+
+TEST(CliHelpers, ProgressBarShowsElapsedAndTheRest) {
+  const std::string l = ProgressBar::line("raybench trace", 0.25, 30, "bunny");
+  EXPECT_TRUE(has(l, "25 %")) << l;
+  EXPECT_TRUE(has(l, "30 s")) << l;
+  EXPECT_TRUE(has(l, "~1 min 30 s left")) << l;  // 30 s for a quarter: 90 s to go
+  EXPECT_LE(widest(ProgressBar::line(std::string(100, 'l'), 0.5, 10, std::string(100, 'w'))), 79u);
+  EXPECT_EQ(ProgressBar::remaining(0.01, 30), "");  // too early to tell
+  EXPECT_EQ(rb::app::format_duration(3725), "1 h 02 min");
+  // In a log: one line per tenth, none for a run shorter than two seconds.
+  std::ostringstream log;
+  {
+    ProgressBar b("job", ProgressBar::Mode::lines, &log);
+    b.update_at(0.5, "a", 1.0);
+    EXPECT_EQ(log.str(), "");
+    b.update_at(0.55, "b", 2.4);
+    b.update_at(0.58, "c", 2.6);  // the same tenth: no new line
+    b.update_at(0.71, "d", 3.0);
+    b.done();
+  }
+  const std::string t = log.str();
+  EXPECT_EQ(std::count(t.begin(), t.end(), '\n'), 2) << t;
+  EXPECT_TRUE(has(t, "job:  50 % after 2 s, ~2 s left  b")) << t;
+  std::ostringstream tty;
+  {
+    ProgressBar b("job", ProgressBar::Mode::terminal, &tty);
+    b.update_at(0.5, "", 4);
+    b.done();
+  }
+  EXPECT_TRUE(has(tty.str(), "\r")) << "redrawn in place";
+}
+
+// ---- the binary -------------------------------------------------------------------------------
+
+TEST(Cli, VersionNamesRevisionAndFlags) {
+  Scratch s("version");
+  const Outcome r = run_in(s.dir, "--version");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(has(r.out, "raybench " + rb::app::build_info().version)) << r.out;
+  EXPECT_TRUE(has(r.out, "git revision")) << r.out;
+  EXPECT_TRUE(has(r.out, "build flags")) << r.out;
+  EXPECT_TRUE(has(r.out, "-ffp-contract=")) << r.out;
+  EXPECT_LE(widest(r.out), 80u) << r.out;
+}
+
+TEST(Cli, MisspelledCommandNamesTheClosest) {
+  Scratch s("typo");
+  Outcome r = run_in(s.dir, "tarce bunny.obj");
+  EXPECT_EQ(r.status, 1);
+  ASSERT_EQ(r.err_lines().size(), 1u) << r.err;
+  EXPECT_TRUE(has(r.err, "did you mean 'trace'")) << r.err;
+  r = run_in(s.dir, "trace x.obj --trheads 2");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(has(r.err, "did you mean --threads")) << r.err;
+  expect_one_error_line(r, "trace", "");
+}
+
+TEST(Cli, EveryParseErrorExitsOneWithOneLine) {
+  Scratch s("parse");
+  // CLI11's own codes were 105 (validation), 106 (required), 109 (extras), 101 (conversion).
+  for (const char* args : {"trace", "trace x.obj --packet 3", "bench -r abc", "trace x.obj --threads -1", "render x.obj --depth 0",
+                           "compare a.json", "accuracy --rays 2", "machine extra"}) {
+    const Outcome r = run_in(s.dir, args);
+    EXPECT_EQ(r.status, 1) << args << ": " << r.err;
+    const std::string cmd = std::string(args).substr(0, std::string(args).find(' '));
+    expect_one_error_line(r, cmd, "");
+  }
+  const Outcome none = run_in(s.dir, "");
+  EXPECT_EQ(none.status, 1);
+  EXPECT_TRUE(has(none.err, "a command is required"));
+}
+
+TEST(Cli, InputErrorsExitOneWithTheSystemsReason) {
+  Scratch s("input");
+  std::ofstream(s / "bad.obj") << "v 0 0 0\nv 1 0 0\nf 1 2 x\n";
+  fs::create_directories(s / "folder.obj");
+  struct Case { std::string args, command, input, reason; };
+  for (const Case& c : std::vector<Case>{{"info missing.obj", "info", "missing.obj", std::strerror(ENOENT)},
+                                         {"trace missing.obj", "trace", "missing.obj", std::strerror(ENOENT)},
+                                         {"render folder.obj", "render", "folder.obj", std::strerror(EISDIR)},
+                                         {"compare missing.json other.json", "compare", "missing.json", std::strerror(ENOENT)},
+                                         {"info bad.obj", "info", "bad.obj", "bad.obj:3:"},
+                                         {"info spd:nosuch", "info", "spd:nosuch", ""}}) {
+    const Outcome r = run_in(s.dir, c.args);
+    EXPECT_EQ(r.status, 1) << c.args << ": " << r.err;
+    expect_one_error_line(r, c.command, c.input);
+    EXPECT_TRUE(has(r.err, c.reason)) << c.args << ": " << r.err;
+  }
+}
+
+TEST(Cli, NothingToDoExitsTwo) {
+  Scratch s("nothing");
+  std::ofstream(s / "empty.obj") << "# no geometry\n";
+  for (const char* args : {"trace empty.obj", "render empty.obj -o e.png", "bench --filter nosuchkernel", "bench --list --filter nosuch",
+                           "accuracy --filter nosuchcase", "report --filter nosuchkernel -o rep"}) {
+    const Outcome r = run_in(s.dir, args);
+    EXPECT_EQ(r.status, 2) << args << ": " << r.err;
+    const std::string cmd = std::string(args).substr(0, std::string(args).find(' '));
+    expect_one_error_line(r, cmd, "");
+  }
+  EXPECT_FALSE(fs::exists(s / "e.png"));
+  EXPECT_FALSE(fs::exists(s / "rep/index.md"));  // the report found nothing to do before its work
+}
+
+TEST(Cli, OutputsAreCheckedBeforeTheWork) {
+  Scratch s("outputs-bin");
+  std::ofstream(s / "file") << "x";
+  std::ofstream(s / "oct.obj") << kOctahedron;
+  for (const char* args : {"trace oct.obj --json file/t.json", "render oct.obj -o file/i.png", "render oct.obj -o .",
+                           "accuracy --json file/a.json", "bench --json file/b.json", "ops --json file/o.json", "csg --json file/c.json",
+                           "report -o file/rep", "trace oct.obj --history file/h.sqlite", "machine --json file/m.json",
+                           "history --plot file/p.png"}) {
+    const Outcome r = run_in(s.dir, args);
+    EXPECT_EQ(r.status, 1) << args << ": " << r.err;
+    expect_one_error_line(r, std::string(args).substr(0, std::string(args).find(' ')), "");
+    EXPECT_TRUE(has(r.err, std::strerror(ENOTDIR)) || has(r.err, std::strerror(EISDIR))) << args << ": " << r.err;
+    // Before the work: no progress, no header of the run, no result on stdout.
+    EXPECT_FALSE(has(r.err, "thread(s) of")) << args << ": " << r.err;
+    EXPECT_EQ(r.out, "") << args;
+  }
+}
+
+TEST(Cli, JsonOnEveryCommand) {
+  Scratch s("json");
+  std::ofstream(s / "oct.obj") << kOctahedron;
+  const std::string query_line = R"({"primitive":{"type":"sphere","center":[0,0,5],"radius":1},"ray":{"origin":[0,0,0],"direction":[0,0,1]}})";
+  for (const char* args : {"ops --json", "info oct.obj --json -", "machine --json", "csg --rays 16 -r 1 --json -",
+                           "accuracy --filter '^sphere/far_small_1e1$' --rays 16 --no-timing --json -",
+                           "bench --filter '^sphere/geometric/scalar/hit$' -r 1 --min-time 0.001 --json -",
+                           "trace oct.obj --count 64 -r 1 --warmup 0 --json -", "render oct.obj --width 8 -r 1 --warmup 0 -o i.png --json -",
+                           "query --json"}) {
+    const Outcome r = run_in(s.dir, args, "", query_line + "\n");
+    EXPECT_EQ(r.status, 0) << args << ": " << r.err;
+    if (std::string(args).rfind("query", 0) == 0) {
+      EXPECT_NO_THROW(nlohmann::json::parse(r.out.substr(0, r.out.find('\n')))) << r.out;
+      continue;
+    }
+    nlohmann::json j;
+    ASSERT_NO_THROW(j = r.json()) << args << ": " << r.out.substr(0, 200);
+    // Every result carries the same machine and build block.
+    if (std::string(args).rfind("ops", 0) != 0 && std::string(args).rfind("info", 0) != 0) {
+      const nlohmann::json& m = std::string(args).rfind("machine", 0) == 0 ? j : j["machine"];
+      EXPECT_TRUE(m.contains("cpu") && m.contains("git_revision") && m.contains("git_dirty") && m.contains("build_flags") &&
+                  m.contains("host_simd") && m.contains("cores") && m.contains("pgo"))
+          << args;
+    }
+  }
+  // --json FILE: the JSON in the file, the table still on the terminal.
+  const Outcome r = run_in(s.dir, "info oct.obj --json info.json");
+  EXPECT_EQ(r.status, 0);
+  EXPECT_TRUE(has(r.out, "primitives")) << r.out;
+  EXPECT_NO_THROW(nlohmann::json::parse(slurp(s / "info.json")));
+}
+
+TEST(Cli, DashOOnlyForTheMainOutputAndFilterIsARegex) {
+  Scratch s("help");
+  for (const char* c : kCommands) {
+    const Outcome r = run_in(s.dir, std::string(c) + " --help");
+    EXPECT_EQ(r.status, 0) << c;
+    const bool main_output = std::string(c) == "report" || std::string(c) == "render";
+    EXPECT_EQ(has(r.out, "-o,--out"), main_output) << c;
+    if (has(r.out, "\n  --filter")) {
+      EXPECT_TRUE(has(r.out, "regex")) << c << ": --filter must say it is a regex";
+    }
+  }
+  // A regex in accuracy and bench alike (the lab used a substring before).
+  Outcome r = run_in(s.dir, "accuracy --list --filter '^torus/(tangent|thin_tube)$'");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(has(r.out, "tangent") && has(r.out, "thin_tube")) << r.out;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n') >= 2, true);
+  EXPECT_FALSE(has(r.out, "camera_5x")) << r.out;
+  r = run_in(s.dir, "bench --list --filter '^sphere/geometric/(scalar|rays_in_lanes)/hit$'");
+  EXPECT_EQ(r.status, 0);
+  EXPECT_EQ(r.out, "sphere/geometric/scalar/hit\nsphere/geometric/rays_in_lanes/hit\n");
+  r = run_in(s.dir, "accuracy --filter '(' --list");
+  EXPECT_EQ(r.status, 1);
+  expect_one_error_line(r, "accuracy", "");
+  EXPECT_TRUE(has(r.err, "invalid regular expression")) << r.err;
+}
+
+TEST(Cli, RenderWithoutOutputWritesSceneNameAndHainesOnlyUnderSpd) {
+  Scratch s("render");
+  Outcome r = run_in(s.dir, "render spd:balls:1 --width 16 -r 1 --warmup 0");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(fs::exists(s / "spd_balls_1.png"));
+  EXPECT_TRUE(has(r.err, "spd_balls_1.png in the current folder")) << r.err;
+  EXPECT_FALSE(has(r.out, "Haines")) << r.out;
+  r = run_in(s.dir, "render spd:balls:1 --width 16 -r 1 --warmup 0 --spd -o spd.png");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(has(r.out, "Haines")) << r.out;
+  EXPECT_LE(widest(r.out), 80u) << r.out;
+}
+
+TEST(Cli, BenchPrintsATable) {
+  Scratch s("bench");
+  const Outcome r = run_in(s.dir, "bench --filter '^sphere/geometric/(scalar|rays_in_lanes)/hit$' -r 2 --min-time 0.001");
+  EXPECT_EQ(r.status, 0) << r.err;
+  for (const char* col : {"Mtests/s", "CV %", "ops/test", "vs scalar", "sphere/geometric/scalar/hit", "sphere/geometric/rays_in_lanes/hit"})
+    EXPECT_TRUE(has(r.out, col)) << col << "\n" << r.out;
+  EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(rays_in_lanes/hit +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+x)"))) << r.out;
+  EXPECT_LE(widest(r.out), 80u) << r.out;
+}
+
+TEST(Cli, TraceGivesMedianRangeAndCvAfterWarmupBesideEmbree) {
+  Scratch s("trace");
+  std::ofstream(s / "oct.obj") << kOctahedron;
+  const Outcome r = run_in(s.dir, "trace oct.obj --count 256 -r 3 --warmup 2 --threads 0 --json t.json");
+  EXPECT_EQ(r.status, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(slurp(s / "t.json"));
+  EXPECT_EQ(j["warmup"], 2);
+  EXPECT_EQ(j["seconds"].size(), 3u);          // the warm-up runs are not timed into the median
+  EXPECT_EQ(j["embree_seconds"].size(), 3u);   // Embree's runs, alternating with ours
+  EXPECT_LE(j["mrays_per_s_min"].get<double>(), j["mrays_per_s"].get<double>());
+  EXPECT_GE(j["mrays_per_s_max"].get<double>(), j["mrays_per_s"].get<double>());
+  EXPECT_TRUE(j["cv"].is_number());
+  EXPECT_EQ(j["threads"], int(rb::app::hardware_threads()));  // --threads 0: every hardware thread
+  EXPECT_TRUE(has(r.err, std::to_string(rb::app::hardware_threads()) + " thread(s) of")) << r.err;
+  EXPECT_TRUE(has(r.out, "median of 3, range")) << r.out;
+  EXPECT_TRUE(has(r.out, "CV ")) << r.out;
+  EXPECT_TRUE(has(r.out, "2 warm-up")) << r.out;
+  EXPECT_LE(widest(r.out), 80u) << r.out;
+}
+
+TEST(Cli, RenderGivesMedianRangeAndCvAndTooManyThreadsWarn) {
+  Scratch s("render-time");
+  const int more = int(rb::app::hardware_threads()) + 2;
+  const Outcome r = run_in(s.dir, "render spd:balls:1 --width 16 -r 3 --warmup 1 --threads " + std::to_string(more) + " --json r.json");
+  EXPECT_EQ(r.status, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(slurp(s / "r.json"));
+  EXPECT_EQ(j["warmup"], 1);
+  EXPECT_EQ(j["trace_seconds"].size(), 3u);
+  EXPECT_LE(j["trace_ms_min"].get<double>(), j["trace_ms"].get<double>());
+  EXPECT_TRUE(has(r.out, "median of 3 renders after 1 warm-up")) << r.out;
+  EXPECT_TRUE(has(r.err, "warning: " + std::to_string(more) + " threads asked for")) << r.err;
+}
+
+TEST(Cli, HelpAndTablesFitEightyColumns) {
+  Scratch s("width");
+  std::ofstream(s / "oct.obj") << kOctahedron;
+  std::vector<std::string> runs = {"--help", "ops", "ops --notes", "info spd:teapot", "machine", "csg --rays 16 -r 1",
+                                   "accuracy --filter '^(box|triangle)/' --rays 16 --no-timing", "accuracy --list",
+                                   "trace oct.obj --count 64 -r 2 --warmup 0", "render spd:balls:1 --width 8 -r 1 --warmup 0 -o b.png"};
+  for (const char* c : kCommands) runs.push_back(std::string(c) + " --help");
+  for (const auto& args : runs) {
+    const Outcome r = run_in(s.dir, args);
+    EXPECT_EQ(r.status, 0) << args << ": " << r.err;
+    EXPECT_LE(widest(r.out), 80u) << args << "\n" << r.out;
+  }
+  // Units in the column headers.
+  const Outcome acc = run_in(s.dir, "accuracy --filter '^box/' --rays 16 --no-timing");
+  EXPECT_TRUE(has(acc.out, "ppm") && has(acc.out, "p99 ulp")) << acc.out;
+}
+
+}  // namespace

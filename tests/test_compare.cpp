@@ -1,0 +1,271 @@
+// `raybench compare` and its statistics: the Mann-Whitney U test against SciPy's test vectors
+// (tests/data/mannwhitney), the row matching, verdicts, summary and --threshold on results of every
+// kind, and the binary comparing two runs of its own.
+#include "apps/compare.hpp"
+#include "apps/results.hpp"
+#include "apps/stats.hpp"
+#include "cli_test_util.hpp"
+
+#include <gtest/gtest.h>
+
+#include <map>
+#include <set>
+#include <cmath>
+
+namespace {
+
+using namespace rbtest;
+using nlohmann::json;
+
+TEST(Stats, MannWhitneyMatchesScipy) {
+  const json v = json::parse(slurp(std::string(RB_TEST_DATA) + "/mannwhitney/vectors.json"));
+  ASSERT_GE(v["cases"].size(), 40u);
+  int exact = 0, asymptotic = 0;
+  for (const auto& c : v["cases"]) {
+    const auto a = c["a"].get<std::vector<double>>(), b = c["b"].get<std::vector<double>>();
+    const rb::stats::UTest t = rb::stats::mann_whitney_u(a, b);
+    const double p = c["p"].get<double>();
+    EXPECT_DOUBLE_EQ(t.u1, c["u1"].get<double>()) << c["what"];
+    // Exact p-values are ratios of integer counts: equal to rounding; the normal approximation's
+    // erfc agrees with SciPy's to about 1e-12 relative.
+    EXPECT_NEAR(t.p, p, 1e-12 + 1e-9 * p) << c["what"];
+    (t.exact ? exact : asymptotic)++;
+  }
+  EXPECT_GT(exact, 5);
+  EXPECT_GT(asymptotic, 5);
+}
+
+TEST(Stats, MedianCvGeometricMeanAndSmallestP) {
+  EXPECT_DOUBLE_EQ(rb::stats::median({3, 1, 2}), 2);
+  EXPECT_DOUBLE_EQ(rb::stats::median({4, 1, 2, 3}), 2.5);
+  EXPECT_TRUE(std::isnan(rb::stats::median({})));
+  EXPECT_NEAR(rb::stats::cv({9, 10, 11}), 0.1, 1e-12);
+  EXPECT_TRUE(std::isnan(rb::stats::cv({5})));
+  EXPECT_NEAR(rb::stats::geometric_mean({2, 8, -1, std::nan("")}), 4, 1e-12);  // positive finite values only
+  EXPECT_NEAR(rb::stats::smallest_p(3, 3), 0.1, 1e-12);
+  EXPECT_LT(rb::stats::smallest_p(5, 5), 0.01);
+  const auto s = rb::stats::summarize({5, 1, 3});
+  EXPECT_EQ(s.n, 3u);
+  EXPECT_EQ(s.min, 1);
+  EXPECT_EQ(s.max, 5);
+}
+
+// A Google Benchmark JSON document: every repetition of each benchmark at the given rates.
+json bench_doc(const std::vector<std::pair<std::string, std::vector<double>>>& rows, const std::string& git = "abc") {
+  json j = {{"context", {{"raybench_seed", "1"}}}, {"benchmarks", json::array()}, {"machine", {{"cpu", "X"}, {"git", git}}}};
+  for (const auto& [name, rates] : rows) {
+    for (double r : rates) j["benchmarks"].push_back({{"name", name}, {"run_name", name}, {"run_type", "iteration"}, {"tests_per_s", r}});
+    j["benchmarks"].push_back({{"name", name + "_median"}, {"run_name", name}, {"run_type", "aggregate"}, {"aggregate_name", "median"},
+                               {"tests_per_s", rb::stats::median(rates)}});
+  }
+  return j;
+}
+std::vector<double> around(double v, double spread = 0.01) {
+  std::vector<double> r;
+  for (int i = 0; i < 9; ++i) r.push_back(v * (1 + spread * (i - 4) / 4.0));
+  return r;
+}
+
+TEST(Compare, BenchRowsVerdictsAndSummary) {
+  const json a = bench_doc({{"k/m/scalar/hit", around(100e6)}, {"k/m/rays_in_lanes/hit", around(800e6)}, {"k/m/scalar/miss", around(50e6)},
+                            {"only/in/a/hit", around(1e6)}});
+  const json b = bench_doc({{"k/m/scalar/hit", around(120e6)}, {"k/m/rays_in_lanes/hit", around(720e6)},
+                            {"k/m/scalar/miss", around(50.1e6)}, {"only/in/b/hit", around(1e6)}});
+  rb::app::ResultSet ra = rb::app::figures_of("bench", a), rb_ = rb::app::figures_of("bench", b);
+  ra.source = "a.json";
+  rb_.source = "b.json";
+  rb::app::CompareOptions o;
+  const rb::app::Comparison c = rb::app::compare_results(ra, rb_, o);
+  ASSERT_EQ(c.rows.size(), 3u);
+  std::map<std::string, const rb::app::ComparedRow*> by;
+  for (const auto& r : c.rows) by[r.a.name] = &r;
+  EXPECT_EQ(by["k/m/scalar/hit"]->verdict, "faster");
+  EXPECT_NEAR(by["k/m/scalar/hit"]->ratio, 1.2, 1e-9);
+  EXPECT_LT(by["k/m/scalar/hit"]->p, 0.001);
+  EXPECT_EQ(by["k/m/rays_in_lanes/hit"]->verdict, "slower");
+  EXPECT_EQ(by["k/m/scalar/miss"]->verdict, "");  // 0.2 % inside a 2 % spread: noise
+  EXPECT_GT(by["k/m/scalar/miss"]->p, 0.05);
+  EXPECT_EQ(c.faster, 1u);
+  EXPECT_EQ(c.slower, 1u);
+  EXPECT_NEAR(c.geomean_gain, std::cbrt(1.2 * 0.9 * 1.002), 1e-9);
+  EXPECT_EQ(c.a.figures.size(), 1u);  // only in A
+  EXPECT_EQ(c.b.figures.size(), 1u);
+  EXPECT_EQ(c.regressions, 0u);  // no threshold: no regression
+  const std::string t = rb::app::compare_text(c);
+  EXPECT_LE(widest(t), 80u) << t;
+  EXPECT_TRUE(has(t, "1 faster, 1 slower beyond noise")) << t;
+  EXPECT_TRUE(has(t, "geometric mean")) << t;
+  EXPECT_TRUE(has(t, "Mtests/s")) << t;
+  const std::string md = rb::app::compare_markdown(c);
+  EXPECT_TRUE(has(md, "| k/m/scalar/hit | 100.0 | 120.0 | 1.200 |")) << md;
+  const json j = rb::app::compare_json(c);
+  EXPECT_EQ(j["rows"].size(), 3u);
+  EXPECT_EQ(j["summary"]["faster"], 1);
+  EXPECT_EQ(j["only_in_a"].size(), 1u);
+
+  // --threshold: the 10 % slowdown is a regression at 5 %, not at 15 %.
+  o.threshold = 0.05;
+  EXPECT_EQ(rb::app::compare_results(ra, rb_, o).regressions, 1u);
+  o.threshold = 0.15;
+  EXPECT_EQ(rb::app::compare_results(ra, rb_, o).regressions, 0u);
+  // --filter and --metric select rows; nothing left is "nothing to do".
+  o.threshold = -1;
+  o.filter = "scalar/(hit|miss)$";
+  EXPECT_EQ(rb::app::compare_results(ra, rb_, o).rows.size(), 2u);
+  o.filter = "nosuch";
+  EXPECT_THROW(rb::app::compare_results(ra, rb_, o), rb::app::NothingToDo);
+}
+
+TEST(Compare, FewRepetitionsCannotBeBeyondNoiseAndSingleFiguresUseTheNoiseBand) {
+  const json a = bench_doc({{"k/m/scalar/hit", {100, 101, 102}}}), b = bench_doc({{"k/m/scalar/hit", {200, 201, 202}}});
+  const rb::app::Comparison c = rb::app::compare_results(rb::app::figures_of("bench", a), rb::app::figures_of("bench", b), {});
+  EXPECT_NEAR(c.rows[0].p, 0.1, 1e-12);
+  EXPECT_EQ(c.rows[0].verdict, "");  // twice as fast, but 3 against 3 repetitions cannot show it
+  bool noted = false;
+  for (const auto& n : c.notes) noted |= has(n, "smallest possible p is 0.100");
+  EXPECT_TRUE(noted);
+  // csg figures are single numbers: beyond the 5 % noise band or not.
+  const json ca = {{"rows", {{{"scene", "csg:die"}, {"simd8_queries_per_s", 1e6}, {"scalar_queries_per_s", 1e6}}}}};
+  const json cb = {{"rows", {{{"scene", "csg:die"}, {"simd8_queries_per_s", 1.03e6}, {"scalar_queries_per_s", 0.8e6}}}}};
+  ASSERT_EQ(rb::app::result_kind(ca), "csg");
+  const rb::app::Comparison cc = rb::app::compare_results(rb::app::figures_of("csg", ca), rb::app::figures_of("csg", cb), {});
+  for (const auto& r : cc.rows) EXPECT_EQ(r.verdict, r.a.metric == "scalar_queries_per_s" ? "slower" : "") << r.a.metric;
+}
+
+TEST(Compare, TraceRenderAccuracyKinds) {
+  const json ta = {{"scene", "bunny.obj"}, {"ray_set", "primary"}, {"layout", "wide"}, {"packet", 8}, {"threads", 1}, {"rays", 1000000},
+                   {"mrays_per_s", 10.0}, {"seconds", {0.1, 0.1, 0.1, 0.1, 0.1}}, {"embree_mrays_per_s", 20.0},
+                   {"embree_seconds", {0.05, 0.05, 0.05, 0.05, 0.05}}, {"mismatch_rate", 0.0}, {"build_ms", 10.0}};
+  json tb = ta;
+  tb["threads"] = 2;
+  tb["seconds"] = {0.05, 0.05, 0.05, 0.05, 0.05};
+  tb["mrays_per_s"] = 20.0;
+  tb["mismatch_rate"] = 0.001;
+  ASSERT_EQ(rb::app::result_kind(ta), "trace");
+  const rb::app::Comparison t = rb::app::compare_results(rb::app::figures_of("trace", ta), rb::app::figures_of("trace", tb), {});
+  std::map<std::string, const rb::app::ComparedRow*> by;
+  for (const auto& r : t.rows) by[r.a.metric] = &r;
+  ASSERT_TRUE(by.count("mrays_per_s") && by.count("embree_mrays_per_s") && by.count("mismatch_rate"));
+  EXPECT_NEAR(by["mrays_per_s"]->ratio, 2.0, 1e-12);
+  EXPECT_EQ(by["mrays_per_s"]->a.samples.size(), 5u);  // per-run Mrays/s from the seconds
+  EXPECT_EQ(by["mrays_per_s"]->verdict, "faster");
+  EXPECT_EQ(by["mismatch_rate"]->verdict, "worse");  // a seeded figure: any change counts
+  bool threads_noted = false;
+  for (const auto& n : t.notes) threads_noted |= has(n, "threads");
+  EXPECT_TRUE(threads_noted);
+
+  const json ra = {{"scene", "spd:balls"}, {"width", 64}, {"height", 64}, {"depth", 5}, {"threads", 1}, {"eye_rays", 4096},
+                   {"total_rays", 10000}, {"mrays_per_s", 5.0}, {"trace_seconds", {0.002, 0.002, 0.002}}};
+  json rb2 = ra;
+  rb2["total_rays"] = 10001;
+  ASSERT_EQ(rb::app::result_kind(ra), "render");
+  const rb::app::Comparison r = rb::app::compare_results(rb::app::figures_of("render", ra), rb::app::figures_of("render", rb2), {});
+  EXPECT_EQ(r.changed, 1u);  // a ray count that moved: neither better nor worse, but not equal
+
+  const json aa = {{"mode", "quick"}, {"seed", 1}, {"rows", {{{"family", "sphere"}, {"case", "far"}, {"method", "geometric"},
+                                                              {"precision", "float"}, {"false_hit_ppm", 0.0}, {"false_miss_ppm", 10.0},
+                                                              {"ns_per_test", 5.0}}}}};
+  json ab = aa;
+  ab["rows"][0]["false_hit_ppm"] = 3.0;
+  ab["rows"][0]["false_miss_ppm"] = 5.0;
+  ASSERT_EQ(rb::app::result_kind(aa), "accuracy");
+  rb::app::CompareOptions o;
+  o.threshold = 0.5;
+  const rb::app::Comparison a = rb::app::compare_results(rb::app::figures_of("accuracy", aa), rb::app::figures_of("accuracy", ab), o);
+  EXPECT_EQ(a.worse, 1u);   // false hits 0 -> 3 ppm
+  EXPECT_EQ(a.better, 1u);  // false misses 10 -> 5 ppm
+  EXPECT_EQ(a.regressions, 1u);  // a rate that rose from 0 is beyond any threshold
+
+  // Two kinds do not compare.
+  EXPECT_THROW(rb::app::compare_results(rb::app::figures_of("trace", ta), rb::app::figures_of("render", ra), {}), std::runtime_error);
+}
+
+TEST(Compare, ReportFolders) {
+  Scratch s("compare-report");
+  for (const char* d : {"a", "b"}) {
+    fs::create_directories(s / d);
+    const double f = std::string(d) == "a" ? 1.0 : 1.5;
+    std::ofstream(s / (std::string(d) + "/summary.json")) << json{{"machine", {{"cpu", "X"}}},
+                                                                {"render", {{{"scene", "lecture:x"}, {"width", 8}, {"height", 8},
+                                                                             {"total_rays", 64}, {"mrays_per_s", 2.0 * f}}}}}.dump();
+    std::ofstream(s / (std::string(d) + "/bench.json")) << bench_doc({{"k/m/scalar/hit", around(100 * f)}}).dump();
+    std::ofstream(s / (std::string(d) + "/csg.json")) << json::array({{{"scene", "csg:die"}, {"simd8_queries_per_s", 1e6 * f}}}).dump();
+  }
+  const rb::app::Comparison c = rb::app::compare_results(rb::app::load_results(s / "a"), rb::app::load_results(s / "b"), {});
+  EXPECT_EQ(c.kind, "report");
+  std::set<std::string> sections;
+  for (const auto& r : c.rows) sections.insert(r.a.section);
+  EXPECT_EQ(sections, (std::set<std::string>{"bench", "csg", "render"}));
+  EXPECT_EQ(c.faster, 3u);
+  // A report folder against a single result is an error that names both.
+  try {
+    std::ofstream(s / "x.json") << bench_doc({{"k/m/scalar/hit", around(1)}}).dump();
+    rb::app::compare_results(rb::app::load_results(s / "a"), rb::app::load_results(s / "x.json"), {});
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_TRUE(has(e.what(), "one kind")) << e.what();
+  }
+  EXPECT_THROW(rb::app::load_results(s / "nosuch.json"), std::runtime_error);
+  std::ofstream(s / "notjson.json") << "{ nope";
+  try {
+    rb::app::load_results(s / "notjson.json");
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_TRUE(has(e.what(), "notjson.json: not JSON")) << e.what();
+  }
+}
+
+// The binary on its own results: two bench runs and two trace runs compare, --threshold guards.
+TEST(Compare, BinaryComparesItsOwnRunsAndGuardsWithThreshold) {
+  Scratch s("compare-bin");
+  const std::string filter = "--filter '^sphere/geometric/(scalar|rays_in_lanes)/hit$' -r 3 --min-time 0.001";
+  ASSERT_EQ(run_in(s.dir, "bench " + filter + " --json a.json").status, 0);
+  ASSERT_EQ(run_in(s.dir, "bench " + filter + " --json b.json").status, 0);
+  Outcome r = run_in(s.dir, "compare a.json b.json");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(has(r.out, "2 rows compared")) << r.out;
+  EXPECT_LE(widest(r.out), 80u) << r.out;
+  r = run_in(s.dir, "compare a.json b.json --markdown");
+  EXPECT_TRUE(has(r.out, "| sphere/geometric/scalar/hit |")) << r.out;
+  r = run_in(s.dir, "compare a.json b.json --json -");
+  EXPECT_EQ(r.json()["rows"].size(), 2u);
+
+  // A synthetic regression against the measured run: B 50 % slower on every row.
+  json b = json::parse(slurp(s / "b.json"));
+  for (auto& x : b["benchmarks"])
+    if (x.contains("tests_per_s") && x["tests_per_s"].is_number()) x["tests_per_s"] = x["tests_per_s"].get<double>() * 0.5;
+  // 3 against 3 repetitions cannot reach p < 0.05: the guard needs more. Nine each:
+  json a9 = json::parse(slurp(s / "a.json")), b9 = b;
+  for (json* d : {&a9, &b9}) {
+    json more = json::array();
+    for (const auto& x : (*d)["benchmarks"])
+      if (x.value("run_type", "") == "iteration")
+        for (int k = 0; k < 3; ++k) {
+          json y = x;
+          y["tests_per_s"] = x["tests_per_s"].get<double>() * (1 + 0.001 * k);
+          more.push_back(y);
+        }
+    (*d)["benchmarks"] = more;
+  }
+  std::ofstream(s / "a9.json") << a9.dump();
+  std::ofstream(s / "b9.json") << b9.dump();
+  r = run_in(s.dir, "compare a9.json b9.json --threshold 10");
+  EXPECT_EQ(r.status, 1) << r.out << r.err;
+  EXPECT_TRUE(has(r.err, "2 regression(s)")) << r.err;
+  EXPECT_TRUE(has(r.out, "slower!")) << r.out;
+  r = run_in(s.dir, "compare b9.json a9.json --threshold 10");  // the other way round: faster, exit 0
+  EXPECT_EQ(r.status, 0) << r.err;
+
+  std::ofstream(s / "oct.obj") << "v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\n"
+                                  "f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n";
+  ASSERT_EQ(run_in(s.dir, "trace oct.obj --count 128 -r 2 --warmup 0 --json t1.json").status, 0);
+  ASSERT_EQ(run_in(s.dir, "trace oct.obj --count 128 -r 2 --warmup 0 --json t2.json").status, 0);
+  r = run_in(s.dir, "compare t1.json t2.json");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(has(r.out, "mrays_per_s") && has(r.out, "embree_mrays_per_s")) << r.out;
+  r = run_in(s.dir, "compare a.json t1.json");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.err_lines().size(), 1u) << r.err;
+}
+
+}  // namespace
