@@ -4,6 +4,7 @@
 #pragma once
 
 #include "accuracy/common.hpp"
+#include "core/roots_ld.hpp"
 #include "core/vec3.hpp"
 #include "kernels/transform.hpp"
 
@@ -41,9 +42,7 @@ std::vector<long double> torus_ref_roots(const Vec3f& o, const Vec3f& d, float t
 // exact; either when the ray only touches an edge or corner or runs in a face's plane.
 Ref box_ref(const Vec3f& o, const Vec3f& d, float tmin, float tmax, const Vec3f& lo, const Vec3f& hi);
 
-// Real roots of a polynomial of degree <= 4 (c[k] coefficient of x^k) in [lo, hi], long double,
-// by isolation between the roots of the derivatives and bisection to full precision. Roots of
-// even multiplicity are found only where the value is exactly 0.
-std::vector<long double> poly_roots_ld(const long double (&c)[5], int deg, long double lo, long double hi);
+// poly_roots_ld: core/roots_ld.hpp.
+using rb::poly_roots_ld;
 
 }  // namespace rb::acc

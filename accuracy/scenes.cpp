@@ -29,144 +29,23 @@ namespace rb::acc {
 
 namespace {
 
-using LD = long double;
-struct V3 {
-  LD x, y, z;
-};
-V3 operator+(V3 a, V3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-V3 operator-(V3 a, V3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-V3 operator*(V3 a, LD k) { return {a.x * k, a.y * k, a.z * k}; }
-LD dotl(V3 a, V3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-V3 crossl(V3 a, V3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+using kinds::ref::LD;
+using kinds::ref::V3;
 V3 vl(const Vec3d& v) { return {LD(v.x), LD(v.y), LD(v.z)}; }
 V3 vl(const Vec3f& v) { return {LD(v.x), LD(v.y), LD(v.z)}; }
 
-constexpr LD kNo = std::numeric_limits<LD>::infinity();
-
-// The first t in (lo, hi] among the real roots of a t^2 + 2 b t + c, ascending.
-LD quad_first(LD a, LD b, LD c, LD lo, LD hi, LD& second) {
-  second = kNo;
-  if (a == 0) return kNo;
-  const LD disc = b * b - a * c;
-  if (disc < 0) return kNo;
-  const LD sq = std::sqrt(disc);
-  const LD q = -(b + (b < 0 ? -sq : sq));
-  LD t0 = q / a, t1 = q != 0 ? c / q : t0;
-  if (t0 > t1) std::swap(t0, t1);
-  if (t0 >= lo && t0 <= hi) return second = t1, t0;
-  if (t1 >= lo && t1 <= hi) return t1;
-  return kNo;
-}
-
-// One primitive of the scene against a ray, exactly enough: its first t in [lo, hi] (kNo: none).
+// The first hit of the whole scene: every primitive's reference (its kind's, tracer/kinds/*.hpp)
+// against the ray, brute force. Its t, and the primitive code (bvh::prim_code).
 struct Reference {
   const scene::Scene& s;
-
-  LD sphere(std::uint32_t i, V3 o, V3 d, LD lo, LD hi) const {
-    const auto& sp = s.spheres[i];
-    const V3 f = o - vl(sp.c);
-    LD second;
-    return quad_first(dotl(d, d), dotl(f, d), dotl(f, f) - LD(sp.r) * LD(sp.r), lo, hi, second);
-  }
-  LD triangle(std::uint32_t i, V3 o, V3 d, LD lo, LD hi) const {
-    const auto& t = s.triangles[i];
-    const V3 a = vl(s.verts[t.v[0]]), e1 = vl(s.verts[t.v[1]]) - a, e2 = vl(s.verts[t.v[2]]) - a;
-    const V3 p = crossl(d, e2);
-    const LD det = dotl(e1, p);
-    if (det == 0) return kNo;
-    const V3 tv = o - a;
-    const LD u = dotl(tv, p) / det;
-    if (u < 0 || u > 1) return kNo;
-    const V3 q = crossl(tv, e1);
-    const LD v = dotl(d, q) / det;
-    if (v < 0 || u + v > 1) return kNo;
-    const LD tt = dotl(e2, q) / det;
-    return tt >= lo && tt <= hi ? tt : kNo;
-  }
-  LD polygon(std::uint32_t i, V3 o, V3 d, LD lo, LD hi) const {
-    const auto& pg = s.polygons[i];
-    const Vec3d* v = s.poly_verts.data() + pg.first;
-    const Vec3d n = newell_normal(v, pg.count);
-    const V3 nl = vl(n);
-    const LD den = dotl(nl, d);
-    if (den == 0) return kNo;
-    const LD tt = dotl(vl(v[0]) - o, nl) / den;
-    if (!(tt >= lo && tt <= hi)) return kNo;
-    const V3 p = o + d * tt;
-    const int ax = dominant_axis(n), a = (ax + 1) % 3, b = (ax + 2) % 3;
-    auto c = [](V3 q, int k) { return k == 0 ? q.x : k == 1 ? q.y : q.z; };
-    bool in = false;
-    for (std::uint32_t k = 0; k < pg.count; ++k) {
-      const V3 p0 = vl(v[k]) - p, p1 = vl(v[(k + 1) % pg.count]) - p;
-      const LD y0 = c(p0, b), y1 = c(p1, b), x0 = c(p0, a), x1 = c(p1, a);
-      if ((y0 >= 0) != (y1 >= 0) && ((y1 * (x0 - x1) >= x1 * (y0 - y1)) == (y1 >= 0))) in = !in;
-    }
-    return in ? tt : kNo;
-  }
-  // An NFF shell (open): |q_perp| = r(s) for 0 <= s <= len, q = p - base, s = q . a.
-  LD shell(std::uint32_t i, V3 o, V3 d, LD lo, LD hi) const {
-    const auto& c = s.cones[i];
-    const V3 b = vl(c.base), ax0 = vl(c.apex) - b;
-    const LD len = std::sqrt(dotl(ax0, ax0));
-    const V3 a = ax0 * (LD(1) / len);
-    const LD r0 = std::fabs(LD(c.base_r)), r1 = std::fabs(LD(c.apex_r)), k = (r1 - r0) / len;
-    // |q - (q.a) a|^2 - (r0 + k (q.a))^2 = 0 along q = f + t d.
-    const V3 f = o - b;
-    const LD fa = dotl(f, a), da = dotl(d, a);
-    const V3 fp = f - a * fa, dp = d - a * da;
-    const LD A = dotl(dp, dp) - k * k * da * da, B = dotl(fp, dp) - (r0 + k * fa) * k * da, C = dotl(fp, fp) - (r0 + k * fa) * (r0 + k * fa);
-    const LD disc = B * B - A * C;
-    if (A == 0 || disc < 0) return kNo;
-    const LD sq = std::sqrt(disc);
-    const LD q = -(B + (B < 0 ? -sq : sq));
-    LD ts[2] = {q / A, q != 0 ? C / q : q / A};
-    if (ts[0] > ts[1]) std::swap(ts[0], ts[1]);
-    for (LD tt : ts) {
-      if (!(tt >= lo && tt <= hi)) continue;
-      const LD sa = fa + tt * da;
-      if (sa >= 0 && sa <= len && r0 + k * sa >= 0) return tt;
-    }
-    return kNo;
-  }
-  LD torus(std::uint32_t i, V3 o, V3 d, LD lo, LD hi) const {
-    const auto& tr = s.tori[i];
-    const Vec3d w0 = tr.axis * (1.0 / std::sqrt(dot(tr.axis, tr.axis)));
-    const V3 w = vl(w0), c = vl(tr.c);
-    const LD R = LD(tr.R), r = LD(tr.r);
-    // Re-centred at the closest approach to the centre (the quartic's coefficients stay small).
-    const LD dd = dotl(d, d);
-    const LD t0 = -dotl(o - c, d) / dd;
-    const V3 q = o + d * t0 - c;
-    // T(q + s d) = (|q + s d|^2 - R^2 - r^2)^2 - 4 R^2 (r^2 - ((q + s d) . w)^2), in s.
-    const LD qq = dotl(q, q), qd = dotl(q, d), qw = dotl(q, w), dw = dotl(d, w);
-    const LD k0 = qq - R * R - r * r, k1 = 2 * qd, k2 = dd;
-    const long double cf[5] = {k0 * k0 - 4 * R * R * (r * r - qw * qw), 2 * k0 * k1 + 8 * R * R * qw * dw,
-                               k1 * k1 + 2 * k0 * k2 + 4 * R * R * dw * dw, 2 * k1 * k2, k2 * k2};
-    const LD ext = (R + r) * 2 + std::sqrt(qq);
-    for (LD sroot : poly_roots_ld(cf, 4, -ext / std::sqrt(dd), ext / std::sqrt(dd))) {
-      const LD tt = t0 + sroot;
-      if (tt >= lo && tt <= hi) return tt;
-    }
-    return kNo;
-  }
-
-  // The first hit of the whole scene: its t and primitive code (bvh::prim_code), brute force.
   bvh::HitRec trace(V3 o, V3 d, LD lo, LD hi, LD& t) const {
-    t = kNo;
+    t = kinds::ref::kNone;
     std::uint32_t prim = bvh::kNoPrim;
-    auto take = [&](LD tt, kinds::Kind k, std::uint32_t i) {
-      if (tt < t) t = tt, prim = kinds::code(k, i);
-    };
+    const kinds::ref::Ray r{o, d, lo, hi};
     kinds::AllKinds::each([&]<class K>() {
       K::each(s, [&](std::uint32_t i) {
-        LD tt = kNo;
-        if constexpr (std::is_same_v<K, kinds::SphereKind>) tt = sphere(i, o, d, lo, hi);
-        else if constexpr (std::is_same_v<K, kinds::TriangleKind>) tt = triangle(i, o, d, lo, hi);
-        else if constexpr (std::is_same_v<K, kinds::PolygonKind>) tt = polygon(i, o, d, lo, hi);
-        else if constexpr (std::is_same_v<K, kinds::CylinderKind> || std::is_same_v<K, kinds::ConeKind>) tt = shell(i, o, d, lo, hi);
-        else if constexpr (std::is_same_v<K, kinds::TorusKind>) tt = torus(i, o, d, lo, hi);
-        // CSG objects have no reference here (no whole-scene case holds one).
-        take(tt, K::id, i);
+        const LD tt = K::reference(s, i, r);
+        if (tt < t) t = tt, prim = kinds::code(K::id, i);
       });
     });
     return {float(t), prim};

@@ -103,7 +103,7 @@ void remove_unwritten_outputs() {
 }
 
 bool is_generated_scene(const std::string& source) {
-  for (const char* p : {"spd:", "lecture:", "csg:"})
+  for (const char* p : {"spd:", "lecture:", "csg:", "precision:"})
     if (source.rfind(p, 0) == 0) return true;
   return false;
 }

@@ -61,56 +61,27 @@ json scene_info(const rb::scene::Scene& s) {
     if (!n) return;
     const tracer::KindPlan& kp = plan.kinds[std::size_t(K::id)];
     json k{{"kind", K::name}, {"count", n}};
-    std::size_t input = 0, batch = 0;
+    std::size_t batch = 0;
     std::string what;
     if constexpr (std::is_same_v<K, kinds::TriangleKind>) {
       k["vertices"] = s.verts.size();
       k["vertex_normals"] = !s.vert_normals.empty();
-      input = n * sizeof(rb::scene::TriangleIn) + s.verts.size() * sizeof(Vec3d) + s.vert_normals.size() * sizeof(Vec3f);
-    } else if constexpr (std::is_same_v<K, kinds::SphereKind>) {
-      input = n * sizeof(rb::scene::SphereIn);
-    } else if constexpr (std::is_same_v<K, kinds::CylinderKind> || std::is_same_v<K, kinds::ConeKind>) {
-      input = n * sizeof(rb::scene::ConeIn);
-    } else if constexpr (std::is_same_v<K, kinds::TorusKind>) {
-      input = n * sizeof(rb::scene::TorusIn);
     } else if constexpr (std::is_same_v<K, kinds::PolygonKind>) {
       k["vertices"] = s.poly_verts.size();
-      input = n * sizeof(rb::scene::PolygonIn) + s.poly_verts.size() * sizeof(Vec3d) + s.poly_normals.size() * sizeof(Vec3f);
-      std::vector<std::vector<Vec3d>> polys;
-      for (std::uint32_t i = 0; i < n; ++i) polys.push_back(K::vertices(s, i));
-      const PolygonSoA soa = PolygonSoA::build(polys);
-      batch = soa.bytes();
-      what = fmt::format("PolygonSoA ({} degenerate kept as never-hit slots)", soa.degenerate);
-    } else if constexpr (std::is_same_v<K, kinds::CsgKind>) {
-      // Each a tree (kernels/csg.hpp) of nodes with world boxes and leaves with their composed
-      // inverse transforms; no SoA batch (a tree is queried as a whole).
-      std::size_t nodes = 0, leaves = 0;
-      int depth = 0;
-      std::map<std::string, std::size_t> by_kind;
-      for (const auto& obj : s.csgs) {
-        nodes += obj.tree->nodes.size();
-        leaves += obj.tree->leaves.size();
-        batch += obj.tree->bytes();
-        depth = std::max(depth, obj.tree->depth);
-        for (const auto& l : obj.tree->leaves) ++by_kind[std::string(csg_leaf_name(l.kind)) + (l.placed ? " (transformed)" : "")];
-      }
-      std::string mix;
-      for (const auto& [kk, nn] : by_kind) mix += fmt::format("{}{} {}", mix.empty() ? "" : ", ", nn, kk);
-      k["nodes"] = nodes;
-      k["leaves"] = leaves;
-      k["depth"] = depth;
-      k["leaf_kinds"] = by_kind;
-      input = n * sizeof(rb::scene::CsgIn) + batch;
-      what = fmt::format("CSG trees ({} nodes, depth {}; leaves: {})", nodes, depth, mix);
     }
-    if constexpr (!K::custom) {
+    if constexpr (K::custom) {
+      batch = K::batch_bytes(s, what);
+    } else {
       // One slot per primitive (the BVH's leaves pad each group of 8; `trace` reports that).
       const bool d = kp.f64_storage;
       batch = n * (d ? sizeof(typename K::template Prim<double>) : sizeof(typename K::template Prim<float>));
       what = fmt::format("PrimSoA<{}> in {}", K::name, d ? "double" : "float");
     }
+    const std::size_t input = K::input_bytes(s);
     k["input_bytes"] = input;
     k["batches"] = json::array({{{"batch", what}, {"bytes", batch}}});
+    k["plan"] = fmt::format("{} in {}{}", K::methods[std::size_t(kp.method)].name, kp.f64 ? "double" : "float",
+                            kp.f64_storage ? " (stored in double)" : "");
     kinds.push_back(k);
   });
   j["kinds"] = kinds;
@@ -152,6 +123,15 @@ std::string scene_info_text(const json& j) {
     }
   }
   o += fmt::format("{:<10} {:>10} {:>10} {:>12}\n", "total", j["primitives"].get<std::size_t>(), "", mib(j["input_bytes"]));
+  // How the tracer models the scene (the auto model; `raybench plan` gives the reasons).
+  if (j.contains("plan")) {
+    const auto& p = j["plan"];
+    o += fmt::format("plan        frame {}", p["frame"]["kind"].get<std::string>());
+    for (const auto& k : j["kinds"])
+      if (k.contains("plan")) o += fmt::format("; {} {}", k["kind"].get<std::string>(), k["plan"].get<std::string>());
+    o += fmt::format("; {} slab test; spawn {} (`raybench plan` explains)\n", p["slab"]["test"].get<std::string>(),
+                     p["spawn"]["scheme"].get<std::string>());
+  }
   if (j.contains("load_ms")) o += fmt::format("loaded in   {:.1f} ms\n", j["load_ms"].get<double>());
   return o;
 }

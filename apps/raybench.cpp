@@ -131,10 +131,13 @@ int main(int argc, char** argv) {
   add_json(info, info_json, "Write the description as JSON to FILE\n(no FILE: stdout)");
   info->footer(
       "Scenes: a .obj, .ply or .nff file, a .json scene (CSG trees),\n"
-      "spd:NAME[:SIZE] (balls gears mount rings teapot tetra tree), lecture:NAME, or\n"
-      "csg:NAME (spheres_minus lens die torus_box ellipsoid_minus_cylinder).\n"
-      "Shows primitive counts per kind, bounds, camera, lights, materials and the\n"
-      "memory of the input form and of each SoA kernel batch.");
+      "spd:NAME[:SIZE] (balls gears mount rings teapot tetra tree), lecture:NAME,\n"
+      "csg:NAME (spheres_minus lens die torus_box ellipsoid_minus_cylinder), or\n"
+      "precision:NAME (scenes that test a tracer's precision: ball_ground,\n"
+      "ball_ground_far, planet, mesh_spheres[_1e3|_1e5|_1e7], far_spheres,\n"
+      "thin_torus, far_cylinders, mixed_scales).\n"
+      "Shows primitive counts per kind, bounds, camera, lights, materials, the\n"
+      "memory of the input form and of each SoA kernel batch, and the tracer's plan.");
 
   // ---- query ----
   bool query_double = false;

@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <cstdint>
 #include <string>
 
@@ -120,6 +121,40 @@ inline Vec3f interpolate(const Vec3d* v, const Vec3f* n, std::size_t count, cons
   return ns;
 }
 }  // namespace detail
+
+// The accuracy lab's reference (accuracy/scenes.cpp): a ray in long double, world coordinates. Each
+// kind's `reference(scene, i, ray)` gives the first t of primitive i in [lo, hi] from the scene's own
+// double geometry in long double arithmetic (+inf: none; NaN: the kind has no reference).
+namespace ref {
+using LD = long double;
+struct V3 {
+  LD x, y, z;
+};
+inline V3 operator+(V3 a, V3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+inline V3 operator-(V3 a, V3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+inline V3 operator*(V3 a, LD k) { return {a.x * k, a.y * k, a.z * k}; }
+inline LD dot(V3 a, V3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline V3 cross(V3 a, V3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+inline V3 of(const Vec3d& v) { return {LD(v.x), LD(v.y), LD(v.z)}; }
+inline constexpr LD kNone = std::numeric_limits<LD>::infinity();
+struct Ray {
+  V3 o, d;
+  LD lo, hi;
+};
+// The first root in [lo, hi] of a t^2 + 2 b t + c (kNone: none).
+inline LD quadratic_first(LD a, LD b, LD c, LD lo, LD hi) {
+  if (a == 0) return kNone;
+  const LD disc = b * b - a * c;
+  if (disc < 0) return kNone;
+  const LD sq = std::sqrt(disc);
+  const LD q = -(b + (b < 0 ? -sq : sq));
+  LD t0 = q / a, t1 = q != 0 ? c / q : t0;
+  if (t0 > t1) std::swap(t0, t1);
+  if (t0 >= lo && t0 <= hi) return t0;
+  if (t1 >= lo && t1 <= hi) return t1;
+  return kNone;
+}
+}  // namespace ref
 
 // A primitive's scene index and kind, packed as the tracer's hits are (bvh::prim_code).
 inline std::uint32_t code(Kind k, std::uint32_t index) { return bvh::prim_code(int(k), index); }

@@ -45,6 +45,8 @@ struct ConeKind {
     if constexpr (M == 0) return intersect_transformed(r, p, k);
     else return intersect_transformed_recentred(r, p, Vec3<F>{F(0), F(0), F(0.5) * (p.prim.z0 + p.prim.z1)}, k);
   }
+  static std::size_t input_bytes(const Scene& s) { return count(s) * sizeof(scene::ConeIn); }
+  static ref::LD reference(const Scene& s, std::uint32_t i, const ref::Ray& r) { return detail::shell_reference(s.cones[i], r); }
   static Surface surface(const HitQuery& q, std::uint32_t i) { return detail::shell_surface(q, q.scene->cones.at(i)); }
 };
 

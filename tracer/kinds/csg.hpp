@@ -8,6 +8,7 @@
 #include "kernels/csg.hpp"
 #include "scene/csg.hpp"
 
+#include <map>
 #include <memory>
 #include <vector>
 
@@ -96,6 +97,26 @@ struct CsgKind {
       }
     }
   }
+
+  static std::size_t input_bytes(const Scene& s) { return s.csgs.size() * sizeof(scene::CsgIn) + s.csg_tree_bytes(); }
+  // The kernel batch: the trees themselves, and what they hold.
+  static std::size_t batch_bytes(const Scene& s, std::string& what) {
+    std::size_t nodes = 0, bytes = 0;
+    int depth = 0;
+    std::map<std::string, std::size_t> by_kind;
+    for (const auto& obj : s.csgs) {
+      nodes += obj.tree->nodes.size();
+      bytes += obj.tree->bytes();
+      depth = std::max(depth, obj.tree->depth);
+      for (const auto& l : obj.tree->leaves) ++by_kind[std::string(csg_leaf_name(l.kind)) + (l.placed ? " (transformed)" : "")];
+    }
+    std::string mix;
+    for (const auto& [k, n] : by_kind) mix += (mix.empty() ? "" : ", ") + std::to_string(n) + " " + k;
+    what = "CSG trees (" + std::to_string(nodes) + " nodes, depth " + std::to_string(depth) + "; leaves: " + mix + ")";
+    return bytes;
+  }
+  // No reference: a tree is checked against its own interval algebra (tests/test_csg.cpp).
+  static ref::LD reference(const Scene&, std::uint32_t, const ref::Ray&) { return std::numeric_limits<ref::LD>::quiet_NaN(); }
 
   // The tree's own closest-hit query on the ray as traced gives the outward normal (flipped on
   // subtracted surfaces) and the material of the leaf surface hit.
