@@ -19,6 +19,10 @@
 #include <string>
 #include <vector>
 
+namespace rb::scene {
+struct Scene;
+}
+
 namespace rb::acc {
 
 struct Options {
@@ -57,4 +61,10 @@ bool selects(const std::string& filter, const std::string& family_case);
 
 // Runs every selected case of every family. Rows come out in a stable order.
 std::vector<Row> run_lab(const Options& o);
+
+// One whole scene traced under the fast, auto and exact models against the exact reference (the
+// rows of family "scene", accuracy/scenes.cpp): about `rays` primary rays through the scene's view
+// and a spawned secondary ray per hit; ns per ray timed when `timing`.
+std::vector<Row> whole_scene_rows(const scene::Scene& s, const std::string& case_name, const std::string& what, std::size_t rays,
+                                  bool timing, std::uint64_t seed);
 }  // namespace rb::acc

@@ -112,96 +112,104 @@ std::vector<CaseInfo> scene_cases() {
   return v;
 }
 
+std::vector<Row> whole_scene_rows(const scene::Scene& s, const std::string& case_name, const std::string& what, std::size_t nrays,
+                                  bool timing, std::uint64_t seed) {
+  std::vector<Row> rows;
+  const tracer::Profile prof = tracer::make_profile(s);
+  const Reference ref{s};
+  const scene::View view = scene::view_of(s);
+  const double small = prof.object_min > 0 ? prof.object_min : 1.0;
+  for (tracer::Model m : {tracer::Model::fast, tracer::Model::automatic, tracer::Model::exact}) {
+    std::mt19937_64 rng(seed);
+    const tracer::SceneAccel a = tracer::SceneAccel::build(s, tracer::make_plan(s, prof, m));
+    // Primary rays: jittered through the image, the same directions for every model.
+    const int side = std::max(4, int(std::sqrt(double(nrays))));
+    RaySoA rays;
+    for (int py = 0; py < side; ++py)
+      for (int px = 0; px < side; ++px) {
+        const double u = 2 * (px + urand(rng, 0, 1)) / side - 1, v = 1 - 2 * (py + urand(rng, 0, 1)) / side;
+        rays.push(a.frame_ray(view.from, view.dir(u, v)));
+      }
+    const std::size_t n = rays.count;
+    std::vector<bvh::HitRec> hits(rays.size());
+    tracer::TraceOptions to;
+    to.packet = 8;
+    a.trace(rays, 0, rays.size(), hits.data(), to);
+    Row r;
+    r.family = "scene", r.case_name = case_name, r.what = what;
+    r.method = tracer::model_name(m);
+    r.precision = tracer::frame_name(a.plan().frame);
+    r.rays = r.tests = n;
+    std::vector<double> err;
+    std::size_t spawned = 0;
+    RaySoA second;
+    std::vector<std::uint32_t> source;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Ray<float> fr = rays.get(i);
+      const V3 o = vl(a.origin()) + vl(fr.o), d = vl(fr.d);
+      LD tref;
+      const bvh::HitRec h = ref.trace(o, d, LD(fr.tmin), LD(fr.tmax), tref);
+      const bool got = hits[i].prim != bvh::kNoPrim, want = h.prim != bvh::kNoPrim;
+      if (got && !want) ++r.false_hits;
+      if (!got && want) ++r.false_misses;
+      if (got && want) {
+        const double dt = std::fabs(double(hits[i].t) - double(tref));
+        const double tol = 1e-5 * (double(tref) + small);
+        if (dt > tol && !near_tie(s, a, fr, hits[i], h.prim)) ++r.wrong_roots;
+        err.push_back(dt / (double(std::numeric_limits<float>::epsilon()) * (double(tref) + small)));
+      }
+      if (!got) continue;
+      // The secondary ray: from the model's hit point by its spawn offset, into the hemisphere the
+      // primary ray came from.
+      const kinds::Surface sf = a.surface(hits[i].prim, fr, hits[i].t);
+      const Vec3f side_n = dot(sf.ng, fr.d) <= 0.0f ? sf.ng : -sf.ng;
+      Vec3d dir = unit_rand(rng);
+      if (dot(dir, to_double(side_n)) < 0) dir = dir * -1.0;
+      second.push(make_ray(a.spawn_point(sf, side_n), to_float(dir)));
+      source.push_back(hits[i].prim);
+      ++spawned;
+    }
+    std::vector<bvh::HitRec> sh(second.size());
+    tracer::TraceOptions so;
+    if (second.count) a.trace(second, 0, second.size(), sh.data(), so);
+    for (std::size_t k = 0; k < second.count; ++k)
+      if (sh[k].prim == source[k] && double(sh[k].t) < 1e-4 * feature_size(s, source[k])) ++r.self_hits;
+    const double N = double(std::max<std::size_t>(n, 1));
+    r.false_hit_ppm = 1e6 * double(r.false_hits) / N;
+    r.false_miss_ppm = 1e6 * double(r.false_misses) / N;
+    r.wrong_root_ppm = 1e6 * double(r.wrong_roots) / N;
+    r.self_hit_ppm = spawned ? 1e6 * double(r.self_hits) / double(spawned) : 0.0;
+    r.leak_ppm = r.multi_hit_ppm = r.nan_ppm = std::numeric_limits<double>::quiet_NaN();
+    r.iterations = std::numeric_limits<double>::quiet_NaN();
+    r.t_err_ulp_p50 = r.t_err_ulp_p99 = r.t_err_ulp_max = std::numeric_limits<double>::quiet_NaN();
+    if (!err.empty()) {
+      std::sort(err.begin(), err.end());
+      r.scaled_err_p99 = err[std::min(err.size() - 1, std::size_t(0.99 * double(err.size())))];
+    } else {
+      r.scaled_err_p99 = std::numeric_limits<double>::quiet_NaN();
+    }
+    r.ns_per_test = std::numeric_limits<double>::quiet_NaN();
+    if (timing) {
+      double best = 1e300;
+      for (int rep = 0; rep < 5; ++rep) {
+        const auto t0 = std::chrono::steady_clock::now();
+        a.trace(rays, 0, rays.size(), hits.data(), to);
+        best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+      }
+      r.ns_per_test = best * 1e9 / N;
+    }
+    rows.push_back(r);
+  }
+  return rows;
+}
+
 void run_scenes(Ctx& x) {
   for (const CaseInfo& ci : scene_cases()) {
     if (!x.selected(ci.family, ci.name)) continue;
-    const scene::Scene s = scene::precision_scene(ci.name);
-    const tracer::Profile prof = tracer::make_profile(s);
-    const Reference ref{s};
-    const scene::View view = scene::view_of(s);
-    const double small = prof.object_min > 0 ? prof.object_min : 1.0;
-    for (tracer::Model m : {tracer::Model::fast, tracer::Model::automatic, tracer::Model::exact}) {
-      x.tick(ci.family, ci.name);
-      x.reseed(ci.family, ci.name);
-      const tracer::SceneAccel a = tracer::SceneAccel::build(s, tracer::make_plan(s, prof, m));
-      // Primary rays: jittered through the image, the same directions for every model.
-      const int side = std::max(4, int(std::sqrt(double(x.rays))));
-      RaySoA rays;
-      for (int py = 0; py < side; ++py)
-        for (int px = 0; px < side; ++px) {
-          const double u = 2 * (px + urand(x.rng, 0, 1)) / side - 1, v = 1 - 2 * (py + urand(x.rng, 0, 1)) / side;
-          rays.push(a.frame_ray(view.from, view.dir(u, v)));
-        }
-      const std::size_t n = rays.count;
-      std::vector<bvh::HitRec> hits(rays.size());
-      tracer::TraceOptions to;
-      to.packet = 8;
-      a.trace(rays, 0, rays.size(), hits.data(), to);
-      Row r;
-      r.family = "scene", r.case_name = ci.name, r.what = ci.what;
-      r.method = tracer::model_name(m);
-      r.precision = tracer::frame_name(a.plan().frame);
-      r.rays = r.tests = n;
-      std::vector<double> err;
-      std::size_t spawned = 0;
-      RaySoA second;
-      std::vector<std::uint32_t> source;
-      for (std::size_t i = 0; i < n; ++i) {
-        const Ray<float> fr = rays.get(i);
-        const V3 o = vl(a.origin()) + vl(fr.o), d = vl(fr.d);
-        LD tref;
-        const bvh::HitRec h = ref.trace(o, d, LD(fr.tmin), LD(fr.tmax), tref);
-        const bool got = hits[i].prim != bvh::kNoPrim, want = h.prim != bvh::kNoPrim;
-        if (got && !want) ++r.false_hits;
-        if (!got && want) ++r.false_misses;
-        if (got && want) {
-          const double dt = std::fabs(double(hits[i].t) - double(tref));
-          const double tol = 1e-5 * (double(tref) + small);
-          if (dt > tol && !near_tie(s, a, fr, hits[i], h.prim)) ++r.wrong_roots;
-          err.push_back(dt / (double(std::numeric_limits<float>::epsilon()) * (double(tref) + small)));
-        }
-        if (!got) continue;
-        // The secondary ray: from the model's hit point by its spawn offset, into the hemisphere
-        // the primary ray came from.
-        const kinds::Surface sf = a.surface(hits[i].prim, fr, hits[i].t);
-        const Vec3f side_n = dot(sf.ng, fr.d) <= 0.0f ? sf.ng : -sf.ng;
-        Vec3d dir = unit_rand(x.rng);
-        if (dot(dir, to_double(side_n)) < 0) dir = dir * -1.0;
-        second.push(make_ray(a.spawn_point(sf, side_n), to_float(dir)));
-        source.push_back(hits[i].prim);
-        ++spawned;
-      }
-      std::vector<bvh::HitRec> sh(second.size());
-      tracer::TraceOptions so;
-      if (second.count) a.trace(second, 0, second.size(), sh.data(), so);
-      for (std::size_t k = 0; k < second.count; ++k)
-        if (sh[k].prim == source[k] && double(sh[k].t) < 1e-4 * feature_size(s, source[k])) ++r.self_hits;
-      const double N = double(std::max<std::size_t>(n, 1));
-      r.false_hit_ppm = 1e6 * double(r.false_hits) / N;
-      r.false_miss_ppm = 1e6 * double(r.false_misses) / N;
-      r.wrong_root_ppm = 1e6 * double(r.wrong_roots) / N;
-      r.self_hit_ppm = spawned ? 1e6 * double(r.self_hits) / double(spawned) : 0.0;
-      r.leak_ppm = r.multi_hit_ppm = r.nan_ppm = std::numeric_limits<double>::quiet_NaN();
-      r.iterations = std::numeric_limits<double>::quiet_NaN();
-      r.t_err_ulp_p50 = r.t_err_ulp_p99 = r.t_err_ulp_max = std::numeric_limits<double>::quiet_NaN();
-      if (!err.empty()) {
-        std::sort(err.begin(), err.end());
-        r.scaled_err_p99 = err[std::min(err.size() - 1, std::size_t(0.99 * double(err.size())))];
-      } else {
-        r.scaled_err_p99 = std::numeric_limits<double>::quiet_NaN();
-      }
-      r.ns_per_test = std::numeric_limits<double>::quiet_NaN();
-      if (x.o->timing) {
-        double best = 1e300;
-        for (int rep = 0; rep < 5; ++rep) {
-          const auto t0 = std::chrono::steady_clock::now();
-          a.trace(rays, 0, rays.size(), hits.data(), to);
-          best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-        }
-        r.ns_per_test = best * 1e9 / N;
-      }
-      x.rows->push_back(r);
-    }
+    x.tick(ci.family, ci.name);
+    x.reseed(ci.family, ci.name);
+    for (Row& r : whole_scene_rows(scene::precision_scene(ci.name), ci.name, ci.what, x.rays, x.o->timing, x.rng()))
+      x.rows->push_back(std::move(r));
   }
 }
 

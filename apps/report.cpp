@@ -313,7 +313,7 @@ int run_report(const ReportOptions& o) {
   }
   fs::create_directories(out);
   // The numbered stages, each with the report's elapsed time.
-  constexpr int kStages = 8;
+  constexpr int kStages = 9;
   int stage = 0;
   auto next_stage = [&](const std::string& what) {
     std::cerr << fmt::format("[report {}/{}, {}] {}\n", ++stage, kStages, format_duration(clock.s()), what);
@@ -377,6 +377,9 @@ int run_report(const ReportOptions& o) {
 
   next_stage("accuracy lab");
   md += report_section_accuracy(o, out, summary);
+
+  next_stage("what each scene needs: plans, their cost and failures");
+  md += report_section_plan(o, out, summary);
 
   next_stage("CSG queries, scalar against 8-ray packets");
   md += report_section_csg(o, out, summary);

@@ -14,5 +14,6 @@ std::string report_section_tracing(const ReportOptions& o, const std::filesystem
 std::string report_section_scenes(const ReportOptions& o, const std::filesystem::path& out, nlohmann::json& summary);  // report_scenes.cpp
 std::string report_section_render(const ReportOptions& o, const std::filesystem::path& out, nlohmann::json& summary);  // report_render.cpp
 std::string report_section_accuracy(const ReportOptions& o, const std::filesystem::path& out, nlohmann::json& summary);  // report_accuracy.cpp
+std::string report_section_plan(const ReportOptions& o, const std::filesystem::path& out, nlohmann::json& summary);  // report_plan.cpp
 std::string report_section_csg(const ReportOptions& o, const std::filesystem::path& out, nlohmann::json& summary);  // report_csg.cpp
 }  // namespace rb::app

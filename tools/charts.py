@@ -70,12 +70,48 @@ def trace_scaling(out, summary):
     plt.close(fig)
 
 
+def plan_models(out, summary):
+    """Speed against failures per model (report section "What each scene needs"): one point per scene
+    and model, a scene's three models joined by a grey line; failures of 0 drawn at the floor."""
+    scenes = summary.get("plan", {}).get("scenes", [])
+    if not scenes:
+        return
+    colors = {"fast": "tab:red", "auto": "tab:blue", "exact": "tab:green"}
+    floor = 0.3
+    fig, ax = plt.subplots(figsize=(8.5, 5.2))
+    for s in scenes:
+        pts = [(s[m]["mrays_per_s"], max(s[m]["failure_ppm"], floor)) for m in ("fast", "auto", "exact") if m in s]
+        ax.plot([p[0] for p in pts], [p[1] for p in pts], color="0.8", lw=0.8, zorder=1)
+    for m, c in colors.items():
+        xs = [s[m]["mrays_per_s"] for s in scenes if m in s]
+        ys = [max(s[m]["failure_ppm"], floor) for s in scenes if m in s]
+        ax.scatter(xs, ys, color=c, label=m, s=28, zorder=2)
+    # Label the scenes where the fast model fails: those are where the plan matters.
+    for s in scenes:
+        if s.get("fast", {}).get("failure_ppm", 0) > 0:
+            ax.annotate(s["scene"].replace("precision:", ""), (s["fast"]["mrays_per_s"], s["fast"]["failure_ppm"]),
+                        fontsize=7, xytext=(4, 2), textcoords="offset points", color="tab:red")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_ylim(floor / 1.5, 2e6)
+    ax.axhline(floor, color="0.6", lw=0.6, ls=":")
+    ax.text(ax.get_xlim()[0], floor * 1.15, " no failure", fontsize=7, color="0.4", va="bottom")
+    ax.set_xlabel("primary rays, Mrays/s (one thread, 8-ray packets; log)")
+    ax.set_ylabel("failures per million rays (log)")
+    ax.set_title("Each scene under the three models: speed against failures")
+    ax.legend(title="model", loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "plan_models.png"), dpi=110)
+    plt.close(fig)
+
+
 def main():
     out = sys.argv[1] if len(sys.argv) > 1 else "report"
     with open(os.path.join(out, "summary.json")) as f:
         summary = json.load(f)
     simd_speedup(out, summary)
     trace_scaling(out, summary)
+    plan_models(out, summary)
 
 
 if __name__ == "__main__":

@@ -1,0 +1,174 @@
+// Report section "What each scene needs": per embedded scene and per precision scene, the plan of
+// the auto model (frame, each kind's method and precision), its speed against the fast and exact
+// models and the failures of all three against the exact reference (the accuracy lab's whole-scene
+// runner), a chart of speed against failures per model, and a far and scaled copy of a scene
+// rendered beside the original.
+#include "accuracy/lab.hpp"
+#include "apps/paths.hpp"
+#include "apps/report.hpp"
+#include "apps/report_sections.hpp"
+#include "render/render.hpp"
+#include "scene/sources.hpp"
+#include "scene/transform.hpp"
+#include "tracer/plan.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+namespace rb::app {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+std::string plan_ppm(double x) { return x == 0 ? "0" : x >= 100 ? fmt::format("{:.0f}", x) : fmt::format("{:.2g}", x); }
+
+// "sphere hearn_baker, polygon crossing (float); triangle woop (double, stored in double)".
+std::string plan_kinds_text(const tracer::Plan& p) {
+  std::string o;
+  for (int k = 0; k < kinds::kKinds; ++k) {
+    const tracer::KindPlan& kp = p.kinds[std::size_t(k)];
+    if (!kp.count) continue;
+    std::string m;
+    kinds::AllKinds::each([&]<class K>() {
+      if (int(K::id) == k) m = K::methods[std::size_t(kp.method)].name;
+    });
+    o += fmt::format("{}{} {}{}", o.empty() ? "" : "; ", kinds::kind_name(kinds::Kind(k)), m,
+                     kp.f64_storage ? " (double, stored in double)" : kp.f64 ? " (double)" : "");
+  }
+  return o;
+}
+
+std::vector<std::uint8_t> plan_render_rgb(const scene::Scene& s, tracer::Model m, int size) {
+  const tracer::SceneAccel a = tracer::SceneAccel::build(s, tracer::make_plan(s, m));
+  render::RenderOptions o;
+  o.width = o.height = size;
+  o.count_tests = false;
+  const render::Renderer r(s, a, o);
+  std::vector<float> samples;
+  render::render_tiles(r, samples, 2);
+  return render::to_rgb8(r.resolve(samples));
+}
+double plan_differing(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b) {
+  std::size_t bad = 0;
+  for (std::size_t p = 0; p < a.size() / 3; ++p) {
+    int worst = 0;
+    for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(int(a[3 * p + std::size_t(c)]) - int(b[3 * p + std::size_t(c)])));
+    bad += worst > 4;
+  }
+  return double(bad) / double(std::max<std::size_t>(1, a.size() / 3));
+}
+
+}  // namespace
+
+std::string report_section_plan(const ReportOptions& o, const fs::path& out, json& summary) {
+  (void)o;
+  std::string md = "## What each scene needs: the plan, its cost and its failures\n\n";
+  md += "Model no more than a scene needs. Before tracing, raybench reads the scene's numerical profile (per primitive kind: the "
+        "float step at its coordinates against its sizes, how far away it is seen, how large it is against the smallest object) "
+        "and makes a plan (`raybench plan SCENE` prints it with a reason per choice): the frame of reference, whose origin is "
+        "subtracted from every coordinate in double before it is rounded to float (world, the scene's centre or the camera); "
+        "each kind's method and precision, the cheapest that the accuracy lab measures with no failure under the scene's "
+        "conditions (each choice cites the lab cases it rests on, and a test runs them); double storage for a kind that no frame "
+        "represents in float (a planet under a ball); node boxes widened for the scene's ray origins, so the fast slab test "
+        "loses no hit; and the spawn offset of secondary rays (hit points projected onto their surface in double, then moved by "
+        "the integer offset). `--model fast` is the fixed choice of a tracer that does not look (world coordinates, the "
+        "cheapest method of every kind in float, an offset of 1e-5 of the scene's size); `--model exact` is the most accurate "
+        "of everything.\n\n";
+  md += "Failures are counted against an exact reference: the scene's own double geometry, every primitive against the ray in long "
+        "double (a brute-force loop). Per primary ray through the scene's view: a false hit or miss, or a wrong hit (another "
+        "surface than the first, or the right one off by more than 1e-5 of the distance); per hit, a secondary ray spawned at the "
+        "model's hit point that hits its own surface again. Speed: the model's primary rays in 8-ray packets on one thread "
+        "(best of 5), Mrays/s. CSG scenes have no reference and are left out.\n\n";
+
+  struct Src {
+    std::string label;
+    std::function<scene::Scene()> make;
+    std::size_t rays;
+  };
+  std::vector<Src> srcs;
+  const std::string data = data_dir() + "/meshes/";
+  srcs.push_back({"stanford-bunny.obj", [data] { return scene::load_scene(data + "stanford-bunny.obj"); }, 4096});
+  for (const auto& n : scene::spd_names())
+    srcs.push_back({"spd:" + n, [n] { return scene::generate_spd(n, scene::spd_default_size(n)); }, n == "gears" ? 1024u : 4096u});
+  for (const auto& n : scene::lecture_scene_names()) srcs.push_back({"lecture:" + n, [n] { return scene::lecture_scene(n); }, 4096});
+  for (const auto& n : scene::precision_scene_names())
+    if (n != "mesh_spheres") srcs.push_back({"precision:" + n, [n] { return scene::precision_scene(n); }, 4096});
+
+  md += "| scene | primitives | frame | auto: each kind's method | Mrays/s fast / auto / exact | auto / fast | failures per million rays: "
+        "fast / auto / exact |\n|---|---:|---|---|---:|---:|---:|\n";
+  json rows = json::array(), lab_rows = json::array();
+  std::size_t step = 0;
+  for (const auto& src : srcs) {
+    std::cerr << fmt::format("[report plan {}/{}] {}\n", ++step, srcs.size(), src.label);
+    const scene::Scene s = src.make();
+    const tracer::Plan plan = tracer::make_plan(s, tracer::Model::automatic);
+    const auto r = acc::whole_scene_rows(s, src.label, s.name, src.rays, true, 1);
+    auto speed = [](const acc::Row& x) { return 1e3 / x.ns_per_test; };
+    md += fmt::format("| {} | {} | {} | {} | {:.2f} / {:.2f} / {:.2f} | {:.2f} | {} / {} / {} |\n", src.label, s.primitive_count(),
+                      tracer::frame_name(plan.frame), plan_kinds_text(plan), speed(r[0]), speed(r[1]), speed(r[2]), speed(r[1]) / speed(r[0]),
+                      plan_ppm(r[0].failure_ppm()), plan_ppm(r[1].failure_ppm()), plan_ppm(r[2].failure_ppm()));
+    json j{{"scene", src.label}, {"primitives", s.primitive_count()}, {"plan", plan.json()}};
+    for (const auto& x : r) {
+      j[x.method] = {{"mrays_per_s", speed(x)}, {"failure_ppm", x.failure_ppm()}, {"false_hit_ppm", x.false_hit_ppm},
+                     {"false_miss_ppm", x.false_miss_ppm}, {"wrong_hit_ppm", x.wrong_root_ppm}, {"self_hit_ppm", x.self_hit_ppm},
+                     {"frame", x.precision}, {"rays", x.rays}};
+      lab_rows.push_back(x.json());
+    }
+    rows.push_back(j);
+  }
+  md += "\nThe precision scenes (`raybench info precision:NAME` describes each; `raybench render precision:NAME` renders it) are "
+        "built to need something: a ball on a planet of radius 6.4e6, a scene 6.4e6 or 1e3..1e7 from the origin, small spheres "
+        "5e3 away, thin tori 500 sizes away, cylinders seen from 1e4 radii, a scene mixing scales. The embedded scenes need "
+        "nothing special; on them auto costs what the kinds' chosen methods cost (the table's auto / fast; the lab's "
+        "`ns_per_test` compares the methods themselves).\n\n";
+  md += "![speed against failures per model](plan_models.png)\n\n";
+  std::ofstream(out / "plan.json") << json{{"scenes", rows}, {"rows", lab_rows}}.dump(2) << "\n";
+
+  // A far and a scaled copy rendered beside the original.
+  std::cerr << "[report plan] far and scaled copies\n";
+  const scene::Scene base = scene::precision_scene("ball_ground");
+  const int size = 160;
+  const auto ref = plan_render_rgb(base, tracer::Model::automatic, size);
+  struct Copy {
+    std::string label, file;
+    scene::Scene s;
+    tracer::Model m;
+  };
+  std::vector<Copy> copies = {
+      {"auto, at the origin", "plan_copy_origin.png", base, tracer::Model::automatic},
+      {"auto, moved by (1e3, -2e3, 4e3)", "plan_copy_1e3.png", scene::translated(base, {1e3, -2e3, 4e3}), tracer::Model::automatic},
+      {"auto, moved by (1e7, -2e7, 4e7)", "plan_copy_1e7.png", scene::translated(base, {1e7, -2e7, 4e7}), tracer::Model::automatic},
+      {"auto, scaled by 1e-3", "plan_copy_small.png", scene::scaled(base, 1e-3), tracer::Model::automatic},
+      {"auto, scaled by 1e4", "plan_copy_large.png", scene::scaled(base, 1e4), tracer::Model::automatic},
+      {"fast, moved by (6.4e6, 0, 0)", "plan_copy_fast_far.png", scene::translated(base, {6.4e6, 0, 0}), tracer::Model::fast},
+  };
+  md += "The same scene (`precision:ball_ground`: a ball resting on a floor, a smaller ball, one light) moved far from the origin "
+        "and scaled, each copy built in double and rendered at 160 x 160; below each image the share of pixels that differ from "
+        "the original by more than 4/255 in a channel. The last copy is the fast model 6.4e6 away: the float step there is half "
+        "a unit and its spawn offset 64 units.\n\n";
+  std::string head = "|", sep = "|", imgs = "|", diffs = "|";
+  json copies_json = json::array();
+  for (const auto& c : copies) {
+    const auto img = c.label.rfind("auto, at", 0) == 0 ? ref : plan_render_rgb(c.s, c.m, size);
+    std::vector<float> f(img.size());
+    for (std::size_t i = 0; i < img.size(); ++i) f[i] = float(img[i]) / 255.0f;
+    render::write_png((out / c.file).string(), size, size, f);
+    const double d = plan_differing(img, ref);
+    head += " " + c.label + " |";
+    sep += "---|";
+    imgs += fmt::format(" ![{}]({}) |", c.label, c.file);
+    diffs += fmt::format(" {:.2f} % |", 100 * d);
+    copies_json.push_back({{"copy", c.label}, {"image", c.file}, {"differing_pixels", d}});
+  }
+  md += head + "\n" + sep + "\n" + imgs + "\n" + diffs + "\n\n";
+  summary["plan"] = {{"scenes", rows}, {"copies", copies_json}};
+  return md;
+}
+
+}  // namespace rb::app
