@@ -169,8 +169,10 @@ int main(int argc, char** argv) {
   trace->add_option("--rays", to.ray_set, "Ray set")->check(CLI::IsMember({"primary", "shadow", "diffuse", "random"}))->capture_default_str();
   trace->add_option("--threads", to.threads, "Threads for tracing and both builds\n(0: every hardware thread)")
       ->check(CLI::Range(0, 256))->capture_default_str();
-  trace->add_option("--packet", to.packet, "Rays per packet: 1 (single rays), 8 or 16")->check(CLI::IsMember({1, 8, 16}))->capture_default_str();
-  trace->add_option("--count", to.count, "About this many rays (primary: the nearest\nsquare image of 4x4 tiles)")
+  trace->add_option("--packet", to.packet, "Rays per packet: 1 (single rays), 8, 16,\n64 or 256 (coherent packets)")
+      ->check(CLI::IsMember({1, 8, 16, 64, 256}))
+      ->capture_default_str();
+  trace->add_option("--count", to.count, "About this many rays (primary: the nearest\nsquare image of 16x16 blocks)")
       ->check(CLI::Range(std::size_t(1), std::size_t(1) << 28))->capture_default_str();
   trace->add_option("--seed", to.seed, "Seed of the ray set")->capture_default_str();
   trace->add_option("--model", to.model, "How the scene is modelled: auto (what it\nneeds: `raybench plan`), fast or exact")

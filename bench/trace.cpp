@@ -69,18 +69,21 @@ RaySoA make_rays(const scene::Scene& s, const tracer::SceneAccel& accel, RaySet 
   // The camera (scene/camera.hpp): jittered pixel centres of a square image, in 4x4 pixel tiles.
   const scene::View view = scene::view_of(s);
   inf.camera = view.stated ? "stated" : "scene";
-  int side = int(std::ceil(std::sqrt(double(count)) / 4.0)) * 4;
-  side = std::max(side, 4);
+  int side = int(std::ceil(std::sqrt(double(count)) / 16.0)) * 16;
+  side = std::max(side, 16);
   inf.width = inf.height = side;
   RaySoA prim;
   prim.reserve(std::size_t(side) * std::size_t(side));
-  for (int ty = 0; ty < side; ty += 4)
-    for (int tx = 0; tx < side; tx += 4)
-      for (int y = ty; y < ty + 4; ++y)
-        for (int x = tx; x < tx + 4; ++x) {
-          const double px = 2 * (x + U(rng)) / side - 1, py = 1 - 2 * (y + U(rng)) / side;
-          push(prim, view.from, view.dir(px, py));
-        }
+  for (int by = 0; by < side; by += 16)
+    for (int bx = 0; bx < side; bx += 16)
+      for (int q = 0; q < 16; ++q) {  // the 4x4 tiles of a 16x16 block in Z order
+        const int tx = bx + 4 * ((q & 1) | (q >> 1 & 2)), ty = by + 4 * ((q >> 1 & 1) | (q >> 2 & 2));
+        for (int y = ty; y < ty + 4; ++y)
+          for (int x = tx; x < tx + 4; ++x) {
+            const double px = 2 * (x + U(rng)) / side - 1, py = 1 - 2 * (y + U(rng)) / side;
+            push(prim, view.from, view.dir(px, py));
+          }
+      }
   if (set == RaySet::primary) return prim;
 
   // Primary hits.

@@ -1,9 +1,11 @@
 // Whole-scene tracing runs: reproducible ray sets, the timed multi-threaded trace, and the
 // ray-by-ray comparison of two engines' answers.
 //
-// Ray sets (all from one seed, rays stored so that 8 and 16 consecutive rays form a packet):
-//   primary  camera rays through jittered pixel centres, in 4x4 pixel tiles (a 16-ray packet is
-//            a tile, an 8-ray packet half a tile); the scene's camera (NFF `v`), or for files
+// Ray sets (all from one seed, rays stored so that 8, 16, 64 and 256 consecutive rays form a
+// packet):
+//   primary  camera rays through jittered pixel centres of a square image whose side is a multiple
+//            of 16, in 16x16 pixel blocks made of 4x4 tiles in Z order (a 256-ray packet is a block,
+//            64 rays an 8x8 quarter, 16 a tile, 8 half a tile); the scene's camera (NFF `v`), or for files
 //            without one a stated camera: looking at the bounds' centre from the direction
 //            (0.3, 0.4, -1), 45 degrees, at the distance h / tan(22.5 deg) + h from it (h the
 //            largest half extent of the bounds), so the bounds about fill the view

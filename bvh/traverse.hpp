@@ -1,28 +1,29 @@
-// Traversal of the 8-wide BVH: one slab test, one loop per ray mode (single rays, packets of 8 or
-// 16 rays in lanes), closest or any hit, counted or not. Templates over a leaf source, so the BVH
-// knows nothing of primitives: whatever intersects the leaves (tracer/leaves.hpp for a scene) is
-// instantiated into the loop, chosen once per scene, never switched per ray.
+// Traversal of the 8-wide BVH: one slab test (fast or robust, a template switch), one loop per
+// ray mode (single rays; coherent packets of 8, 16, 64 or 256 rays in groups of 8 lanes), closest
+// or any hit, counted or not. Templates over a leaf source, so the BVH knows nothing of
+// primitives: whatever intersects the leaves (tracer/leaves.hpp for a scene) is instantiated into
+// the loop, chosen once per scene, never switched per ray.
 //
 // A leaf source L provides:
-//   using RayCache;                   per single ray: whatever its leaves precompute, lazily
-//   template <int H> using PacketCache;  the same for a packet of 8 x H rays
+//   using RayCache;      per single ray (constructed from it): whatever its leaves precompute
+//   using PacketCache;   the same per group of a packet
 //   bool single(ref, const Ray<float>& r, RayCache&, HitRec& h) const;
 //       the ray against leaf `ref`'s primitives with tmax = h.t; true when h was improved (h.t,
 //       h.prim updated); never called with an empty leaf
-//   template <bool Any, int H> void packet(ref, Packet<H>& p, PacketCache<H>&) const;
-//       the packet's active rays against the leaf: improves p.tbest and p.prim per lane; with Any,
-//       clears p.active of rays that hit
+//   template <bool Any> void packet(ref, PacketRays& p, PacketCache&) const;
+//       the listed groups' active rays against the leaf: improves p.tbest and p.prim per lane
+//       (packet_update); with Any, clears p.active of rays that hit
 //   std::uint32_t slots(ref) const;   real primitives in the leaf (for the counted traversal)
 //
 // The slab test: t = box * (1/d) - o * (1/d), one FMA per plane with o * (1/d) precomputed per
 // ray; the near plane per axis is chosen once per ray from the sign of 1/d. It is exact enough
 // when the boxes were made conservative for the ray's origin (bvh::make_conservative: boxes
-// widened at build time); a ray whose origin lies beyond that bound is traced with the robust
-// test instead (Ize 2013, "Robust BVH Ray Traversal": t = (box - o) * (1/d), the far distance
-// scaled by 1 + 2 gamma(3)). The choice is made once per ray (per packet), by a template switch.
+// widened at build time); a ray whose origin lies beyond that bound, or whose tmin is negative,
+// is traced with the robust test instead (Ize 2013, "Robust BVH Ray Traversal": t = (box - o) *
+// (1/d), the far distance scaled by 1 + 2 gamma(3)). The choice is made once per ray (per packet).
 //
-// The stack holds at most 7 entries per wide level (Bvh8::stack_entries), sized from the built
-// tree, so a push can never overrun it.
+// The stack holds at most 7 entries per wide level (Bvh8::stack_entries) plus 8 of headroom for
+// the 8-lane pushes, sized from the built tree, so a push can never overrun it.
 #pragma once
 
 #include "bvh/bvh.hpp"
@@ -34,6 +35,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 #include <vector>
 
@@ -91,11 +93,40 @@ inline float hmax8(const f8& t) {
   return _mm256_cvtss_f32(m);
 }
 
+// Child order for the single-ray loop. A hit child's key is its entry distance's bits with the
+// child's slot in the 3 low bits (distances >= 0, so the integer order is the float order; the 3
+// bits cost at most 7 ulp of ordering precision, which only changes which of two nearly
+// equidistant children is visited first). Misses get INT_MIN. The 8 keys are sorted descending by
+// a 19-comparator network (Batcher's odd-even merge sort) in one register, so the nearest hit
+// child ends in lane n - 1 and the others lie farthest first below it: one store pushes them.
+RB_INLINE __m256i as_int(const f8& x) { return _mm256_castps_si256(x); }
+RB_INLINE f8 as_float(__m256i x) { return f8(_mm256_castsi256_ps(x)); }
+// Float bits as an integer of the same order (negative floats' magnitude bits flipped).
+RB_INLINE __m256i ordered(__m256i b) { return _mm256_xor_si256(b, _mm256_srli_epi32(_mm256_srai_epi32(b, 31), 1)); }
+// One layer of compare-exchanges: p = the partners, take_max = lanes that keep the larger key.
+RB_INLINE __m256i exchange(__m256i v, __m256i p, __m256i take_max) {
+  return _mm256_blendv_epi8(_mm256_min_epi32(v, p), _mm256_max_epi32(v, p), take_max);
+}
+RB_INLINE __m256i sort8_descending(__m256i v) {
+  // (0,1)(2,3)(4,5)(6,7)
+  v = exchange(v, _mm256_shuffle_epi32(v, 0xB1), _mm256_setr_epi32(-1, 0, -1, 0, -1, 0, -1, 0));
+  // (0,2)(1,3)(4,6)(5,7)
+  v = exchange(v, _mm256_shuffle_epi32(v, 0x4E), _mm256_setr_epi32(-1, -1, 0, 0, -1, -1, 0, 0));
+  // (1,2)(5,6)
+  v = exchange(v, _mm256_shuffle_epi32(v, 0xD8), _mm256_setr_epi32(0, -1, 0, 0, 0, -1, 0, 0));
+  // (0,4)(1,5)(2,6)(3,7)
+  v = exchange(v, _mm256_permute2x128_si256(v, v, 1), _mm256_setr_epi32(-1, -1, -1, -1, 0, 0, 0, 0));
+  // (2,4)(3,5)
+  v = exchange(v, _mm256_permutevar8x32_epi32(v, _mm256_setr_epi32(0, 1, 4, 5, 2, 3, 6, 7)), _mm256_setr_epi32(0, 0, -1, -1, 0, 0, 0, 0));
+  // (1,2)(3,4)(5,6)
+  v = exchange(v, _mm256_permutevar8x32_epi32(v, _mm256_setr_epi32(0, 2, 1, 4, 3, 6, 5, 7)), _mm256_setr_epi32(0, -1, 0, -1, 0, -1, 0, 0));
+  return v;
+}
+
 struct Entry {
   std::uint32_t ref;
   float d;
 };
-
 // Sorts `n` (>= 2) entries by distance, farthest first (so the nearest is popped first).
 inline void sort_far_first(Entry* e, int n) {
   for (int i = 1; i < n; ++i) {
@@ -106,32 +137,40 @@ inline void sort_far_first(Entry* e, int n) {
   }
 }
 
-// Pops entries until one is not beyond `t` (NaN distances are kept: `d > t` is false for them);
-// false when the stack runs empty.
-RB_INLINE bool pop_nearer(const Entry* stack, std::size_t& sp, float t, std::uint32_t& ref) {
-  while (sp > 0) {
-    --sp;
-    if (!(stack[sp].d > t)) {
-      ref = stack[sp].ref;
-      return true;
+// The slots of the set bits of a byte, lowest first (the rest 0): pushes the hit children of an
+// any-hit visit with one permute.
+struct Compaction {
+  alignas(32) std::uint32_t idx[256][8];
+  constexpr Compaction() : idx{} {
+    for (unsigned b = 0; b < 256; ++b) {
+      unsigned k = 0;
+      for (unsigned s = 0; s < 8; ++s)
+        if (b >> s & 1u) idx[b][k++] = s;
     }
   }
-  return false;
-}
+};
+inline constexpr Compaction kCompaction{};
 
-// The traversal stack: a local array when the tree's bound fits it (every tree up to depth 73),
-// else a heap array of the bound's size.
+// The traversal stack: child references and entry distances in two arrays, so that a node visit
+// pushes its children with two 8-lane stores (8 slots of headroom above the bound). A local array
+// when the tree's bound fits it (every tree up to depth 72), else a heap array of the bound's size.
 inline constexpr std::size_t kLocalStack = 512;
 struct Stack {
-  Entry local[kLocalStack];
-  std::vector<Entry> heap;
-  Entry* data;
+  alignas(32) std::uint32_t local_ref[kLocalStack + 8];
+  alignas(32) float local_d[kLocalStack + 8];
+  std::unique_ptr<std::uint32_t[]> heap_ref;
+  std::unique_ptr<float[]> heap_d;
+  std::uint32_t* ref;
+  float* d;
   explicit Stack(const Bvh8& t) {
     if (t.stack_entries() <= kLocalStack) {
-      data = local;
+      ref = local_ref;
+      d = local_d;
     } else {
-      heap.resize(t.stack_entries());
-      data = heap.data();
+      heap_ref.reset(new std::uint32_t[t.stack_entries() + 8]);
+      heap_d.reset(new float[t.stack_entries() + 8]);
+      ref = heap_ref.get();
+      d = heap_d.get();
     }
   }
 };
@@ -161,30 +200,36 @@ struct SlabRay {
 };
 
 // Bit k set when the ray's [tmin, tmax] interval meets child k's box; tn receives the entry
-// distances.
+// distances. The fast form needs tmin >= 0: its maxima and minima run on the floats' bits as
+// integers (one cycle each instead of four on the node's critical path), which orders
+// non-negative floats as floats; every entry distance is a maximum with tmin >= 0, and a negative
+// exit distance (a box behind the ray) is a negative integer, below every entry: rejected, as it
+// must be. The robust form (any tmin) compares floats.
 template <bool Robust>
 RB_INLINE unsigned slab8(const WNode& n, const SlabRay& r, float tmax, f8& tn) {
-  f8 tnx, tny, tnz, tfx, tfy, tfz;
   if constexpr (!Robust) {
-    tnx = xsimd::fms(f8::load_aligned(n.b[0 + r.nx]), r.rdx, r.orx);
-    tfx = xsimd::fms(f8::load_aligned(n.b[1 - r.nx]), r.rdx, r.orx);
-    tny = xsimd::fms(f8::load_aligned(n.b[2 + r.ny]), r.rdy, r.ory);
-    tfy = xsimd::fms(f8::load_aligned(n.b[3 - r.ny]), r.rdy, r.ory);
-    tnz = xsimd::fms(f8::load_aligned(n.b[4 + r.nz]), r.rdz, r.orz);
-    tfz = xsimd::fms(f8::load_aligned(n.b[5 - r.nz]), r.rdz, r.orz);
+    using detail::as_int;
+    const __m256i tnx = as_int(xsimd::fms(f8::load_aligned(n.b[0 + r.nx]), r.rdx, r.orx));
+    const __m256i tfx = as_int(xsimd::fms(f8::load_aligned(n.b[1 - r.nx]), r.rdx, r.orx));
+    const __m256i tny = as_int(xsimd::fms(f8::load_aligned(n.b[2 + r.ny]), r.rdy, r.ory));
+    const __m256i tfy = as_int(xsimd::fms(f8::load_aligned(n.b[3 - r.ny]), r.rdy, r.ory));
+    const __m256i tnz = as_int(xsimd::fms(f8::load_aligned(n.b[4 + r.nz]), r.rdz, r.orz));
+    const __m256i tfz = as_int(xsimd::fms(f8::load_aligned(n.b[5 - r.nz]), r.rdz, r.orz));
+    const __m256i near = _mm256_max_epi32(_mm256_max_epi32(tnx, tny), _mm256_max_epi32(tnz, as_int(r.tmin)));
+    const __m256i far = _mm256_min_epi32(_mm256_min_epi32(tfx, tfy), _mm256_min_epi32(tfz, _mm256_castps_si256(_mm256_set1_ps(tmax))));
+    tn = detail::as_float(near);
+    return ~unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(near, far)))) & 0xFFu;
   } else {
-    tnx = (f8::load_aligned(n.b[0 + r.nx]) - r.ox) * r.rdx;
-    tfx = (f8::load_aligned(n.b[1 - r.nx]) - r.ox) * r.rdx;
-    tny = (f8::load_aligned(n.b[2 + r.ny]) - r.oy) * r.rdy;
-    tfy = (f8::load_aligned(n.b[3 - r.ny]) - r.oy) * r.rdy;
-    tnz = (f8::load_aligned(n.b[4 + r.nz]) - r.oz) * r.rdz;
-    tfz = (f8::load_aligned(n.b[5 - r.nz]) - r.oz) * r.rdz;
+    const f8 tnx = (f8::load_aligned(n.b[0 + r.nx]) - r.ox) * r.rdx;
+    const f8 tfx = (f8::load_aligned(n.b[1 - r.nx]) - r.ox) * r.rdx;
+    const f8 tny = (f8::load_aligned(n.b[2 + r.ny]) - r.oy) * r.rdy;
+    const f8 tfy = (f8::load_aligned(n.b[3 - r.ny]) - r.oy) * r.rdy;
+    const f8 tnz = (f8::load_aligned(n.b[4 + r.nz]) - r.oz) * r.rdz;
+    const f8 tfz = (f8::load_aligned(n.b[5 - r.nz]) - r.oz) * r.rdz;
+    tn = xsimd::max(xsimd::max(tnx, tny), xsimd::max(tnz, r.tmin));
+    const f8 tf = xsimd::min(xsimd::min(xsimd::min(tfx, tfy), tfz) * f8(kRobustScale), f8(tmax));
+    return unsigned(_mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)));
   }
-  tn = xsimd::max(xsimd::max(tnx, tny), xsimd::max(tnz, r.tmin));
-  f8 tf = xsimd::min(xsimd::min(tfx, tfy), tfz);
-  if constexpr (Robust) tf = tf * f8(kRobustScale);
-  tf = xsimd::min(tf, f8(tmax));
-  return unsigned(_mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)));
 }
 
 // The finished hit: t = +inf when nothing was hit (the contract of Hit).
@@ -194,47 +239,68 @@ RB_INLINE HitRec finished(HitRec h) {
 }
 
 // ---- single ray ----------------------------------------------------------------------------------
-template <Slab S, bool Any, bool Count, class L>
-HitRec trace_single(const Bvh8& t, const L& leaves, const Ray<float>& r, TraceCounters& c) {
+// Closest hit: the hit children in near-to-far order (one child: no ordering; two: one compare;
+// more: the sorting network), the nearest next, the others pushed with their entry distance and
+// skipped when popped beyond the closest hit so far. Any hit: no distances, no order (the hit
+// children pushed in slot order, the last one next), return at the first hit.
+template <bool Robust, bool Any, bool Count, class L>
+HitRec single_loop(const Bvh8& t, const L& leaves, const Ray<float>& r, TraceCounters& c) {
   using namespace detail;
-  if (!(r.tmin <= r.tmax) || t.nodes.empty()) return {kInfF, kNoPrim};
-  if constexpr (S == Slab::conservative)
-    if (beyond_bound(t, r.o)) return trace_single<Slab::robust, Any, Count>(t, leaves, r, c);
-  constexpr bool Robust = S == Slab::robust;
   HitRec h{r.tmax, kNoPrim};
   const SlabRay sr = SlabRay::make(r);
-  typename L::RayCache cache;
+  typename L::RayCache cache(r);
   Stack st(t);
-  Entry* stack = st.data;
+  std::uint32_t* const sref = st.ref;
+  float* const sd = st.d;
   std::size_t sp = 0;
   std::uint32_t ref = 0;
   for (;;) {
-    if (!is_leaf(ref)) {
+    while (!is_leaf(ref)) {
       const WNode& n = t.nodes[ref];
       if constexpr (Count) {
         ++c.nodes;
         for (int k = 0; k < 8; ++k) c.boxes += n.child[k] != kEmpty;
       }
       f8 tn;
-      unsigned bits = slab8<Robust>(n, sr, h.t, tn);
+      const unsigned bits = slab8<Robust>(n, sr, h.t, tn);
       if (bits == 0) goto pop;
       if ((bits & (bits - 1)) == 0) {
         ref = n.child[__builtin_ctz(bits)];
         continue;
       }
-      alignas(32) float dist[8];
-      tn.store_aligned(dist);
-      Entry e[8];
-      int ne = 0;
-      while (bits) {
-        const int k = __builtin_ctz(bits);
-        bits &= bits - 1;
-        e[ne++] = {n.child[k], dist[k]};
+      const __m256i child = _mm256_load_si256(reinterpret_cast<const __m256i*>(n.child));
+      const int cnt = __builtin_popcount(bits);
+      if constexpr (Any) {
+        const __m256i refs = _mm256_permutevar8x32_epi32(child, _mm256_load_si256(reinterpret_cast<const __m256i*>(kCompaction.idx[bits])));
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(sref + sp), refs);
+        sp += std::size_t(cnt - 1);
+        ref = sref[sp];
+        continue;
+      } else {
+        if (cnt == 2) {
+          const int a = __builtin_ctz(bits), b = __builtin_ctz(bits & (bits - 1));
+          alignas(32) float d[8];
+          tn.store_aligned(d);
+          const bool a_first = d[a] <= d[b];
+          const int near = a_first ? a : b, far = a_first ? b : a;
+          sref[sp] = n.child[far];
+          sd[sp] = d[far];
+          ++sp;
+          ref = n.child[near];
+          continue;
+        }
+        __m256i key = Robust ? ordered(as_int(tn)) : as_int(tn);
+        key = _mm256_or_si256(_mm256_and_si256(key, _mm256_set1_epi32(~7)), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+        const __m256i hit = _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(bits)), _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128)),
+                                               _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128));
+        key = _mm256_blendv_epi8(_mm256_set1_epi32(std::numeric_limits<int>::min()), key, hit);
+        const __m256i slot = _mm256_and_si256(sort8_descending(key), _mm256_set1_epi32(7));
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(sref + sp), _mm256_permutevar8x32_epi32(child, slot));
+        _mm256_storeu_ps(sd + sp, _mm256_permutevar8x32_ps(tn, slot));
+        sp += std::size_t(cnt - 1);
+        ref = sref[sp];
+        continue;
       }
-      sort_far_first(e, ne);
-      for (int k = 0; k < ne - 1; ++k) stack[sp++] = e[k];
-      ref = e[ne - 1].ref;
-      continue;
     }
     if constexpr (Count) {
       const std::uint32_t s = leaves.slots(ref);
@@ -243,29 +309,70 @@ HitRec trace_single(const Bvh8& t, const L& leaves, const Ray<float>& r, TraceCo
     }
     if (leaves.single(ref, r, cache, h) && Any) return h;
   pop:
-    if (!pop_nearer(stack, sp, h.t, ref)) return finished(h);
+    for (;;) {
+      if (sp == 0) return finished(h);
+      --sp;
+      if constexpr (Any) break;
+      else if (!(sd[sp] > h.t)) break;  // NaN distances are kept
+    }
+    ref = sref[sp];
   }
 }
 
-// ---- packets of 8 x H rays (rays in lanes) -------------------------------------------------------
-template <int H>
-struct Packet {
-  Ray<f8> r[H];
-  f8 rdx[H], rdy[H], rdz[H], orx[H], ory[H], orz[H];
-  f8 tbest[H];  // the ray's current tmax (the closest hit so far)
-  f8_mask active[H];
-  std::uint32_t prim[8 * H];
+// Negative tmin (the fast form's integer ordering needs tmin >= 0) and, for the conservative slab
+// test, an origin beyond the bound the boxes were widened for take the robust form.
+template <Slab S, bool Any, bool Count, class L>
+HitRec trace_single(const Bvh8& t, const L& leaves, const Ray<float>& r, TraceCounters& c) {
+  using namespace detail;
+  if (!(r.tmin <= r.tmax) || t.nodes.empty()) return {kInfF, kNoPrim};
+  if constexpr (S != Slab::robust) {
+    if (!(r.tmin >= 0) || (S == Slab::conservative && beyond_bound(t, r.o))) return single_loop<true, Any, Count>(t, leaves, r, c);
+    return single_loop<false, Any, Count>(t, leaves, r, c);
+  } else {
+    return single_loop<true, Any, Count>(t, leaves, r, c);
+  }
+}
+
+// ---- packets: G groups of 8 rays in lanes ---------------------------------------------------------
+// A coherent packet (every ray in one direction octant: camera tiles, rays towards one light) of
+// 8, 16, 64 or 256 rays traverses as one. Per node:
+//   - one 8-lane test of the 8 children against the packet's frustum: per axis the ray whose origin
+//     and reciprocal direction bound every ray's entry distance from below and exit distance from
+//     above (the same slab test on those extremes, so it is conservative exactly as the per-ray
+//     test is: it never rejects a box one of the rays' tests would accept);
+//   - packets of 16 or more rays: one 8-lane test of the first active ray against the 8 children;
+//     an internal child that ray hits is taken with the parent's ray mask unchanged (no per-ray
+//     test), as the rays of a coherent packet mostly share their boxes;
+//   - every other child the frustum accepts (leaves always, so that a leaf sees exact ray masks)
+//     gets the exact test of each active group of 8 rays; the rays that hit it form its mask.
+// Children are visited near to far by the frustum's entry distance (the sorting network of the
+// single-ray loop); the stack holds (child, entry distance, ray mask). At a leaf, the leaf source
+// tests the masked rays. Any hit: rays that hit leave the packet; it ends when none remain.
+inline constexpr int kMaxGroups = 32;
+
+// What a leaf source sees of a packet: the groups with rays to test at this leaf (list[0..n)),
+// each group's rays, current closest distance (tbest, lowered by hits) and the rays to test
+// (active: a leaf clears, with Any, the rays that hit), and the primitive hit per ray.
+struct PacketRays {
+  int n = 0;
+  std::uint8_t list[kMaxGroups];
+  Ray<f8>* r = nullptr;
+  f8* tbest = nullptr;
+  f8_mask* active = nullptr;
+  std::uint32_t* prim = nullptr;
+  bool improved = false;  // set by packet_update when a ray's tbest fell
 };
 
-// Records a leaf's hits for the 8 rays of half k: lanes of `hit` that are active take t (already
+// Records a leaf's hits for the 8 rays of group k: lanes of `hit` that are active take t (already
 // below their tbest: the kernel ran with tmax = tbest) and the primitive `code`; with Any, the rays
 // that hit leave the packet.
-template <bool Any, int H>
-RB_INLINE void packet_update(Packet<H>& p, int k, const f8_mask& hit, const f8& t, std::uint32_t code) {
+template <bool Any>
+RB_INLINE void packet_update(PacketRays& p, int k, const f8_mask& hit, const f8& t, std::uint32_t code) {
   const f8_mask m = hit & p.active[k];
   unsigned bits = detail::movemask(m);
   if (!bits) return;
   p.tbest[k] = xsimd::select(m, t, p.tbest[k]);
+  p.improved = true;
   while (bits) {
     const int l = __builtin_ctz(bits);
     bits &= bits - 1;
@@ -274,160 +381,382 @@ RB_INLINE void packet_update(Packet<H>& p, int k, const f8_mask& hit, const f8& 
   if constexpr (Any) p.active[k] = p.active[k] & ~m;
 }
 
-template <int H>
-RB_INLINE float packet_tmax(const Packet<H>& p) {
-  f8 m = xsimd::select(p.active[0], p.tbest[0], f8(-detail::kInfF));
-  for (int k = 1; k < H; ++k) m = xsimd::max(m, xsimd::select(p.active[k], p.tbest[k], f8(-detail::kInfF)));
-  return detail::hmax8(m);
+namespace detail {
+
+// A ray mask of G groups: 8 bits per group.
+template <int G>
+struct RayMask {
+  static constexpr int W = (G + 7) / 8;
+  std::uint64_t w[W];
+  static RayMask none() {
+    RayMask m;
+    for (auto& x : m.w) x = 0;
+    return m;
+  }
+  unsigned group(int g) const { return unsigned(w[g >> 3] >> (8 * (g & 7))) & 0xFFu; }
+  void set(int g, unsigned bits) {
+    const int s = 8 * (g & 7);
+    w[g >> 3] = (w[g >> 3] & ~(std::uint64_t(0xFF) << s)) | (std::uint64_t(bits) << s);
+  }
+  bool empty() const {
+    std::uint64_t o = 0;
+    for (auto x : w) o |= x;
+    return o == 0;
+  }
+  int first() const {  // the lowest ray (g * 8 + lane); the mask is not empty
+    for (int k = 0; k < W; ++k)
+      if (w[k]) return 64 * k + __builtin_ctzll(w[k]);
+    return -1;
+  }
+  int count() const {
+    int c = 0;
+    for (auto x : w) c += __builtin_popcountll(x);
+    return c;
+  }
+  RayMask operator&(const RayMask& o) const {
+    RayMask m;
+    for (int k = 0; k < W; ++k) m.w[k] = w[k] & o.w[k];
+    return m;
+  }
+};
+
+// Lanes of a 4-bit or 8-bit set as a mask.
+RB_INLINE f8_mask lanes_of(unsigned bits) {
+  const __m256i lane = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+  return f8_mask(_mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(bits)), lane), lane)));
 }
 
-template <bool Robust, bool Any, bool Count, int H, class L>
+// The slab test of one box against 8 rays (the box's near and far planes per axis given by the
+// packet's octant), the fast or the robust form; bit l set when ray l's interval meets it.
+template <bool Robust>
+RB_INLINE unsigned slab_rays(const float* near, const float* far, const f8* rd, const f8* org_rd, const f8* o, const f8& tmin,
+                             const f8& tmax) {
+  if constexpr (!Robust) {
+    const __m256i nx = as_int(xsimd::fms(f8(near[0]), rd[0], org_rd[0])), fx = as_int(xsimd::fms(f8(far[0]), rd[0], org_rd[0]));
+    const __m256i ny = as_int(xsimd::fms(f8(near[1]), rd[1], org_rd[1])), fy = as_int(xsimd::fms(f8(far[1]), rd[1], org_rd[1]));
+    const __m256i nz = as_int(xsimd::fms(f8(near[2]), rd[2], org_rd[2])), fz = as_int(xsimd::fms(f8(far[2]), rd[2], org_rd[2]));
+    const __m256i tn = _mm256_max_epi32(_mm256_max_epi32(nx, ny), _mm256_max_epi32(nz, as_int(tmin)));
+    const __m256i tf = _mm256_min_epi32(_mm256_min_epi32(fx, fy), _mm256_min_epi32(fz, as_int(tmax)));
+    return ~unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(tn, tf)))) & 0xFFu;
+  } else {
+    const f8 nx = (f8(near[0]) - o[0]) * rd[0], fx = (f8(far[0]) - o[0]) * rd[0];
+    const f8 ny = (f8(near[1]) - o[1]) * rd[1], fy = (f8(far[1]) - o[1]) * rd[1];
+    const f8 nz = (f8(near[2]) - o[2]) * rd[2], fz = (f8(far[2]) - o[2]) * rd[2];
+    const f8 tn = xsimd::max(xsimd::max(nx, ny), xsimd::max(nz, tmin));
+    const f8 tf = xsimd::min(xsimd::min(xsimd::min(fx, fy), fz) * f8(kRobustScale), tmax);
+    return unsigned(_mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)));
+  }
+}
+
+// The 8 children of a node against one "ray" given per axis by its near-plane and far-plane
+// parameters (a real ray: the same values twice; the frustum: the extreme rays per plane).
+struct ChildTest {
+  f8 rdn[3], orn[3], on[3], rdf[3], orf[3], of[3], tmin;
+  int n[3];  // 1 where the near plane is the box's hi (the octant's negative axes)
+};
+template <bool Robust>
+RB_INLINE unsigned slab_children(const WNode& node, const ChildTest& c, float tmax, f8& tn) {
+  f8 near[3], far[3];
+  for (int a = 0; a < 3; ++a) {
+    const f8 bn = f8::load_aligned(node.b[2 * a + c.n[a]]), bf = f8::load_aligned(node.b[2 * a + 1 - c.n[a]]);
+    if constexpr (!Robust) {
+      near[a] = xsimd::fms(bn, c.rdn[a], c.orn[a]);
+      far[a] = xsimd::fms(bf, c.rdf[a], c.orf[a]);
+    } else {
+      near[a] = (bn - c.on[a]) * c.rdn[a];
+      far[a] = (bf - c.of[a]) * c.rdf[a];
+    }
+  }
+  if constexpr (!Robust) {
+    const __m256i n = _mm256_max_epi32(_mm256_max_epi32(as_int(near[0]), as_int(near[1])), _mm256_max_epi32(as_int(near[2]), as_int(c.tmin)));
+    const __m256i f = _mm256_min_epi32(_mm256_min_epi32(as_int(far[0]), as_int(far[1])),
+                                       _mm256_min_epi32(as_int(far[2]), _mm256_castps_si256(_mm256_set1_ps(tmax))));
+    tn = as_float(n);
+    return ~unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(n, f)))) & 0xFFu;
+  } else {
+    tn = xsimd::max(xsimd::max(near[0], near[1]), xsimd::max(near[2], c.tmin));
+    const f8 tf = xsimd::min(xsimd::min(xsimd::min(far[0], far[1]), far[2]) * f8(kRobustScale), f8(tmax));
+    return unsigned(_mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)));
+  }
+}
+
+// The hit children's slots sorted far to near by `tn` (the single-ray loop's key sort).
+template <bool Robust>
+RB_INLINE __m256i order_far_first(const f8& tn, unsigned bits) {
+  __m256i key = Robust ? ordered(as_int(tn)) : as_int(tn);
+  key = _mm256_or_si256(_mm256_and_si256(key, _mm256_set1_epi32(~7)), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+  key = _mm256_blendv_epi8(_mm256_set1_epi32(std::numeric_limits<int>::min()), key, _mm256_castps_si256(lanes_of(bits)));
+  return _mm256_and_si256(sort8_descending(key), _mm256_set1_epi32(7));
+}
+
+}  // namespace detail
+
+template <bool Robust, bool Any, bool Count, int G, class L>
 void trace_packet(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_t i, HitRec* out, TraceCounters& c) {
   using namespace detail;
-  Packet<H> p;
-  bool live = false;
-  for (int k = 0; k < H; ++k) {
-    p.r[k] = rays.packet<f8>(i + 8 * std::size_t(k));
-    p.rdx[k] = safe_rcp8(p.r[k].d.x);
-    p.rdy[k] = safe_rcp8(p.r[k].d.y);
-    p.rdz[k] = safe_rcp8(p.r[k].d.z);
-    p.orx[k] = p.r[k].o.x * p.rdx[k];
-    p.ory[k] = p.r[k].o.y * p.rdy[k];
-    p.orz[k] = p.r[k].o.z * p.rdz[k];
-    p.tbest[k] = p.r[k].tmax;
-    p.active[k] = p.r[k].tmin <= p.r[k].tmax;
-    live = live || any_of<f8>(p.active[k]);
+  using Mask = RayMask<G>;
+  Ray<f8> r[G];
+  f8 tbest[G];
+  f8_mask act[G];
+  std::uint32_t prim[8 * G];
+  f8 rd[G][3], org_rd[G][3], org[G][3];
+  alignas(32) float rd_s[3][8 * G], ord_s[3][8 * G], o_s[3][8 * G], tmin_s[8 * G];
+  Mask alive = Mask::none();
+  for (int g = 0; g < G; ++g) {
+    r[g] = rays.packet<f8>(i + 8 * std::size_t(g));
+    const Vec3<f8>& d = r[g].d;
+    const f8 inv[3] = {safe_rcp8(d.x), safe_rcp8(d.y), safe_rcp8(d.z)};
+    const f8 oo[3] = {r[g].o.x, r[g].o.y, r[g].o.z};
+    for (int a = 0; a < 3; ++a) {
+      rd[g][a] = inv[a];
+      org[g][a] = oo[a];
+      org_rd[g][a] = oo[a] * inv[a];
+      rd[g][a].store_aligned(&rd_s[a][8 * g]);
+      org_rd[g][a].store_aligned(&ord_s[a][8 * g]);
+      oo[a].store_aligned(&o_s[a][8 * g]);
+    }
+    r[g].tmin.store_aligned(&tmin_s[8 * g]);
+    tbest[g] = r[g].tmax;
+    alive.set(g, movemask(r[g].tmin <= r[g].tmax));
   }
-  for (auto& q : p.prim) q = kNoPrim;
-  if (live && !t.nodes.empty()) {
-    typename L::template PacketCache<H> cache;
+  for (auto& q : prim) q = kNoPrim;
+  if (!alive.empty() && !t.nodes.empty()) {
+    // The frustum: per axis, the extreme origins and reciprocal directions of the valid rays.
+    ChildTest fr;
+    const int f0 = alive.first();
+    float lo_rd[3], hi_rd[3], lo_o[3], hi_o[3], tmin_min;
+    {
+      f8 lrd[3], hrd[3], lo[3], ho[3], tm(kInfF);
+      for (int a = 0; a < 3; ++a) lrd[a] = lo[a] = f8(kInfF), hrd[a] = ho[a] = f8(-kInfF);
+      for (int g = 0; g < G; ++g) {
+        const f8_mask v = lanes_of(alive.group(g));
+        for (int a = 0; a < 3; ++a) {
+          lrd[a] = xsimd::min(lrd[a], xsimd::select(v, rd[g][a], f8(kInfF)));
+          hrd[a] = xsimd::max(hrd[a], xsimd::select(v, rd[g][a], f8(-kInfF)));
+          lo[a] = xsimd::min(lo[a], xsimd::select(v, org[g][a], f8(kInfF)));
+          ho[a] = xsimd::max(ho[a], xsimd::select(v, org[g][a], f8(-kInfF)));
+        }
+        tm = xsimd::min(tm, xsimd::select(v, r[g].tmin, f8(kInfF)));
+      }
+      for (int a = 0; a < 3; ++a) lo_rd[a] = hmin8(lrd[a]), hi_rd[a] = hmax8(hrd[a]), lo_o[a] = hmin8(lo[a]), hi_o[a] = hmax8(ho[a]);
+      tmin_min = hmin8(tm);
+    }
+    for (int a = 0; a < 3; ++a) {
+      const bool neg = std::signbit(rd_s[a][f0]);
+      fr.n[a] = neg;
+      // positive axis: entry bounded by (lo plane, largest origin, smallest 1/d), exit by (hi plane,
+      // smallest origin, largest 1/d); a negative axis swaps the planes and the origin/1/d pairs.
+      const float rn = neg ? hi_rd[a] : lo_rd[a], on = neg ? lo_o[a] : hi_o[a];
+      const float rf = neg ? lo_rd[a] : hi_rd[a], of = neg ? hi_o[a] : lo_o[a];
+      fr.rdn[a] = f8(rn); fr.on[a] = f8(on); fr.orn[a] = f8(on * rn);
+      fr.rdf[a] = f8(rf); fr.of[a] = f8(of); fr.orf[a] = f8(of * rf);
+    }
+    fr.tmin = f8(tmin_min);
+    auto tmax_of = [&](const Mask& m) {
+      f8 x(-kInfF);
+      for (int g = 0; g < G; ++g)
+        if (const unsigned b = m.group(g)) x = xsimd::max(x, xsimd::select(lanes_of(b), tbest[g], f8(-kInfF)));
+      return hmax8(x);
+    };
+    float tmax_all = tmax_of(alive);
+
+    PacketRays view;
+    view.r = r;
+    view.tbest = tbest;
+    view.active = act;
+    view.prim = prim;
+    typename L::PacketCache cache;
     Stack st(t);
-    Entry* stack = st.data;
+    std::uint32_t* const sref = st.ref;
+    float* const sd = st.d;
+    Mask local_mask[kLocalStack + 8];
+    std::unique_ptr<Mask[]> heap_mask;
+    Mask* smask = local_mask;
+    if (t.stack_entries() > kLocalStack) {
+      heap_mask.reset(new Mask[t.stack_entries() + 8]);
+      smask = heap_mask.get();
+    }
     std::size_t sp = 0;
     std::uint32_t ref = 0;
+    Mask mask = alive;
     for (;;) {
-      if (!is_leaf(ref)) {
+      while (!is_leaf(ref)) {
         const WNode& n = t.nodes[ref];
         if constexpr (Count) ++c.nodes;
-        Entry e[8];
-        int ne = 0;
-        for (int ch = 0; ch < 8; ++ch) {
-          const std::uint32_t cr = n.child[ch];
-          if (cr == kEmpty) break;
-          const f8 lx(n.b[0][ch]), hx(n.b[1][ch]), ly(n.b[2][ch]), hy(n.b[3][ch]), lz(n.b[4][ch]), hz(n.b[5][ch]);
-          float dmin = kInfF;
-          for (int k = 0; k < H; ++k) {
-            if constexpr (Count) c.boxes += std::uint64_t(count_true<f8>(p.active[k]));
-            f8 x0, x1, y0, y1, z0, z1;
-            if constexpr (!Robust) {
-              x0 = xsimd::fms(lx, p.rdx[k], p.orx[k]); x1 = xsimd::fms(hx, p.rdx[k], p.orx[k]);
-              y0 = xsimd::fms(ly, p.rdy[k], p.ory[k]); y1 = xsimd::fms(hy, p.rdy[k], p.ory[k]);
-              z0 = xsimd::fms(lz, p.rdz[k], p.orz[k]); z1 = xsimd::fms(hz, p.rdz[k], p.orz[k]);
-            } else {
-              x0 = (lx - p.r[k].o.x) * p.rdx[k]; x1 = (hx - p.r[k].o.x) * p.rdx[k];
-              y0 = (ly - p.r[k].o.y) * p.rdy[k]; y1 = (hy - p.r[k].o.y) * p.rdy[k];
-              z0 = (lz - p.r[k].o.z) * p.rdz[k]; z1 = (hz - p.r[k].o.z) * p.rdz[k];
+        std::uint64_t real = 0;
+        if constexpr (Count)
+          for (int k = 0; k < 8; ++k) real += n.child[k] != kEmpty;
+        if constexpr (Count) c.boxes += real;
+        f8 tn;
+        unsigned bits = slab_children<Robust>(n, fr, tmax_all, tn);
+        if (bits == 0) goto pop;
+        {
+          const unsigned leaf_children = unsigned(_mm256_movemask_ps(_mm256_load_ps(reinterpret_cast<const float*>(n.child))));
+          unsigned inherit = 0;
+          if constexpr (G > 1) {
+            // The first active ray against the 8 children.
+            const int f = mask.first(), g = f >> 3, l = f & 7;
+            ChildTest one;
+            for (int a = 0; a < 3; ++a) {
+              one.n[a] = fr.n[a];
+              one.rdn[a] = one.rdf[a] = f8(rd_s[a][f]);
+              one.orn[a] = one.orf[a] = f8(ord_s[a][f]);
+              one.on[a] = one.of[a] = f8(o_s[a][f]);
             }
-            const f8 tn = xsimd::max(xsimd::max(xsimd::min(x0, x1), xsimd::min(y0, y1)), xsimd::max(xsimd::min(z0, z1), p.r[k].tmin));
-            f8 tf = xsimd::min(xsimd::min(xsimd::max(x0, x1), xsimd::max(y0, y1)), xsimd::max(z0, z1));
-            if constexpr (Robust) tf = tf * f8(kRobustScale);
-            tf = xsimd::min(tf, p.tbest[k]);
-            const f8_mask m = (tn <= tf) & p.active[k];
-            if (any_of<f8>(m)) dmin = std::min(dmin, hmin8(xsimd::select(m, tn, f8(kInfF))));
+            one.tmin = f8(tmin_s[f]);
+            alignas(32) float tb[8];
+            tbest[g].store_aligned(tb);
+            f8 tn1;
+            if constexpr (Count) c.boxes += real;
+            inherit = slab_children<Robust>(n, one, tb[l], tn1) & bits & ~leaf_children;
           }
-          if (dmin < kInfF) e[ne++] = {cr, dmin};
+          Mask cm[8];
+          for (unsigned e = bits & ~inherit; e; e &= e - 1) {
+            const int k = __builtin_ctz(e);
+            const float near[3] = {n.b[0 + fr.n[0]][k], n.b[2 + fr.n[1]][k], n.b[4 + fr.n[2]][k]};
+            const float far[3] = {n.b[1 - fr.n[0]][k], n.b[3 - fr.n[1]][k], n.b[5 - fr.n[2]][k]};
+            Mask m = Mask::none();
+            for (int g = 0; g < G; ++g) {
+              const unsigned gb = mask.group(g);
+              if (!gb) continue;
+              if constexpr (Count) c.boxes += std::uint64_t(__builtin_popcount(gb));
+              m.set(g, gb & slab_rays<Robust>(near, far, rd[g], org_rd[g], org[g], r[g].tmin, tbest[g]));
+            }
+            if (m.empty()) bits &= ~(1u << k);
+            else cm[k] = m;
+          }
+          for (unsigned e = inherit; e; e &= e - 1) cm[__builtin_ctz(e)] = mask;
+          if (bits == 0) goto pop;
+          if ((bits & (bits - 1)) == 0) {
+            const int k = __builtin_ctz(bits);
+            ref = n.child[k];
+            mask = cm[k];
+            continue;
+          }
+          alignas(32) std::uint32_t slot[8];
+          alignas(32) float dist[8];
+          tn.store_aligned(dist);
+          _mm256_store_si256(reinterpret_cast<__m256i*>(slot), order_far_first<Robust>(tn, bits));
+          const int cnt = __builtin_popcount(bits);
+          for (int k = 0; k < cnt - 1; ++k) {
+            sref[sp] = n.child[slot[k]];
+            sd[sp] = dist[slot[k]];
+            smask[sp] = cm[slot[k]];
+            ++sp;
+          }
+          ref = n.child[slot[cnt - 1]];
+          mask = cm[slot[cnt - 1]];
         }
-        if (ne == 0) goto pop;
-        if (ne > 1) {
-          sort_far_first(e, ne);
-          for (int k = 0; k < ne - 1; ++k) stack[sp++] = e[k];
+      }
+      {
+        view.n = 0;
+        for (int g = 0; g < G; ++g) {
+          const unsigned gb = mask.group(g);
+          act[g] = lanes_of(gb);
+          if (gb) view.list[view.n++] = std::uint8_t(g);
         }
-        ref = e[ne - 1].ref;
-        continue;
-      }
-      if constexpr (Count) {
-        const std::uint32_t s = leaves.slots(ref);
-        std::uint64_t act = 0;
-        for (int k = 0; k < H; ++k) act += std::uint64_t(count_true<f8>(p.active[k]));
-        c.prims += s * act;
-        c.kind_prims[leaf_kind(ref)] += s * act;
-      }
-      leaves.template packet<Any, H>(ref, p, cache);
-      if constexpr (Any) {
-        bool alive = false;
-        for (int k = 0; k < H; ++k) alive = alive || any_of<f8>(p.active[k]);
-        if (!alive) break;
+        if constexpr (Count) {
+          const std::uint64_t s = leaves.slots(ref), k = std::uint64_t(mask.count());
+          c.prims += s * k;
+          c.kind_prims[leaf_kind(ref)] += s * k;
+        }
+        view.improved = false;
+        leaves.template packet<Any>(ref, view, cache);
+        if constexpr (Any) {
+          for (int k = 0; k < view.n; ++k) {
+            const int g = view.list[k];
+            const unsigned hit = mask.group(g) & ~movemask(act[g]);  // the leaf cleared the rays that hit
+            alive.set(g, alive.group(g) & ~hit);
+          }
+          if (alive.empty()) goto done;
+        } else if (view.improved) {
+          tmax_all = tmax_of(alive);
+        }
       }
     pop:
-      {
-        const float tm = packet_tmax(p);
-        do {
-          if (sp == 0) goto done;
-          --sp;
-        } while (stack[sp].d > tm);
-        ref = stack[sp].ref;
+      for (;;) {
+        if (sp == 0) goto done;
+        --sp;
+        const Mask m = Any ? smask[sp] & alive : smask[sp];
+        if (m.empty()) continue;
+        if (!Any && sd[sp] > tmax_all) continue;
+        ref = sref[sp];
+        mask = m;
+        break;
       }
     }
   }
 done:
-  for (int k = 0; k < H; ++k) {
+  for (int g = 0; g < G; ++g) {
     alignas(32) float tt[8];
-    p.tbest[k].store_aligned(tt);
+    tbest[g].store_aligned(tt);
     for (int l = 0; l < 8; ++l) {
-      const std::size_t r = i + 8 * std::size_t(k) + std::size_t(l);
-      const std::uint32_t pr = p.prim[8 * k + l];
-      out[r] = {pr == kNoPrim ? kInfF : tt[l], pr};
+      const std::size_t k = i + 8 * std::size_t(g) + std::size_t(l);
+      const std::uint32_t pr = prim[8 * g + l];
+      out[k] = {pr == kNoPrim ? kInfF : tt[l], pr};
     }
   }
 }
 
 // ---- a range of rays -----------------------------------------------------------------------------
 // Rays [begin, end) (begin a multiple of 8, the SoA padded to 8) into out. packet 1: one ray at a
-// time; 8 or 16: packets of that many rays when they share a direction octant (coherent: camera
-// tiles, rays towards one light); an incoherent packet's rays part ways at the first nodes, so
-// they traverse one by one.
+// time; 8, 16, 64 or 256: packets of that many consecutive rays when they share a direction
+// octant (coherent: camera tiles, rays towards one light); a packet of more than 8 whose rays do
+// not goes on in packets of 8, and an incoherent packet of 8 one ray at a time (its rays would
+// part ways at the first nodes). A packet takes the robust slab test when one of its rays needs it
+// (trace_single's rule).
+inline bool valid_packet_size(int packet) { return packet == 1 || packet == 8 || packet == 16 || packet == 64 || packet == 256; }
+
 template <Slab S, bool Any, bool Count, class L>
 void trace_range(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_t begin, std::size_t end, HitRec* out, int packet,
                  TraceCounters& c) {
-  if (packet != 1 && packet != 8 && packet != 16) throw std::invalid_argument("packet size must be 1, 8 or 16");
+  if (!valid_packet_size(packet)) throw std::invalid_argument("packet size must be 1, 8, 16, 64 or 256");
   if (packet == 1) {
     for (std::size_t i = begin; i < end; ++i) out[i] = trace_single<S, Any, Count>(t, leaves, rays.get(i), c);
     return;
   }
+  auto octant = [&](std::size_t k) {
+    return int(std::signbit(rays.dx[k])) | int(std::signbit(rays.dy[k])) << 1 | int(std::signbit(rays.dz[k])) << 2;
+  };
   auto coherent = [&](std::size_t i, std::size_t n) {
     int oct = -1;
     for (std::size_t k = i; k < i + n; ++k) {
       if (!(rays.tmin[k] <= rays.tmax[k])) continue;
-      const int q = (rays.dx[k] < 0) | (rays.dy[k] < 0) << 1 | (rays.dz[k] < 0) << 2;
+      const int q = octant(k);
       if (oct >= 0 && q != oct) return false;
       oct = q;
     }
     return true;
   };
-  // Conservative: the packet's fast test is conservative for every ray of it when every origin is
-  // within the bound; otherwise the packet uses the robust test.
   auto robust = [&](std::size_t i, std::size_t n) {
     if constexpr (S == Slab::robust) return true;
-    if constexpr (S == Slab::fast) return false;
-    for (std::size_t k = i; k < i + n; ++k)
-      if (rays.tmin[k] <= rays.tmax[k] && detail::beyond_bound(t, {rays.ox[k], rays.oy[k], rays.oz[k]})) return true;
+    for (std::size_t k = i; k < i + n; ++k) {
+      if (!(rays.tmin[k] <= rays.tmax[k])) continue;
+      if (!(rays.tmin[k] >= 0)) return true;
+      if (S == Slab::conservative && detail::beyond_bound(t, {rays.ox[k], rays.oy[k], rays.oz[k]})) return true;
+    }
     return false;
   };
-  auto singles = [&](std::size_t i, std::size_t n) {
-    for (std::size_t k = i; k < i + n; ++k) out[k] = trace_single<S, Any, Count>(t, leaves, rays.get(k), c);
+  auto run = [&]<int G>(std::size_t i) {
+    if (robust(i, 8 * G)) trace_packet<true, Any, Count, G>(t, leaves, rays, i, out, c);
+    else trace_packet<false, Any, Count, G>(t, leaves, rays, i, out, c);
   };
-  std::size_t i = begin;
-  if (packet == 16)
-    for (; i + 16 <= end; i += 16) {
-      if (!coherent(i, 16)) singles(i, 16);
-      else if (robust(i, 16)) trace_packet<true, Any, Count, 2>(t, leaves, rays, i, out, c);
-      else trace_packet<false, Any, Count, 2>(t, leaves, rays, i, out, c);
+  auto eights = [&](std::size_t i, std::size_t e) {
+    for (; i < e; i += 8) {
+      if (coherent(i, 8)) run.template operator()<1>(i);
+      else
+        for (std::size_t k = i; k < i + 8; ++k) out[k] = trace_single<S, Any, Count>(t, leaves, rays.get(k), c);
     }
-  for (; i < end; i += 8) {
-    if (!coherent(i, 8)) singles(i, 8);
-    else if (robust(i, 8)) trace_packet<true, Any, Count, 1>(t, leaves, rays, i, out, c);
-    else trace_packet<false, Any, Count, 1>(t, leaves, rays, i, out, c);
+  };
+  const std::size_t P = std::size_t(packet);
+  std::size_t i = begin;
+  for (; i + P <= end; i += P) {
+    if (P == 8 || !coherent(i, P)) eights(i, i + P);
+    else if (P == 16) run.template operator()<2>(i);
+    else if (P == 64) run.template operator()<8>(i);
+    else run.template operator()<32>(i);
   }
+  eights(i, end);
 }
 
 }  // namespace rb::bvh

@@ -134,11 +134,12 @@ inline void woop_double_fallback(const mask_t<F>& zero, const F& Ax, const F& Ay
 }
 }  // namespace detail
 
+// The test on the vertices already relative to the origin and permuted ((a - o)[kx], [ky], [kz]):
+// a batch stored by coordinate can load them in that order (tracer/leaves.hpp does, for one ray
+// against 8 triangles), with the same result bit for bit.
 template <class F>
-RB_INLINE Hit<F> intersect_triangle_woop(const WoopRay<F>& w, const Ray<F>& r, const TriVerts<F>& q) {
-  const Vec3<F> A = woop_permute(w, q.a - r.o);          // 3+-
-  const Vec3<F> B = woop_permute(w, q.b - r.o);          // 3+-
-  const Vec3<F> C = woop_permute(w, q.c - r.o);          // 3+-
+RB_INLINE Hit<F> intersect_triangle_woop_permuted(const WoopRay<F>& w, const Ray<F>& r, const Vec3<F>& A, const Vec3<F>& B,
+                                                  const Vec3<F>& C) {
   const F Ax = A.x - w.Sx * A.z, Ay = A.y - w.Sy * A.z;  // 2+- 2*
   const F Bx = B.x - w.Sx * B.z, By = B.y - w.Sy * B.z;  // 2+- 2*
   const F Cx = C.x - w.Sx * C.z, Cy = C.y - w.Sy * C.z;  // 2+- 2*
@@ -160,6 +161,14 @@ RB_INLINE Hit<F> intersect_triangle_woop(const WoopRay<F>& w, const Ray<F>& r, c
   const F t = T * inv;                                   // 1*
   m = m & (t >= r.tmin) & (t <= r.tmax);                 // 2 cmp
   return make_hit<F>(m, t, V * inv, W * inv);            // 2* 1 select
+}
+
+template <class F>
+RB_INLINE Hit<F> intersect_triangle_woop(const WoopRay<F>& w, const Ray<F>& r, const TriVerts<F>& q) {
+  const Vec3<F> A = woop_permute(w, q.a - r.o);          // 3+-
+  const Vec3<F> B = woop_permute(w, q.b - r.o);          // 3+-
+  const Vec3<F> C = woop_permute(w, q.c - r.o);          // 3+-
+  return intersect_triangle_woop_permuted(w, r, A, B, C);
 }
 
 // Convenience: precompute and test (use intersect_triangle_woop with a stored WoopRay when one

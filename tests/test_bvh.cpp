@@ -120,7 +120,7 @@ void check_all_modes(const scene::Scene& s, std::size_t count, tracer::Model mod
     if (set != trace::RaySet::shadow) {
       EXPECT_GT(hits, 0u) << trace::ray_set_name(set);
     }
-    for (int packet : {1, 8, 16})
+    for (int packet : {1, 8, 16, 64, 256})
       for (bvh::Slab slab : {bvh::Slab::conservative, bvh::Slab::fast, bvh::Slab::robust}) {
       const tracer::TraceOptions o = opts(packet, slab, any);
       std::vector<HitRec> h(rays.size());
@@ -241,7 +241,7 @@ TEST(Bvh, DefaultAndRobustTraversalLetNoRayThroughAClosedMesh) {
   for (int i = 0; i < 2000; ++i) rays.push(to_float(c + Vec3d{U(g), U(g), U(g)}), to_float(Vec3d{U(g), U(g), U(g)}));
   for (const auto& v : s.verts) rays.push(to_float(c), to_float(v - c));  // exactly at every vertex
   for (const auto& t : s.triangles) rays.push(to_float(c), to_float((s.verts[t.v[0]] + s.verts[t.v[1]]) * 0.5 - c));  // edge midpoints
-  for (int packet : {1, 8, 16})
+  for (int packet : {1, 8, 16, 64, 256})
     for (bvh::Slab slab : {bvh::Slab::conservative, bvh::Slab::robust}) {
       std::vector<HitRec> h(rays.size());
       a.trace(rays, 0, rays.size(), h.data(), opts(packet, slab));
@@ -284,7 +284,7 @@ TEST(Bvh, HostileInputsGiveDefinedResults) {
   bad.push(Vec3f{inf, 0, -5}, Vec3f{0, 0, 1});
   bad.push(Vec3f{0, 0, -5}, Vec3f{0, 0, 1}, 0.0f, nan);
   bad.push(Vec3f{0, 0, -5}, Vec3f{0, 0, 1});  // a good ray in the same packet
-  for (int packet : {1, 8, 16}) {
+  for (int packet : {1, 8, 16, 64, 256}) {
     std::vector<HitRec> h(round_up(bad.size(), 16));
     RaySoA r = bad;
     while (r.size() < 16) r.push(Vec3f{0, 0, -5}, Vec3f{0, 0, 0});

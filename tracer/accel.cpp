@@ -242,7 +242,7 @@ void SceneAccel::trace_counted(const RaySoA& rays, std::size_t begin, std::size_
 HitRec SceneAccel::brute_force(const Ray<float>& r, bool any) const {
   HitRec h{r.tmax, kNoPrim};
   if (!(r.tmin <= r.tmax)) return {std::numeric_limits<float>::infinity(), kNoPrim};
-  RayCache cache;
+  RayCache cache(r);
   bool done = false;
   AllKinds::each([&]<class K>() {
     if (done) return;

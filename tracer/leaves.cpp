@@ -12,17 +12,11 @@ LeafFns std_fns() {
   f.single = [](const void* b, std::size_t base, const Ray<float>& r, RayCache& c, HitRec& h) {
     return std_single<K, M, F64, S64>(*static_cast<const StdBatch<K>*>(b), base, r, c, h);
   };
-  f.packet1[0] = [](const void* b, std::size_t base, bvh::Packet<1>& p, PacketCache<1>& c) {
-    std_packet<K, M, F64, S64, false, 1>(*static_cast<const StdBatch<K>*>(b), base, p, c);
+  f.packet[0] = [](const void* b, std::size_t base, bvh::PacketRays& p, PacketCache& c) {
+    std_packet<K, M, F64, S64, false>(*static_cast<const StdBatch<K>*>(b), base, p, c);
   };
-  f.packet1[1] = [](const void* b, std::size_t base, bvh::Packet<1>& p, PacketCache<1>& c) {
-    std_packet<K, M, F64, S64, true, 1>(*static_cast<const StdBatch<K>*>(b), base, p, c);
-  };
-  f.packet2[0] = [](const void* b, std::size_t base, bvh::Packet<2>& p, PacketCache<2>& c) {
-    std_packet<K, M, F64, S64, false, 2>(*static_cast<const StdBatch<K>*>(b), base, p, c);
-  };
-  f.packet2[1] = [](const void* b, std::size_t base, bvh::Packet<2>& p, PacketCache<2>& c) {
-    std_packet<K, M, F64, S64, true, 2>(*static_cast<const StdBatch<K>*>(b), base, p, c);
+  f.packet[1] = [](const void* b, std::size_t base, bvh::PacketRays& p, PacketCache& c) {
+    std_packet<K, M, F64, S64, true>(*static_cast<const StdBatch<K>*>(b), base, p, c);
   };
   return f;
 }
@@ -34,10 +28,8 @@ LeafFns custom_fns() {
   f.single = [](const void* b, std::size_t base, const Ray<float>& r, RayCache&, HitRec& h) {
     return K::single(*static_cast<const B*>(b), base, r, h);
   };
-  f.packet1[0] = [](const void* b, std::size_t base, bvh::Packet<1>& p, PacketCache<1>&) { K::template packet<false, 1>(*static_cast<const B*>(b), base, p); };
-  f.packet1[1] = [](const void* b, std::size_t base, bvh::Packet<1>& p, PacketCache<1>&) { K::template packet<true, 1>(*static_cast<const B*>(b), base, p); };
-  f.packet2[0] = [](const void* b, std::size_t base, bvh::Packet<2>& p, PacketCache<2>&) { K::template packet<false, 2>(*static_cast<const B*>(b), base, p); };
-  f.packet2[1] = [](const void* b, std::size_t base, bvh::Packet<2>& p, PacketCache<2>&) { K::template packet<true, 2>(*static_cast<const B*>(b), base, p); };
+  f.packet[0] = [](const void* b, std::size_t base, bvh::PacketRays& p, PacketCache&) { K::template packet<false>(*static_cast<const B*>(b), base, p); };
+  f.packet[1] = [](const void* b, std::size_t base, bvh::PacketRays& p, PacketCache&) { K::template packet<true>(*static_cast<const B*>(b), base, p); };
   return f;
 }
 

@@ -50,10 +50,13 @@ RB_INLINE Ray<d4> half_ray(const Ray<f8>& r, const f8& tmax, bool hi) {
 }  // namespace detail
 
 // ---- per-ray and per-packet state the leaves prepare lazily --------------------------------------
+// (User-provided constructors: the caches are made once per ray, and value-initialising their
+// vectors would zero a few kilobytes each time.)
 template <class K>
 struct PreSlot {
   bool ready = false;
-  typename K::template Pre<f8> v{};
+  typename K::template Pre<f8> v;
+  PreSlot() {}
 };
 template <class... K>
 struct PreTuple {
@@ -70,9 +73,10 @@ using AllPre = PreTupleOf<AllKinds>::type;
 // One ray broadcast to 8 lanes and each kind's precompute on it (Woop's shear), made at the first
 // leaf of that kind the ray reaches (most rays of a sparse view never reach one).
 struct RayCache {
-  Ray<f8> rb{};
+  Ray<f8> rb;
   bool ready = false;
   AllPre pre;
+  explicit RayCache(const Ray<float>&) {}
   RB_INLINE Ray<f8>& ray8(const Ray<float>& r) {
     if (!ready) {
       rb = Ray<f8>::broadcast(r);
@@ -90,12 +94,14 @@ struct RayCache {
     return s.v;
   }
 };
-template <int H>
+// Each kind's precompute per group of a packet (up to bvh::kMaxGroups groups), made at the first
+// leaf of that kind the group reaches.
 struct PacketCache {
   template <class K>
   struct Slot {
-    bool ready = false;
-    typename K::template Pre<f8> v[H];
+    std::uint32_t ready = 0;  // bit g: group g's entry is made
+    typename K::template Pre<f8> v[bvh::kMaxGroups];
+    Slot() {}
   };
   template <class... K>
   struct Tuple {
@@ -109,11 +115,11 @@ struct PacketCache {
   };
   typename Of<AllKinds>::type slots;
   template <class K>
-  RB_INLINE const typename K::template Pre<f8>& pre8(const bvh::Packet<H>& p, int k) {
+  RB_INLINE const typename K::template Pre<f8>& pre8(const bvh::PacketRays& p, int k) {
     auto& s = std::get<Slot<K>>(slots.t);
-    if (!s.ready) {
-      for (int j = 0; j < H; ++j) s.v[j] = K::pre(p.r[j]);
-      s.ready = true;
+    if (!(s.ready >> k & 1u)) {
+      s.v[k] = K::pre(p.r[k]);
+      s.ready |= 1u << k;
     }
     return s.v[k];
   }
@@ -184,15 +190,16 @@ RB_INLINE bool std_single(const StdBatch<K>& b, std::size_t base, const Ray<floa
   }
 }
 
-template <class K, int M, bool F64, bool Store64, bool Any, int H>
-RB_INLINE void std_packet(const StdBatch<K>& b, std::size_t base, bvh::Packet<H>& p, PacketCache<H>& c) {
+template <class K, int M, bool F64, bool Store64, bool Any>
+RB_INLINE void std_packet(const StdBatch<K>& b, std::size_t base, bvh::PacketRays& p, PacketCache& c) {
   for (std::size_t j = base; j < base + 8; ++j) {
     const std::uint32_t sid = b.id[j];
     if (sid == UINT32_MAX) continue;
     const std::uint32_t code = kinds::code(K::id, sid);
     if constexpr (!F64) {
       const auto prim = b.f32.template broadcast<f8>(j);
-      for (int k = 0; k < H; ++k) {
+      for (int q = 0; q < p.n; ++q) {
+        const int k = p.list[q];
         if (none_of<f8>(p.active[k])) continue;
         Ray<f8> rr = p.r[k];
         rr.tmax = p.tbest[k];
@@ -203,7 +210,8 @@ RB_INLINE void std_packet(const StdBatch<K>& b, std::size_t base, bvh::Packet<H>
       typename K::template Prim<d4> prim;
       if constexpr (Store64) prim = b.f64.template broadcast<d4>(j);
       else prim = b.f32.template broadcast<d4>(j);
-      for (int k = 0; k < H; ++k) {
+      for (int q = 0; q < p.n; ++q) {
+        const int k = p.list[q];
         if (none_of<f8>(p.active[k])) continue;
         const Ray<d4> lo = detail::half_ray(p.r[k], p.tbest[k], false), hi = detail::half_ray(p.r[k], p.tbest[k], true);
         const Hit<d4> hl = K::template hit<M>(lo, K::pre(lo), prim), hh = K::template hit<M>(hi, K::pre(hi), prim);
@@ -218,8 +226,7 @@ RB_INLINE void std_packet(const StdBatch<K>& b, std::size_t base, bvh::Packet<H>
 // ---- one function pointer set per kind ------------------------------------------------------------
 struct LeafFns {
   bool (*single)(const void* batch, std::size_t base, const Ray<float>& r, RayCache& c, HitRec& h) = nullptr;
-  void (*packet1[2])(const void* batch, std::size_t base, bvh::Packet<1>& p, PacketCache<1>& c) = {nullptr, nullptr};
-  void (*packet2[2])(const void* batch, std::size_t base, bvh::Packet<2>& p, PacketCache<2>& c) = {nullptr, nullptr};
+  void (*packet[2])(const void* batch, std::size_t base, bvh::PacketRays& p, PacketCache& c) = {nullptr, nullptr};  // [Any]
 };
 
 // Every kind's functions for its chosen method and precision (tracer/leaves.cpp instantiates each
@@ -244,17 +251,15 @@ struct TableLeaves {
   const LeafFns* fns = nullptr;  // kKinds entries
   std::uint32_t (*slots_fn[kKinds])(const void*, std::size_t) = {};
   using RayCache = tracer::RayCache;
-  template <int H>
-  using PacketCache = tracer::PacketCache<H>;
+  using PacketCache = tracer::PacketCache;
   RB_INLINE bool single(std::uint32_t ref, const Ray<float>& r, RayCache& c, HitRec& h) const {
     const int k = bvh::leaf_kind(ref);
     return fns[k].single(batch[k], std::size_t(bvh::leaf_group(ref)) * 8, r, c, h);
   }
-  template <bool Any, int H>
-  RB_INLINE void packet(std::uint32_t ref, bvh::Packet<H>& p, PacketCache<H>& c) const {
+  template <bool Any>
+  RB_INLINE void packet(std::uint32_t ref, bvh::PacketRays& p, PacketCache& c) const {
     const int k = bvh::leaf_kind(ref);
-    if constexpr (H == 1) fns[k].packet1[Any](batch[k], std::size_t(bvh::leaf_group(ref)) * 8, p, c);
-    else fns[k].packet2[Any](batch[k], std::size_t(bvh::leaf_group(ref)) * 8, p, c);
+    fns[k].packet[Any](batch[k], std::size_t(bvh::leaf_group(ref)) * 8, p, c);
   }
   std::uint32_t slots(std::uint32_t ref) const {
     const int k = bvh::leaf_kind(ref);
@@ -262,20 +267,163 @@ struct TableLeaves {
   }
 };
 
-// A scene of triangles only, Woop in float: the kernel inlined into the loop.
+// A scene of triangles only, Woop in float: the kernel inlined into the loop. One ray against a
+// leaf's 8 triangles loads each vertex coordinate already in the ray's shear order (the batch is
+// stored by coordinate), with the shear computed once per ray in scalar code (when the ray starts:
+// a cheap scalar set-up, no check per leaf).
+struct MeshRayCache {
+  Ray<f8> rb;
+  WoopRay<f8> w;
+  f8 o[3];  // the origin's coordinates in the shear order
+  int k[3];
+  explicit MeshRayCache(const Ray<float>& r) {
+    const WoopRay<float> s = make_woop_ray(r);
+    w.Sx = f8(s.Sx); w.Sy = f8(s.Sy); w.Sz = f8(s.Sz);
+    w.uniform = true;
+    k[0] = s.kx; k[1] = s.ky; k[2] = s.kz;
+    for (int a = 0; a < 3; ++a) o[a] = f8(r.o[k[a]]);
+    rb = Ray<f8>::broadcast(r);
+  }
+};
+// Per group of a packet: the shear (made at the group's first leaf) and, for a group whose rays
+// share the permutation, the origin's coordinates in that order.
+// Per ray of a packet, for the leaves it meets with few rays: the scalar shear and the origin in its
+// order (made at the ray's first such leaf).
+struct MeshPacketCache {
+  std::uint32_t ready = 0;  // bit g: group g's entry is made
+  WoopRay<f8> w[bvh::kMaxGroups];
+  f8 o[bvh::kMaxGroups][3];
+  std::uint32_t ray_ready[bvh::kMaxGroups] = {};  // bit l of [g]: ray g * 8 + l's entry is made
+  struct One {
+    float S[3], o[3];
+    int k[3];
+  } one[8 * bvh::kMaxGroups];
+  MeshPacketCache() {}
+};
 struct MeshLeaves {
   const StdBatch<kinds::TriangleKind>* tri = nullptr;
-  using RayCache = tracer::RayCache;
-  template <int H>
-  using PacketCache = tracer::PacketCache<H>;
+  using RayCache = MeshRayCache;
+  using PacketCache = MeshPacketCache;
   RB_INLINE bool single(std::uint32_t ref, const Ray<float>& r, RayCache& c, HitRec& h) const {
-    return std_single<kinds::TriangleKind, 0, false, false>(*tri, std::size_t(bvh::leaf_group(ref)) * 8, r, c, h);
+    (void)r;
+    c.rb.tmax = f8(h.t);
+    const std::size_t base = std::size_t(bvh::leaf_group(ref)) * 8;
+    const auto& f = tri->f32.f;
+    auto vertex = [&](int v) {
+      return Vec3<f8>{load<f8>(&f[std::size_t(3 * v + c.k[0])][base]) - c.o[0], load<f8>(&f[std::size_t(3 * v + c.k[1])][base]) - c.o[1],
+                      load<f8>(&f[std::size_t(3 * v + c.k[2])][base]) - c.o[2]};
+    };
+    const Hit<f8> hit = intersect_triangle_woop_permuted(c.w, c.rb, vertex(0), vertex(1), vertex(2));
+    if (none_of<f8>(hit.mask)) return false;
+    float t;
+    const int lane = bvh::detail::argmin8(hit.t, t);
+    h = {t, kinds::code(kinds::TriangleKind::id, tri->id[base + std::size_t(lane)])};
+    return true;
   }
-  template <bool Any, int H>
-  RB_INLINE void packet(std::uint32_t ref, bvh::Packet<H>& p, PacketCache<H>& c) const {
-    std_packet<kinds::TriangleKind, 0, false, false, Any, H>(*tri, std::size_t(bvh::leaf_group(ref)) * 8, p, c);
+  // Whichever needs fewer 8-lane kernel calls: fewer rays than triangle x group pairs, one ray at
+  // a time against the 8 triangles in lanes (the single-ray kernel); otherwise rays in lanes, one
+  // triangle at a time: a group sharing the shear's permutation loads the triangle's coordinates
+  // in that order (scalars, then broadcast); another permutes per lane. The same arithmetic either
+  // way: the same t for each ray and triangle.
+  template <bool Any>
+  RB_INLINE void packet(std::uint32_t ref, bvh::PacketRays& p, PacketCache& c) const {
+    const std::size_t base = std::size_t(bvh::leaf_group(ref)) * 8;
+    int rays = 0, tris = 0;
+    for (int q = 0; q < p.n; ++q) rays += count_true<f8>(p.active[p.list[q]]);
+    for (std::size_t j = base; j < base + 8; ++j) tris += tri->id[j] != UINT32_MAX;
+    if (rays < tris * p.n) {
+      packet_by_ray<Any>(base, p, c);
+      return;
+    }
+    for (int q = 0; q < p.n; ++q) {
+      const int k = p.list[q];
+      if (c.ready >> k & 1u) continue;
+      c.w[k] = make_woop_ray(p.r[k]);
+      if (c.w[k].uniform) {
+        const int perm[3] = {c.w[k].kx, c.w[k].ky, c.w[k].kz};
+        for (int a = 0; a < 3; ++a) c.o[k][a] = perm[a] == 0 ? p.r[k].o.x : perm[a] == 1 ? p.r[k].o.y : p.r[k].o.z;
+      }
+      c.ready |= 1u << k;
+    }
+    const auto& f = tri->f32.f;
+    for (std::size_t j = base; j < base + 8; ++j) {
+      const std::uint32_t sid = tri->id[j];
+      if (sid == UINT32_MAX) continue;
+      const std::uint32_t code = kinds::code(kinds::TriangleKind::id, sid);
+      for (int q = 0; q < p.n; ++q) {
+        const int k = p.list[q];
+        if (none_of<f8>(p.active[k])) continue;
+        const WoopRay<f8>& w = c.w[k];
+        Ray<f8> rr = p.r[k];
+        rr.tmax = p.tbest[k];
+        Vec3<f8> v[3];
+        if (w.uniform) {
+          for (int i = 0; i < 3; ++i)
+            v[i] = {f8(f[std::size_t(3 * i + w.kx)][j]) - c.o[k][0], f8(f[std::size_t(3 * i + w.ky)][j]) - c.o[k][1],
+                    f8(f[std::size_t(3 * i + w.kz)][j]) - c.o[k][2]};
+        } else {
+          for (int i = 0; i < 3; ++i)
+            v[i] = woop_permute(w, Vec3<f8>{f8(f[std::size_t(3 * i)][j]), f8(f[std::size_t(3 * i + 1)][j]), f8(f[std::size_t(3 * i + 2)][j])} - rr.o);
+        }
+        const Hit<f8> hit = intersect_triangle_woop_permuted(w, rr, v[0], v[1], v[2]);
+        bvh::packet_update<Any>(p, k, hit.mask, hit.t, code);
+      }
+    }
   }
   std::uint32_t slots(std::uint32_t ref) const { return real_slots(*tri, std::size_t(bvh::leaf_group(ref)) * 8); }
+
+  template <bool Any>
+  RB_INLINE void packet_by_ray(std::size_t base, bvh::PacketRays& p, PacketCache& c) const {
+    const auto& f = tri->f32.f;
+    for (int q = 0; q < p.n; ++q) {
+      const int g = p.list[q];
+      unsigned bits = bvh::detail::movemask(p.active[g]);
+      if (!bits) continue;
+      alignas(32) float tb[8];
+      p.tbest[g].store_aligned(tb);
+      while (bits) {
+        const int l = __builtin_ctz(bits);
+        bits &= bits - 1;
+        MeshPacketCache::One& one = c.one[8 * g + l];
+        if (!(c.ray_ready[g] >> l & 1u)) {
+          alignas(32) float v[6][8];
+          p.r[g].o.x.store_aligned(v[0]); p.r[g].o.y.store_aligned(v[1]); p.r[g].o.z.store_aligned(v[2]);
+          p.r[g].d.x.store_aligned(v[3]); p.r[g].d.y.store_aligned(v[4]); p.r[g].d.z.store_aligned(v[5]);
+          Ray<float> r1;
+          r1.o = {v[0][l], v[1][l], v[2][l]};
+          r1.d = {v[3][l], v[4][l], v[5][l]};
+          const WoopRay<float> w = make_woop_ray(r1);
+          one.S[0] = w.Sx; one.S[1] = w.Sy; one.S[2] = w.Sz;
+          one.k[0] = w.kx; one.k[1] = w.ky; one.k[2] = w.kz;
+          for (int a = 0; a < 3; ++a) one.o[a] = r1.o[one.k[a]];
+          c.ray_ready[g] |= 1u << l;
+        }
+        WoopRay<f8> w;
+        w.Sx = f8(one.S[0]); w.Sy = f8(one.S[1]); w.Sz = f8(one.S[2]);
+        w.uniform = true;
+        Ray<f8> rr;
+        alignas(32) float tm[8];
+        p.r[g].tmin.store_aligned(tm);
+        rr.tmin = f8(tm[l]);
+        rr.tmax = f8(tb[l]);
+        auto vertex = [&](int v) {
+          return Vec3<f8>{load<f8>(&f[std::size_t(3 * v + one.k[0])][base]) - f8(one.o[0]),
+                          load<f8>(&f[std::size_t(3 * v + one.k[1])][base]) - f8(one.o[1]),
+                          load<f8>(&f[std::size_t(3 * v + one.k[2])][base]) - f8(one.o[2])};
+        };
+        const Hit<f8> hit = intersect_triangle_woop_permuted(w, rr, vertex(0), vertex(1), vertex(2));
+        if (none_of<f8>(hit.mask)) continue;
+        float t;
+        const int lane = bvh::detail::argmin8(hit.t, t);
+        const f8_mask one_lane = bvh::detail::lanes_of(1u << l);
+        tb[l] = t;
+        p.prim[8 * g + l] = kinds::code(kinds::TriangleKind::id, tri->id[base + std::size_t(lane)]);
+        p.improved = true;
+        if constexpr (Any) p.active[g] = p.active[g] & ~one_lane;
+      }
+      p.tbest[g] = f8::load_aligned(tb);
+    }
+  }
 };
 
 }  // namespace rb::tracer

@@ -82,12 +82,13 @@ struct CsgKind {
     }
     return any;
   }
-  template <bool Any, int H>
-  static void packet(const Batch& b, std::size_t base, bvh::Packet<H>& p) {
+  template <bool Any>
+  static void packet(const Batch& b, std::size_t base, bvh::PacketRays& p) {
     for (std::size_t j = base; j < base + 8 && j < b.id.size(); ++j) {
       const std::uint32_t sid = b.id[j];
       if (sid == UINT32_MAX) continue;
-      for (int k = 0; k < H; ++k) {
+      for (int q = 0; q < p.n; ++q) {
+        const int k = p.list[q];
         if (none_of<f8>(p.active[k])) continue;
         Ray<f8> rr = p.r[k];
         rr.tmax = p.tbest[k];
