@@ -274,6 +274,10 @@ std::string terminal_summary(const json& summary, const std::vector<Goal>& goals
     t += "\n";
   t += "Goals:\n";
   for (const auto& g : goals) t += fmt::format("  [{}] {}: {}\n", g.met < 0 ? " - " : g.met ? "met" : "NOT", g.goal, g.measured);
+  if (summary.contains("tracing") && summary["tracing"].contains("goals"))
+    for (const auto& g : summary["tracing"]["goals"])
+      t += fmt::format("  [{}] tracing: {}: {}\n", g["met"] == -1 ? " - " : g["met"] == 1 ? "met" : "NOT", g["goal"].get<std::string>(),
+                       g["measured"].get<std::string>());
   if (summary.contains("simd_target_4x_counts")) {
     const auto& c = summary["simd_target_4x_counts"];
     t += fmt::format("  every method SIMD >= 4x scalar: {} of {} methods; {} fall short for a stated structural reason, {} unexplained\n",

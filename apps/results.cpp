@@ -240,8 +240,9 @@ ResultSet load_results(const std::string& path) {
   if (fs::exists(dir / "bench.json")) add(figures_of("bench", read_json_file((dir / "bench.json").string())));
   if (fs::exists(dir / "tracing.json")) {
     const json t = read_json_file((dir / "tracing.json").string());
-    if (t.contains("bunny"))
-      for (const auto& row : t["bunny"]) trace_figures(row, "trace", r.figures);
+    for (const char* key : {"matrix", "bunny"})  // "bunny": reports written before the matrix
+      if (t.contains(key))
+        for (const auto& row : t[key]) trace_figures(row, "trace", r.figures);
     if (t.contains("by_size"))
       for (const auto& row : t["by_size"]) {
         const std::string n = str(row, "scene");

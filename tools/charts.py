@@ -105,12 +105,53 @@ def plan_models(out, summary):
     plt.close(fig)
 
 
+def trace_matrix(out, summary):
+    """Mrays/s per ray set and packet size, raybench beside Embree: one panel per mesh and thread count."""
+    rows = summary.get("tracing", {}).get("matrix", [])
+    if not rows:
+        return
+    meshes = list(dict.fromkeys(r["mesh"] for r in rows))
+    sets = list(dict.fromkeys(r["ray_set"] for r in rows))
+    packets = sorted({r["packet"] for r in rows})
+    threads = sorted({r["threads"] for r in rows})
+    colours = plt.get_cmap("tab10").colors
+    fig, axes = plt.subplots(len(meshes), len(threads), figsize=(5.2 * len(threads) + 1.6, 2.9 * len(meshes)), squeeze=False,
+                             sharey="row")
+    width = 0.8 / (2 * len(packets))
+    for mi, mesh in enumerate(meshes):
+        for ti, th in enumerate(threads):
+            ax = axes[mi][ti]
+            for pi, p in enumerate(packets):
+                for ei, (key, hatch, label) in enumerate([("mrays_per_s", None, "raybench"), ("embree_mrays_per_s", "///", "Embree")]):
+                    xs, ys = [], []
+                    for si, st in enumerate(sets):
+                        r = next((r for r in rows if r["mesh"] == mesh and r["threads"] == th and r["packet"] == p and r["ray_set"] == st), None)
+                        if r is None or r.get(key) is None:
+                            continue
+                        xs.append(si - 0.4 + width * (2 * pi + ei + 0.5))
+                        ys.append(r[key])
+                    ax.bar(xs, ys, width, color=colours[pi], alpha=1.0 if ei == 0 else 0.45, hatch=hatch, edgecolor="black", lw=0.3,
+                           label=f"{label}, packet {p}" if mi == 0 and ti == 0 else None)
+            ax.set_xticks(range(len(sets)))
+            ax.set_xticklabels(sets)
+            ax.set_title(f"{mesh}, {th} thread{'s' if th > 1 else ''}", fontsize=9)
+            ax.grid(True, axis="y", lw=0.3)
+            if ti == 0:
+                ax.set_ylabel("Mrays/s (median)")
+    fig.legend(loc="upper left", bbox_to_anchor=(0.86, 0.98), fontsize=8, frameon=False,
+               title="solid: raybench\nhatched: Embree")
+    fig.tight_layout(rect=(0, 0, 0.85, 1))
+    fig.savefig(os.path.join(out, "trace_matrix.png"), dpi=100)
+    plt.close(fig)
+
+
 def main():
     out = sys.argv[1] if len(sys.argv) > 1 else "report"
     with open(os.path.join(out, "summary.json")) as f:
         summary = json.load(f)
     simd_speedup(out, summary)
     trace_scaling(out, summary)
+    trace_matrix(out, summary)
     plan_models(out, summary)
 
 
