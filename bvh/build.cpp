@@ -53,26 +53,31 @@ struct Bins {
   }
 };
 
-struct Centre {
-  __m128 v;
+// One primitive as the builder moves it: its box (x, y, z in lanes 0-2) with the primitive's index
+// in the low box's fourth lane. Partitions move these 32 bytes in place, so binning and
+// partitioning read memory front to back instead of through an index array.
+struct alignas(16) PrimRef {
+  Box box;
+  std::uint32_t id() const { return std::uint32_t(_mm_cvtsi128_si32(_mm_castps_si128(_mm_shuffle_ps(box.lo, box.lo, 3)))); }
+  // Twice the box centre (the halving cancels in every use: bins and centroid bounds alike).
+  __m128 centre2() const { return _mm_add_ps(box.lo, box.hi); }
 };
 
 struct Builder {
   const BuildOptions& opt;
-  std::vector<Box> pbox;    // per primitive
-  std::vector<Centre> cen;  // per primitive: box centre
+  std::vector<PrimRef>& refs;
   const std::uint8_t* kind;
-  std::vector<std::uint32_t>& idx;
   std::vector<BNode>& nodes;
   std::atomic<std::uint32_t> next{1};
 
-  float cen_of(std::uint32_t p, int axis) const { return reinterpret_cast<const float*>(&cen[p].v)[axis]; }
-  // Box and centroid box of idx[begin, end).
+  static float lane(__m128 v, int axis) { alignas(16) float f[4]; _mm_store_ps(f, v); return f[axis]; }
+  std::uint8_t kind_of(std::size_t i) const { return kind[refs[i].id()]; }
+  // Box and (doubled) centroid box of refs[begin, end).
   std::pair<Box, Box> bounds(std::size_t begin, std::size_t end) const {
     auto body = [&](std::size_t b, std::size_t e, std::pair<Box, Box> acc) {
       for (std::size_t i = b; i < e; ++i) {
-        acc.first.grow(pbox[idx[i]]);
-        acc.second.grow(cen[idx[i]].v);
+        acc.first.grow(refs[i].box);
+        acc.second.grow(refs[i].centre2());
       }
       return acc;
     };
@@ -93,24 +98,25 @@ struct Builder {
     const std::size_t b = std::size_t(std::max(1, opt.leaf_block));
     return float((n + b - 1) / b);
   }
-  int bin_of(std::uint32_t p, int axis, float clo, float scale, int nb) const {
-    const int b = int((cen_of(p, axis) - clo) * scale);
+  static int bin_of(const PrimRef& r, int axis, float clo, float scale, int nb) {
+    const int b = int((lane(r.centre2(), axis) - clo) * scale);
     return std::clamp(b, 0, nb - 1);
   }
 
   void make_leaf(BNode& n, std::size_t begin, std::size_t end) {
     n.first = std::uint32_t(begin);
     n.count = std::uint16_t(end - begin);
-    n.kind = kind[idx[begin]];
+    n.kind = kind_of(begin);
   }
 
-  // Builds node `ni` over idx[begin, end) whose box is `box`.
+  // Builds node `ni` over refs[begin, end) whose box is `box`.
   void build(std::uint32_t ni, std::size_t begin, std::size_t end, const Box& box, const Box& cbox, int depth) {
     const std::size_t n = end - begin;
     BNode& node = nodes[ni];
     for (int k = 0; k < 3; ++k) { node.lo[k] = box.l(k); node.hi[k] = box.h(k); }
     bool mixed = false;
-    for (std::size_t i = begin + 1; i < end && !mixed; ++i) mixed = kind[idx[i]] != kind[idx[begin]];
+    const std::uint8_t k0 = kind_of(begin);
+    for (std::size_t i = begin + 1; i < end && !mixed; ++i) mixed = kind_of(i) != k0;
     const std::size_t max_leaf = std::size_t(std::max(1, std::min(opt.max_leaf, 8)));
     // With a visit cost at least one leaf call, a split of at most one lane group never beats a
     // leaf (split cost Ct + Ci (AL + AR) / A > Ci): no binning needed.
@@ -138,9 +144,8 @@ struct Builder {
       const __m128i vmax = _mm_set1_epi32(nb - 1), vzero = _mm_setzero_si128();
       auto body = [&](std::size_t b, std::size_t e, Bins& acc) {
         for (std::size_t i = b; i < e; ++i) {
-          const std::uint32_t p = idx[i];
-          const Box& pb = pbox[p];
-          const __m128i bi = _mm_min_epi32(_mm_max_epi32(_mm_cvttps_epi32(_mm_mul_ps(_mm_sub_ps(cen[p].v, vclo), vscale)), vzero), vmax);
+          const Box& pb = refs[i].box;
+          const __m128i bi = _mm_min_epi32(_mm_max_epi32(_mm_cvttps_epi32(_mm_mul_ps(_mm_sub_ps(refs[i].centre2(), vclo), vscale)), vzero), vmax);
           alignas(16) int b3[4];
           _mm_store_si128(reinterpret_cast<__m128i*>(b3), bi);
           for (int k = 0; k < 3; ++k) {
@@ -189,27 +194,26 @@ struct Builder {
       // Partition and bound both sides in the same pass.
       std::size_t i = begin, j = end;
       for (;;) {
-        while (i < j && bin_of(idx[i], best_axis, clo, scale, nb) <= best_bin) { lb.first.grow(pbox[idx[i]]); lb.second.grow(cen[idx[i]].v); ++i; }
-        while (i < j && bin_of(idx[j - 1], best_axis, clo, scale, nb) > best_bin) { rb.first.grow(pbox[idx[j - 1]]); rb.second.grow(cen[idx[j - 1]].v); --j; }
+        while (i < j && bin_of(refs[i], best_axis, clo, scale, nb) <= best_bin) { lb.first.grow(refs[i].box); lb.second.grow(refs[i].centre2()); ++i; }
+        while (i < j && bin_of(refs[j - 1], best_axis, clo, scale, nb) > best_bin) { rb.first.grow(refs[j - 1].box); rb.second.grow(refs[j - 1].centre2()); --j; }
         if (i >= j) break;
-        std::swap(idx[i], idx[j - 1]);
+        std::swap(refs[i], refs[j - 1]);
       }
       mid = i;
       have_bounds = true;
     } else if (mixed) {
       // Split off the first primitive's kind (a leaf holds one kind).
-      const std::uint8_t k0 = kind[idx[begin]];
-      mid = std::size_t(std::stable_partition(idx.begin() + std::ptrdiff_t(begin), idx.begin() + std::ptrdiff_t(end),
-                                              [&](std::uint32_t p) { return kind[p] == k0; }) -
-                        idx.begin());
+      mid = std::size_t(std::stable_partition(refs.begin() + std::ptrdiff_t(begin), refs.begin() + std::ptrdiff_t(end),
+                                              [&](const PrimRef& r) { return kind[r.id()] == k0; }) -
+                        refs.begin());
     }
     if (mid <= begin || mid >= end) {
       // No usable split (coincident centroids, or too deep): the object median on the widest axis.
       mid = begin + n / 2;
       have_bounds = false;
       if (!flat)
-        std::nth_element(idx.begin() + std::ptrdiff_t(begin), idx.begin() + std::ptrdiff_t(mid), idx.begin() + std::ptrdiff_t(end),
-                         [&](std::uint32_t a, std::uint32_t b) { return cen_of(a, axis) < cen_of(b, axis); });
+        std::nth_element(refs.begin() + std::ptrdiff_t(begin), refs.begin() + std::ptrdiff_t(mid), refs.begin() + std::ptrdiff_t(end),
+                         [&](const PrimRef& a, const PrimRef& b) { return lane(a.centre2(), axis) < lane(b.centre2(), axis); });
     }
     const std::uint32_t c = next.fetch_add(2);
     node.first = c;
@@ -252,17 +256,19 @@ Bvh2 build_sah(const std::vector<float>& lo, const std::vector<float>& hi, const
     out.stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return out;
   }
-  out.nodes.resize(2 * idx.size());
-  Builder b{opt, std::vector<Box>(n), std::vector<Centre>(n), kind.data(), idx, out.nodes};
-  for (std::size_t i : idx) {
-    b.pbox[i].lo = _mm_setr_ps(lo[3 * i], lo[3 * i + 1], lo[3 * i + 2], 0.f);
-    b.pbox[i].hi = _mm_setr_ps(hi[3 * i], hi[3 * i + 1], hi[3 * i + 2], 0.f);
-    b.cen[i].v = _mm_mul_ps(_mm_add_ps(b.pbox[i].lo, b.pbox[i].hi), _mm_set1_ps(0.5f));
+  std::vector<PrimRef> refs(idx.size());
+  for (std::size_t j = 0; j < idx.size(); ++j) {
+    const std::size_t i = idx[j];
+    refs[j].box.lo = _mm_castsi128_ps(_mm_insert_epi32(_mm_castps_si128(_mm_setr_ps(lo[3 * i], lo[3 * i + 1], lo[3 * i + 2], 0.f)), int(i), 3));
+    refs[j].box.hi = _mm_setr_ps(hi[3 * i], hi[3 * i + 1], hi[3 * i + 2], 0.f);
   }
-  const auto [box, cbox] = b.bounds(0, idx.size());
-  b.build(0, 0, idx.size(), box, cbox, 0);
+  out.nodes.resize(2 * refs.size());
+  Builder b{opt, refs, kind.data(), out.nodes};
+  const auto [box, cbox] = b.bounds(0, refs.size());
+  b.build(0, 0, refs.size(), box, cbox, 0);
   out.nodes.resize(b.next.load());
   out.nodes.shrink_to_fit();
+  for (std::size_t j = 0; j < refs.size(); ++j) idx[j] = refs[j].id();
   out.order = std::move(idx);
   out.stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   tree_stats(out, opt);

@@ -1,8 +1,17 @@
 #include "tracer/kinds.hpp"
 
+#include "core/spawn.hpp"
+
+#include <cmath>
 #include <limits>
 
 namespace rb::kinds {
+
+namespace {
+// One float step outward by the bit pattern (core/spawn.hpp); infinities and NaN stay as they are.
+inline float step_down(float v) { return std::fabs(v) <= std::numeric_limits<float>::max() ? spawn::next_down(v) : v; }
+inline float step_up(float v) { return std::fabs(v) <= std::numeric_limits<float>::max() ? spawn::next_up(v) : v; }
+}  // namespace
 
 Bounds frame_box(const Bounds& b, const Vec3d& origin, float lo[3], float hi[3]) {
   const float inf = std::numeric_limits<float>::infinity();
@@ -15,7 +24,7 @@ Bounds frame_box(const Bounds& b, const Vec3d& origin, float lo[3], float hi[3])
     // Rounded outward, then 2 float steps more: a primitive made from the same double values and
     // rounded to nearest float per coordinate (a sphere's centre) stays inside.
     float fl = float(l[k]), fh = float(h[k]);
-    for (int i = 0; i < 3; ++i) fl = std::nextafter(fl, -inf), fh = std::nextafter(fh, inf);
+    for (int i = 0; i < 3; ++i) fl = step_down(fl), fh = step_up(fh);
     lo[k] = fl;
     hi[k] = fh;
   }
