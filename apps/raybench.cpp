@@ -211,6 +211,9 @@ int main(int argc, char** argv) {
   render->add_option("--threads", rdo.threads, "TBB threads per MPI rank\n(0: every hardware thread)")->check(CLI::Range(0, 256))->capture_default_str();
   render->add_flag("--spd", rdo.spd, "Haines' SPD protocol, his counts beside ours");
   render->add_flag("!--no-counts", rdo.count_tests, "Skip counting box and primitive tests");
+  render->add_option("--eye-packet", rdo.eye_packet, "Eye rays per packet: 1, 8, 16 or 64 (a 16x4\nblock of the image)")
+      ->check(CLI::IsMember({1, 8, 16, 64}))
+      ->capture_default_str();
   render->add_option("--secondary-packet", rdo.secondary_packet, "Reflection, refraction and shadow rays: 1 one\nby one, 8 sorted by octant into packets")
       ->check(CLI::IsMember({1, 8}))->capture_default_str();
   render->add_option("--model", rdo.model, "How the scene is modelled: auto (what it\nneeds: `raybench plan`), fast or exact")

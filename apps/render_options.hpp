@@ -17,6 +17,7 @@ struct RenderRunOptions {
   bool progress = true;
   bool count_tests = true;
   int secondary_packet = 1;
+  int eye_packet = 64;
   std::string model = "auto";  // auto | fast | exact (tracer/plan.hpp)
   int warmup = 0;               // untimed renders before the timed ones (the command line: 1)
   int repetitions = 1;          // timed renders; the median is quoted (the command line: 3)

@@ -69,6 +69,7 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
   else ro.width = w, ro.height = h, ro.depth = o.depth;
   ro.count_tests = o.count_tests;
   ro.secondary_packet = o.secondary_packet;
+  ro.eye_packet = o.eye_packet;
   render::Renderer r(s, accel, ro);
 
   int rank = 0, ranks = 1;
@@ -128,6 +129,7 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
          {"total_rays", st.rays()},
          {"tests_counted", ro.count_tests},
          {"secondary_packet", ro.secondary_packet},
+         {"eye_packet", ro.eye_packet},
          {"node_visits", st.cost.nodes},
          {"box_tests", st.cost.boxes},
          {"prim_tests", prim},

@@ -145,7 +145,7 @@ Renderer::Renderer(const scene::Scene& s, const tracer::SceneAccel& a, const Ren
   }
 }
 
-// Eye rays, row-major in the tile: 8 neighbours on a row form a packet. NFF's hither plane is for
+// Eye rays, row-major in the tile: neighbours on a row (and the rows below them) form a packet. NFF's hither plane is for
 // scan converters: not used.
 void Renderer::eye_rays(int x0, int y0, int x1, int y1, Work& w) const {
   w.rays.clear();
@@ -164,7 +164,7 @@ void Renderer::trace(Work& w, const std::vector<Ray<float>>& rays, bool any, boo
   fill(w.soa, rays);
   w.hits.resize(w.soa.size());
   tracer::TraceOptions to;
-  to.packet = !secondary || o_.secondary_packet == 8 ? 8 : 1;
+  to.packet = secondary ? (o_.secondary_packet == 8 ? 8 : 1) : o_.eye_packet;
   to.any = any;
   if (o_.count_tests) a_.trace_counted(w.soa, 0, w.soa.size(), w.hits.data(), to, st.cost);
   else a_.trace(w.soa, 0, w.soa.size(), w.hits.data(), to);

@@ -47,8 +47,11 @@ struct RenderOptions {
   // `raybench trace` times). Ray counts are always kept.
   bool count_tests = true;
   // Reflection, refraction and shadow rays: 1 traces them one by one; 8 sorts each batch by
-  // direction octant and traces 8 rays of one octant as a packet (eye rays are always packets).
+  // direction octant and traces 8 rays of one octant as a packet.
   int secondary_packet = 1;
+  // Eye rays: rays per packet (1, 8, 16 or 64; a tile's rows of neighbouring pixels, so a
+  // 64-ray packet is a 16x4 block of the image traced with a frustum test of the node's children).
+  int eye_packet = 64;
 };
 
 // Ray and test counts. Box and primitive tests are those of every traversal (eye, reflection,

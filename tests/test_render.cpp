@@ -196,6 +196,28 @@ TEST(RenderDepth, DepthLimitStopsTheRayTree) {
   EXPECT_EQ(d1.eye_hit, d5.eye_hit);
 }
 
+// Eye rays traced one by one, in packets of 8 or 16, or as 64-ray blocks with the frustum test:
+// the same closest hits, so the same image bit for bit (scenes without ties: no ray meets two
+// primitives at the same distance).
+TEST(RenderPackets, EyePacketSizesGiveTheSameImage) {
+  for (const char* name : {"lecture:nine_red_balls", "spd:tetra:3"}) {
+    const scene::Scene s = scene::load_scene(name);
+    const tracer::SceneAccel a = tracer::SceneAccel::build(s);
+    std::vector<float> first;
+    for (int packet : {1, 8, 16, 64}) {
+      RenderOptions o;
+      o.width = 40;  // tiles of 16: the last column of tiles is 8 wide, so 64-ray packets span rows
+      o.height = 36;
+      o.eye_packet = packet;
+      const Renderer r(s, a, o);
+      std::vector<float> samples;
+      render_tiles(r, samples, 1);
+      if (packet == 1) first = samples;
+      else EXPECT_EQ(samples, first) << name << ", eye packet " << packet;
+    }
+  }
+}
+
 // ---- golden images -----------------------------------------------------------------------------
 // tests/data/render/*.png were rendered once by `raybench render SCENE --width 48 -o FILE`
 // (release build) and checked by eye; the test renders the same scene with the same options and
