@@ -1,6 +1,7 @@
 #include "bench/embree_trace.hpp"
 
 #include <embree3/rtcore.h>
+#include <fmt/format.h>
 
 #include <atomic>
 #include <chrono>
@@ -79,9 +80,10 @@ std::string isa_from_report(const std::string& text) {
     const std::size_t b = text.rfind('\n', at);
     return text.substr(b == std::string::npos ? 0 : b + 1, at - (b == std::string::npos ? 0 : b + 1));
   };
-  const std::string sup = " " + line_with("(supported)") + " ", comp = " " + line_with("(compile time enabled)") + " ";
+  // (fmt::format, not operator+ chains: GCC 12 warns falsely about those, -Wrestrict.)
+  const std::string sup = fmt::format(" {} ", line_with("(supported)")), comp = fmt::format(" {} ", line_with("(compile time enabled)"));
   for (const char* isa : {"AVX512SKX", "AVX512KNL", "AVX512", "AVX2", "AVXI", "AVX", "SSE4.2", "SSE2"}) {
-    const std::string w = std::string(" ") + isa + " ";
+    const std::string w = fmt::format(" {} ", isa);
     if (sup.find(w) != std::string::npos && comp.find(w) != std::string::npos) return isa;
   }
   return "unknown";
@@ -259,8 +261,8 @@ std::string EmbreeMode::call_name(bool any) const {
   return base;
 }
 std::string EmbreeMode::name(bool any) const {
-  return call_name(any) + (call == EmbreeCall::stream ? "(" + std::to_string(stream) + ")" : "") + " " + embree_isa_label(isa) +
-         (coherent ? " coherent" : " incoherent");
+  return fmt::format("{}{} {} {}", call_name(any), call == EmbreeCall::stream ? fmt::format("({})", stream) : std::string(),
+                     embree_isa_label(isa), coherent ? "coherent" : "incoherent");
 }
 
 std::vector<EmbreeMode> embree_modes(int packet, bool coherent) {
