@@ -185,17 +185,23 @@ int main(int argc, char** argv) {
   trace->add_option("--brute", to.brute_rays, "Rays checked against the brute-force loop\n(-1: a budget by scene size, 0: none)")
       ->capture_default_str();
   trace->add_flag("!--no-embree", to.embree, "Skip Embree");
+  trace->add_option("--builder", to.builder,
+                    "The tree raybench traces: sah (its own) or\nEmbree's builder (embree: medium quality,\n"
+                    "embree-high: high, with spatial splits of\ntriangles); with Embree's the SAH tree is\ntimed beside it")
+      ->check(CLI::IsMember({"sah", "embree", "embree-high"}))->capture_default_str();
   add_json(trace, trace_json, "Write the result as JSON to FILE\n(no FILE: stdout instead of the table)");
   trace->add_option("--history", trace_history, "Keep the run in this results history\n(default: $RAYBENCH_HISTORY)")->type_name("FILE");
   trace->footer(
       "One binned-SAH build gives a binary and an 8-wide BVH; the rays (primary,\n"
       "shadow, diffuse or random, from one seed) are traced as single rays or\n"
       "packets on TBB threads, and Embree 3 traces the same float triangles and rays in\n"
-      "the same process. After --warmup untimed runs the two engines alternate run by\n"
-      "run; the table gives the median Mrays/s with its range and coefficient of\n"
-      "variation, build time, memory, traversal cost and the rate of rays the engines\n"
-      "disagree on. A warning follows when the runs varied by over 5 % or the machine\n"
-      "was busy.");
+      "the same process, on a device with its native ISA and one limited to AVX2, with\n"
+      "the call for the packet size (rtcIntersect1/8/16, rtcIntersect1M streams for 64\n"
+      "and 256; rtcOccluded* for shadow rays); the fastest is the yardstick. After\n"
+      "--warmup untimed runs the engines alternate run by run; the table gives the\n"
+      "median Mrays/s with its range and coefficient of variation, build time, memory,\n"
+      "traversal cost and the rate of rays the engines disagree on. A warning follows\n"
+      "when the runs varied by over 5 % or the machine was busy.");
 
   // ---- render ----
   RenderRunOptions rdo;

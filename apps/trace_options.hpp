@@ -21,6 +21,11 @@ struct TraceRunOptions {
   int warmup = 1;             // untimed runs of each engine before the timed ones
   long long brute_rays = -1;  // -1: a budget by scene size; 0: none
   bool embree = true;
+  // The tree raybench traces: "sah" (its binned SAH) or Embree's builder ("embree": medium
+  // quality, "embree-high": high quality with spatial splits of triangles), a diagnostic that
+  // separates the tree's share of the gap to Embree from the kernel's (the SAH tree is then
+  // timed beside it in the same run).
+  std::string builder = "sah";
 };
 
 }  // namespace rb::app

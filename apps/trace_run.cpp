@@ -3,6 +3,7 @@
 #include "apps/cli.hpp"
 #include "apps/progress.hpp"
 #include "apps/stats.hpp"
+#include "bench/embree_build.hpp"
 #include "scene/sources.hpp"
 
 #include <fmt/format.h>
@@ -18,11 +19,14 @@ namespace rb::app {
 
 using nlohmann::json;
 
-TraceSession::TraceSession(rb::scene::Scene s, std::string source, int build_threads, bool embree, const std::string& model)
-    : scene_(std::move(s)), source_(std::move(source)) {
+TraceSession::TraceSession(rb::scene::Scene s, std::string source, int build_threads, bool embree, const std::string& model,
+                           const std::string& builder)
+    : scene_(std::move(s)), source_(std::move(source)), builder_(builder) {
   const tracer::Plan plan = tracer::make_plan(scene_, tracer::parse_model(model));
   trace::ThreadScope ts(build_threads);
-  ts.run([&] { accel_ = tracer::SceneAccel::build(scene_, plan); });
+  const tracer::BinaryBuilder bb = trace::embree_builder(builder, scene_, plan, build_threads);
+  ts.run([&] { accel_ = tracer::SceneAccel::build(scene_, plan, {}, bb); });
+  if (bb) ts.run([&] { sah_.emplace(tracer::SceneAccel::build(scene_, plan)); });
   if (embree) embree_ = trace::embree_build(accel_, build_threads);
   else embree_.why = "skipped (--no-embree)";
 }
@@ -44,7 +48,8 @@ json TraceSession::build_json() const {
   json hist = json::array();
   for (std::size_t n = 1; n < st.leaf_hist.size(); ++n) hist.push_back(st.leaf_hist[n]);
   const double prims = double(std::max<std::size_t>(1, accel_.scene_prims()));
-  json j{{"model", tracer::model_name(accel_.plan().model)},
+  json j{{"builder", builder_},
+         {"model", tracer::model_name(accel_.plan().model)},
          {"frame", tracer::frame_name(accel_.plan().frame)},
          {"build_ms", accel_.build_ms},
          {"sah_build_ms", st.build_ms},
@@ -64,6 +69,21 @@ json TraceSession::build_json() const {
          {"embree_build_ms", embree_.ok ? json(embree_.build_ms) : json(nullptr)},
          {"embree_bvh_bytes", embree_.ok ? json(embree_.bvh_bytes) : json(nullptr)},
          {"embree_bytes_per_prim", embree_.ok ? json(double(embree_.bvh_bytes) / prims) : json(nullptr)}};
+  if (embree_.ok) {
+    const auto& nat = embree_.devices[std::size_t(trace::EmbreeIsa::native)];
+    const auto& avx2 = embree_.devices[std::size_t(trace::EmbreeIsa::avx2)];
+    j["embree_native_isa"] = nat.isa;
+    j["embree_avx2_isa"] = avx2.isa;
+    j["embree_native_config"] = nat.config;
+    j["embree_avx2_config"] = avx2.config;
+    j["embree_avx2_build_ms"] = avx2.build_ms;
+  }
+  if (sah_) {
+    const auto& ss = sah_->bin.stats;
+    j["sah_tree"] = {{"build_ms", sah_->build_ms}, {"nodes_binary", sah_->bin.nodes.size()}, {"nodes_wide", sah_->wide.nodes.size()},
+                     {"depth_wide", sah_->wide.depth}, {"leaves", ss.leaves}, {"depth", ss.depth}, {"sah_cost", ss.sah_cost},
+                     {"bytes_per_prim", double(sah_->bytes()) / prims}};
+  }
   return j;
 }
 
@@ -84,27 +104,38 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
 
   trace::ThreadScope ts(o.threads);
   const int runs = std::max(0, o.warmup) + o.repetitions;
-  const int steps = runs * (embree_.ok ? 2 : 1) + 2;
+  // Embree: every call it offers for this packet size, on the native and the AVX2 device; the
+  // coherent flag for the coherent sets (primary and shadow rays), incoherent for the others.
+  const bool coherent = set == trace::RaySet::primary || set == trace::RaySet::shadow;
+  const std::vector<trace::EmbreeMode> modes = embree_.ok ? trace::embree_modes(o.packet, coherent) : std::vector<trace::EmbreeMode>{};
+  const int steps = runs * int(1 + modes.size() + (sah_ ? 1 : 0)) + 2;
   int step = 0;
   ProgressBar bar(fmt::format("trace {} {}", source_, o.ray_set), progress ? ProgressBar::Mode::automatic : ProgressBar::Mode::off);
   auto tick = [&](int, int) { bar.update(double(++step) / steps); };
 
-  std::vector<bvh::HitRec> ours, theirs;
-  const std::size_t tile = 256;
+  std::vector<bvh::HitRec> ours, sah_out;
+  std::vector<std::vector<bvh::HitRec>> theirs(modes.size());
+  const std::size_t tile = 256;  // a multiple of every packet and stream size
   trace::Tracer mine = [&](std::size_t b, std::size_t e, bvh::HitRec* out) { accel_.trace(rays, b, e, out, to); };
-  const bool coherent = o.packet > 1 && (set == trace::RaySet::primary || set == trace::RaySet::shadow);
-  trace::Tracer theirs_t = [&](std::size_t b0, std::size_t e0, bvh::HitRec* out) {
-    trace::embree_trace(*embree_.scene, rays, b0, e0, out, any, o.packet, coherent);
-  };
+  trace::Tracer sah_t = [&](std::size_t b, std::size_t e, bvh::HitRec* out) { sah_->trace(rays, b, e, out, to); };
   // Warm-up runs first (caches, page faults, the thread pool's start; not in the median), then the
-  // two engines alternate run by run, so that a change in the machine's load falls on both alike.
-  std::vector<double> secs, es;
+  // engines alternate run by run (raybench, the SAH tree when another builder's tree is traced,
+  // then each Embree mode), so that a change in the machine's load falls on all alike.
+  std::vector<double> secs, sah_secs;
+  std::vector<std::vector<double>> es(modes.size());
   for (int r = 0; r < runs; ++r) {
     const double s = trace::time_runs(ts, mine, n, ours, 1, tile, tick).front();
     if (r >= o.warmup) secs.push_back(s);
-    if (!embree_.ok) continue;
-    const double e = trace::time_runs(ts, theirs_t, n, theirs, 1, tile, tick).front();
-    if (r >= o.warmup) es.push_back(e);
+    if (sah_) {
+      const double t = trace::time_runs(ts, sah_t, n, sah_out, 1, tile, tick).front();
+      if (r >= o.warmup) sah_secs.push_back(t);
+    }
+    for (std::size_t m = 0; m < modes.size(); ++m) {
+      const trace::EmbreeMode& mode = modes[m];
+      trace::Tracer theirs_t = [&](std::size_t b0, std::size_t e0, bvh::HitRec* out) { trace::embree_trace(embree_, mode, rays, b0, e0, out, any); };
+      const double e = trace::time_runs(ts, theirs_t, n, theirs[m], 1, tile, tick).front();
+      if (r >= o.warmup) es[m].push_back(e);
+    }
   }
   const double mrays = double(n) / trace::median(secs) / 1e6;
   // Spread of the timed runs: the range in Mrays/s and the coefficient of variation of the times.
@@ -148,13 +179,52 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   const json b = build_json();
   for (auto it = b.begin(); it != b.end(); ++it) j[it.key()] = it.value();
 
+  if (sah_) {
+    bvh::TraceCounters sc;
+    std::vector<bvh::HitRec> tmp(rays.size());
+    ts.run([&] { sah_->trace_counted(rays, 0, rays.size(), tmp.data(), to, sc); });
+    json t = j["sah_tree"];
+    t["mrays_per_s"] = double(n) / trace::median(sah_secs) / 1e6;
+    t["seconds"] = sah_secs;
+    spread(t, "", sah_secs);
+    t["nodes_per_ray"] = double(sc.nodes) / double(std::max<std::size_t>(1, n));
+    t["box_tests_per_ray"] = double(sc.boxes) / double(std::max<std::size_t>(1, n));
+    t["prim_tests_per_ray"] = double(sc.prims) / double(std::max<std::size_t>(1, n));
+    const trace::Compare c = trace::compare(ours, sah_out, n, any);
+    t["mismatches_vs_builder_tree"] = c.mismatches;
+    j["sah_tree"] = t;
+  }
+
   if (embree_.ok) {
-    j["embree_mrays_per_s"] = double(n) / trace::median(es) / 1e6;
-    j["embree_seconds"] = es;
-    spread(j, "embree_", es);
-    j["embree_call"] = std::string(any ? (o.packet == 1 ? "rtcOccluded1" : "rtcOccluded8") : (o.packet == 1 ? "rtcIntersect1" : "rtcIntersect8")) +
-                       (o.packet == 16 ? " x2" : "") + (coherent ? " coherent" : "");
-    const trace::Compare c = trace::compare(ours, theirs, n, any);
+    // Every mode's median; the fastest is the yardstick.
+    json ms = json::array();
+    std::size_t best = 0;
+    double best_mr = -1, native_best = -1, avx2_best = -1;
+    for (std::size_t m = 0; m < modes.size(); ++m) {
+      const double mr = double(n) / trace::median(es[m]) / 1e6;
+      const trace::Compare c = trace::compare(ours, theirs[m], n, any);
+      const auto& dev = embree_.devices[std::size_t(modes[m].isa)];
+      json row{{"mode", modes[m].name(any)}, {"call", modes[m].call_name(any)}, {"device", trace::embree_isa_label(modes[m].isa)},
+               {"config", dev.config}, {"isa", dev.isa}, {"coherent", modes[m].coherent}, {"mrays_per_s", mr}, {"seconds", es[m]},
+               {"mismatches", c.mismatches}};
+      spread(row, "", es[m]);
+      ms.push_back(row);
+      if (mr > best_mr) { best_mr = mr; best = m; }
+      double& slot = modes[m].isa == trace::EmbreeIsa::native ? native_best : avx2_best;
+      slot = std::max(slot, mr);
+    }
+    const auto& bdev = embree_.devices[std::size_t(modes[best].isa)];
+    j["embree_modes"] = ms;
+    j["embree_mrays_per_s"] = best_mr;
+    j["embree_native_mrays_per_s"] = native_best > 0 ? json(native_best) : json(nullptr);
+    j["embree_avx2_mrays_per_s"] = avx2_best > 0 ? json(avx2_best) : json(nullptr);
+    j["embree_mode"] = modes[best].name(any);
+    j["embree_call"] = modes[best].call_name(any);
+    j["embree_isa"] = bdev.isa;
+    j["embree_device_config"] = bdev.config;
+    j["embree_seconds"] = es[best];
+    spread(j, "embree_", es[best]);
+    const trace::Compare c = trace::compare(ours, theirs[best], n, any);
     j["mismatch_rate"] = c.rate();
     j["mismatches"] = c.mismatches;
     j["other_prim_same_t"] = c.other_prim;
@@ -194,7 +264,7 @@ json run_trace(const TraceRunOptions& o, bool progress) {
   rb::scene::Scene s = rb::scene::load_scene(o.scene);
   if (s.primitive_count() == 0) throw NothingToDo("the scene has no primitives: nothing to trace");
   const double load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  TraceSession session(std::move(s), o.scene, o.threads, o.embree, o.model);
+  TraceSession session(std::move(s), o.scene, o.threads, o.embree, o.model, o.builder);
   json j = session.run(o, progress);
   j["load_ms"] = load_ms;
   return j;
@@ -228,15 +298,30 @@ std::string trace_text(const json& j) {
                        j[p + "mrays_per_s_min"].get<double>(), j[p + "mrays_per_s_max"].get<double>(),
                        j[p + "cv"].is_null() ? "" : fmt::format(", CV {:.1f} %", 100 * j[p + "cv"].get<double>()));
   };
-  o += fmt::format("trace      raybench packet {}, {} thread(s), {} slab test, {} warm-up run(s):\n", j["packet"].get<int>(),
-                   j["threads"].get<int>(), j["slab"].get<std::string>(), j["warmup"].get<int>());
+  o += fmt::format("trace      raybench packet {}, {} thread(s), {} slab test, {} tree,\n           {} warm-up run(s):\n",
+                   j["packet"].get<int>(), j["threads"].get<int>(), j["slab"].get<std::string>(), j["builder"].get<std::string>(),
+                   j["warmup"].get<int>());
   o += "           " + timing("") + "\n";
   o += fmt::format("           {:.2f} nodes, {:.2f} box tests, {:.2f} primitive tests per ray\n", j["nodes_per_ray"].get<double>(),
                    j["box_tests_per_ray"].get<double>(), j["prim_tests_per_ray"].get<double>());
+  if (j.contains("sah_tree") && j["sah_tree"].contains("mrays_per_s")) {
+    const json& t = j["sah_tree"];
+    o += fmt::format("tree       the tree above is Embree's builder's ({}); raybench's SAH tree through the same traversal:\n",
+                     j["builder"].get<std::string>());
+    o += fmt::format("           {:.2f} Mrays/s; {:.2f} nodes, {:.2f} box tests, {:.2f} primitive tests per ray; SAH cost {:.2f}\n",
+                     t["mrays_per_s"].get<double>(), t["nodes_per_ray"].get<double>(), t["box_tests_per_ray"].get<double>(),
+                     t["prim_tests_per_ray"].get<double>(), t["sah_cost"].get<double>());
+    o += fmt::format("           Embree's tree / SAH tree = {:.2f}\n", j["mrays_per_s"].get<double>() / t["mrays_per_s"].get<double>());
+  }
   if (!j["embree_mrays_per_s"].is_null()) {
-    o += fmt::format("           Embree {}, runs alternating with raybench's:\n           {}\n", j["embree_call"].get<std::string>(),
-                     timing("embree_"));
-    o += fmt::format("           raybench / Embree = {:.2f}\n", j["mrays_per_s"].get<double>() / j["embree_mrays_per_s"].get<double>());
+    o += fmt::format("           Embree's best mode, {} (ISA {}), runs alternating with raybench's:\n           {}\n",
+                     j["embree_mode"].get<std::string>(), j["embree_isa"].get<std::string>(), timing("embree_"));
+    std::string each;
+    for (const json& m : j["embree_modes"])
+      each += fmt::format("{}{} {:.2f}", each.empty() ? "" : ", ", m["mode"].get<std::string>(), m["mrays_per_s"].get<double>());
+    o += fmt::format("           every mode (Mrays/s): {}\n", each);
+    o += fmt::format("           raybench / Embree ({}) = {:.2f}\n", j["embree_mode"].get<std::string>(),
+                     j["mrays_per_s"].get<double>() / j["embree_mrays_per_s"].get<double>());
     o += fmt::format("mismatch   {:.4f}% ({} of {} rays; {} hits at the same t on another primitive)\n", 100 * j["mismatch_rate"].get<double>(),
                      j["mismatches"].get<std::size_t>(), j["rays"].get<std::size_t>(), j["other_prim_same_t"].get<std::size_t>());
   } else {

@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 
 namespace rb::app {
@@ -19,7 +20,10 @@ class TraceSession {
  public:
   // The scene traced under `model` (auto | fast | exact): the plan, the BVH and Embree's scene in
   // the plan's frame.
-  TraceSession(rb::scene::Scene s, std::string source, int build_threads, bool embree, const std::string& model = "auto");
+  // `builder`: the tree raybench traces (TraceRunOptions::builder); with one of Embree's, the SAH
+  // tree is built too and timed beside it.
+  TraceSession(rb::scene::Scene s, std::string source, int build_threads, bool embree, const std::string& model = "auto",
+               const std::string& builder = "sah");
   nlohmann::json run(const TraceRunOptions& o, bool progress);
   nlohmann::json build_json() const;
   const tracer::SceneAccel& accel() const { return accel_; }
@@ -30,6 +34,8 @@ class TraceSession {
   rb::scene::Scene scene_;
   std::string source_;
   tracer::SceneAccel accel_;
+  std::string builder_ = "sah";
+  std::optional<tracer::SceneAccel> sah_;  // the SAH tree beside Embree's builder's
   trace::EmbreeBuild embree_;
   std::map<std::string, std::pair<RaySoA, trace::RaySetInfo>> rays_;
   const RaySoA& rays(trace::RaySet set, std::size_t count, std::uint64_t seed, trace::RaySetInfo& info);

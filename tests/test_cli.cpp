@@ -339,6 +339,31 @@ TEST(Cli, TraceGivesMedianRangeAndCvAfterWarmupBesideEmbree) {
   EXPECT_LE(widest(r.out), 80u) << r.out;
 }
 
+TEST(Cli, TraceComparesWithEmbreesBestModeAndEmbreesTree) {
+  Scratch s("trace-embree");
+  std::ofstream(s / "oct.obj") << kOctahedron;
+  const Outcome r = run_in(s.dir, "trace oct.obj --count 256 -r 2 --warmup 0 --packet 16 --builder embree --json t.json");
+  EXPECT_EQ(r.status, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(slurp(s / "t.json"));
+  // Both devices timed with the packet size's call; the yardstick is the faster.
+  ASSERT_EQ(j["embree_modes"].size(), 2u);
+  const double nat = j["embree_native_mrays_per_s"].get<double>(), avx2 = j["embree_avx2_mrays_per_s"].get<double>();
+  EXPECT_DOUBLE_EQ(j["embree_mrays_per_s"].get<double>(), std::max(nat, avx2));
+  EXPECT_EQ(j["embree_call"], "rtcIntersect16");
+  EXPECT_TRUE(has(j["embree_mode"].get<std::string>(), "rtcIntersect16 ")) << j["embree_mode"];
+  EXPECT_TRUE(has(j["embree_mode"].get<std::string>(), " coherent")) << j["embree_mode"];  // primary rays
+  EXPECT_TRUE(j["embree_isa"].is_string());
+  EXPECT_TRUE(has(j["embree_avx2_config"].get<std::string>(), "isa=avx2"));
+  // Embree's builder's tree traced by raybench, the SAH tree beside it with its counters.
+  EXPECT_EQ(j["builder"], "embree");
+  EXPECT_TRUE(j["sah_tree"]["mrays_per_s"].is_number());
+  EXPECT_TRUE(j["sah_tree"]["box_tests_per_ray"].is_number());
+  EXPECT_EQ(j["sah_tree"]["mismatches_vs_builder_tree"], 0);
+  EXPECT_EQ(j["mismatches"], 0);
+  EXPECT_TRUE(has(r.out, "raybench / Embree (rtcIntersect16")) << r.out;
+  EXPECT_LE(widest(r.out), 80u) << r.out;
+}
+
 TEST(Cli, RenderGivesMedianRangeAndCvAndTooManyThreadsWarn) {
   Scratch s("render-time");
   const int more = int(rb::app::hardware_threads()) + 2;

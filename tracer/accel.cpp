@@ -91,7 +91,7 @@ void SceneAccel::check_size(const scene::Scene& s, const bvh::BuildOptions& opt)
                             std::to_string(need >> 20) + " MiB, above the limit of " + std::to_string(opt.max_bytes >> 20) + " MiB");
 }
 
-SceneAccel SceneAccel::build(const scene::Scene& s, const Plan& plan, const bvh::BuildOptions& opt) {
+SceneAccel SceneAccel::build(const scene::Scene& s, const Plan& plan, const bvh::BuildOptions& opt, const BinaryBuilder& builder) {
   const auto t0 = std::chrono::steady_clock::now();
   SceneAccel a;
   a.scene_ = &s;
@@ -125,7 +125,7 @@ SceneAccel SceneAccel::build(const scene::Scene& s, const Plan& plan, const bvh:
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, kind.size(), 4096), [&](const auto& r) { boxes(r.begin(), r.end()); });
   else
     boxes(0, kind.size());
-  a.bin = bvh::build_sah(lo, hi, kind, opt);
+  a.bin = builder ? builder(lo, hi, kind, opt) : bvh::build_sah(lo, hi, kind, opt);
 
   // Reorder: every leaf becomes one 8-slot group of its kind's batch, groups assigned in node
   // order; ids[kind][slot] is the scene index of each slot.

@@ -12,6 +12,7 @@
 #include "tracer/plan.hpp"
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -25,11 +26,21 @@ struct TraceOptions {
   bvh::Slab slab = bvh::Slab::conservative;
 };
 
+// A binary-tree builder: the primitives' boxes (3 floats each, in the frame), their kinds and the
+// build options in, a tree under bvh::Bvh2's contract out (children of an internal node at
+// `first` and `first + 1`, leaves of at most opt.max_leaf primitives of one kind, ranges of
+// `order`; stats filled by bvh::tree_stats). Empty: bvh::build_sah. Another builder (Embree's, in
+// bench/embree_build.hpp) feeds the same reorder and 8-wide collapse, so that its tree is traced by
+// the same traversal.
+using BinaryBuilder = std::function<bvh::Bvh2(const std::vector<float>& lo, const std::vector<float>& hi,
+                                              const std::vector<std::uint8_t>& kind, const bvh::BuildOptions& opt)>;
+
 class SceneAccel {
  public:
   // Throws std::length_error before allocating when the estimated peak memory exceeds
   // opt.max_bytes.
-  static SceneAccel build(const scene::Scene& s, const Plan& plan, const bvh::BuildOptions& opt = {});
+  static SceneAccel build(const scene::Scene& s, const Plan& plan, const bvh::BuildOptions& opt = {},
+                          const BinaryBuilder& builder = {});
   // The same under the auto model's plan.
   static SceneAccel build(const scene::Scene& s, const bvh::BuildOptions& opt = {}) {
     check_size(s, opt);
