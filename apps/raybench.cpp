@@ -200,8 +200,8 @@ int main(int argc, char** argv) {
       "and 256; rtcOccluded* for shadow rays); the fastest is the yardstick. After\n"
       "--warmup untimed runs the engines alternate run by run; the table gives the\n"
       "median Mrays/s with its range and coefficient of variation, build time, memory,\n"
-      "traversal cost and the rate of rays the engines disagree on. A warning follows when the runs varied by over 5 % or the machine\n"
-      "was busy.");
+      "traversal cost and the rate of rays the engines disagree on. A warning follows\n"
+      "when the runs varied by over 5 % or the machine was busy.");
 
   // ---- render ----
   RenderRunOptions rdo;
