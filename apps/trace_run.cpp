@@ -286,8 +286,9 @@ std::string trace_text(const json& j) {
   o += fmt::format("build      raybench {:.1f} ms (SAH {:.1f}, reorder {:.1f}, collapse {:.1f}); Embree {} ms\n", j["build_ms"].get<double>(),
                    j["sah_build_ms"].get<double>(), j["reorder_ms"].get<double>(), j["collapse_ms"].get<double>(),
                    num_or_dash(j["embree_build_ms"], "{:.1f}"));
-  o += fmt::format("bvh        {} binary nodes, {} wide nodes, {} leaves (sizes 1..8: {}), depth {}, SAH cost {:.2f}\n",
-                   j["nodes_binary"].get<std::size_t>(), j["nodes_wide"].get<std::size_t>(), j["leaves"].get<std::size_t>(), hist,
+  o += fmt::format("bvh        {} tree: {} binary nodes, {} wide nodes, {} leaves (sizes 1..8: {}), depth {}, SAH cost {:.2f}\n",
+                   j["builder"].get<std::string>(), j["nodes_binary"].get<std::size_t>(), j["nodes_wide"].get<std::size_t>(),
+                   j["leaves"].get<std::size_t>(), hist,
                    j["depth"].get<int>(), j["sah_cost"].get<double>());
   o += fmt::format("memory     raybench {:.1f} B/prim (8-wide nodes + leaf-ordered batches); Embree {} B/prim (BVH)\n",
                    j["bytes_per_prim"].get<double>(), num_or_dash(j["embree_bytes_per_prim"], "{:.1f}"));
@@ -298,9 +299,8 @@ std::string trace_text(const json& j) {
                        j[p + "mrays_per_s_min"].get<double>(), j[p + "mrays_per_s_max"].get<double>(),
                        j[p + "cv"].is_null() ? "" : fmt::format(", CV {:.1f} %", 100 * j[p + "cv"].get<double>()));
   };
-  o += fmt::format("trace      raybench packet {}, {} thread(s), {} slab test, {} tree,\n           {} warm-up run(s):\n",
-                   j["packet"].get<int>(), j["threads"].get<int>(), j["slab"].get<std::string>(), j["builder"].get<std::string>(),
-                   j["warmup"].get<int>());
+  o += fmt::format("trace      raybench packet {}, {} thread(s), {} slab test, {} warm-up run(s):\n", j["packet"].get<int>(),
+                   j["threads"].get<int>(), j["slab"].get<std::string>(), j["warmup"].get<int>());
   o += "           " + timing("") + "\n";
   o += fmt::format("           {:.2f} nodes, {:.2f} box tests, {:.2f} primitive tests per ray\n", j["nodes_per_ray"].get<double>(),
                    j["box_tests_per_ray"].get<double>(), j["prim_tests_per_ray"].get<double>());
