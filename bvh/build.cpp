@@ -15,6 +15,8 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 namespace rb::bvh {
 
@@ -129,7 +131,7 @@ struct Builder {
     const bool flat = !(ext[axis] > 0);
     float best_cost = kInfF;
     int best_axis = -1, best_bin = 0;
-    if (!flat && depth < opt.max_depth) {
+    if (!flat && depth < std::min(opt.max_depth, kMaxSahDepth)) {
       Bins bins;
       float scale[3];
       for (int k = 0; k < 3; ++k) scale[k] = ext[k] > 0 ? float(nb) * (1.f - 1e-6f) / ext[k] : 0.f;
@@ -365,6 +367,9 @@ Bvh8 collapse8(const Bvh2& b) {
     }
     w.nodes[wi] = node;
   }
+  if (w.depth > kMaxTreeDepth)
+    throw std::length_error("the BVH is " + std::to_string(w.depth) + " wide levels deep; the traversal serves at most " +
+                            std::to_string(kMaxTreeDepth));
   w.root = 0;
   w.collapse_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return w;
