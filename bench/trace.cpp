@@ -1,5 +1,6 @@
 #include "bench/trace.hpp"
 
+#include "core/fpenv.hpp"
 #include "scene/camera.hpp"
 
 #include <tbb/blocked_range.h>
@@ -89,7 +90,11 @@ RaySoA make_rays(const scene::Scene& s, const tracer::SceneAccel& accel, RaySet 
   // Primary hits.
   std::vector<HitRec> hits(prim.size());
   tracer::TraceOptions o;
+  // Each task traces in the tracer's floating-point environment (FTZ/DAZ, core/fpenv.hpp) whatever
+  // thread runs it, and gives the thread its own back: the hits, and so the rays made from them, are
+  // the same for any thread count.
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, prim.size() / 16), [&](const tbb::blocked_range<std::size_t>& r) {
+    const FtzScope ftz;
     accel.trace(prim, r.begin() * 16, r.end() * 16, hits.data(), o);
   });
   Vec3d light;
