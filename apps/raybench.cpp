@@ -6,6 +6,9 @@
 // exit status 0 done, 1 a parse or input error, 2 nothing to do; one error line naming the input
 // and the reason; every output path checked before the work starts; --json [FILE|-] everywhere;
 // --filter a regex everywhere; --threads 0 all hardware threads; help within 80 columns.
+#include <sstream>
+#include "core/atomic_file.hpp"
+#include "apps/interrupt.hpp"
 #include "apps/accuracy_run.hpp"
 #include "apps/build_info.hpp"
 #include "apps/cli.hpp"
@@ -343,6 +346,7 @@ int main(int argc, char** argv) {
     std::cerr << app.help() << "\nraybench: a command is required\n";
     return kExitError;
   }
+  install_interrupt_handlers(sub_name);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -433,11 +437,12 @@ int main(int argc, char** argv) {
       rc = run_info_command(info_scene, json_out(info, info_json));
     } else if (*query) {
       if (query->count("--json") && !query_json.empty() && query_json != "-") {
-        std::ofstream f(query_json);
+        std::ostringstream f;
         rc = run_query(std::cin, f, std::cerr, query_double);
-        f.flush();
-        if (!f) {
-          std::cerr << error_line("query", query_json, "write failed") << "\n";
+        try {
+          write_file_atomic(query_json, f.str());
+        } catch (const std::exception& e) {
+          std::cerr << error_line("query", query_json, e.what()) << "\n";
           rc = kExitError;
         }
       } else {

@@ -1,4 +1,5 @@
 // Report section "Tracing": whole scenes through the BVH beside Embree and the brute-force loop.
+#include "core/atomic_file.hpp"
 #include "apps/paths.hpp"
 #include "apps/report.hpp"
 #include "apps/report_sections.hpp"
@@ -145,7 +146,7 @@ std::string report_section_tracing(const ReportOptions& o, const fs::path& out, 
         "leaf-ordered kernel batches with their ids, Embree's the bytes its memory monitor saw allocated by the scene commit.\n\n";
   md += "![time per ray against primitive count](trace_scaling.png)\n\n";
   summary["tracing"] = {{"bunny", rows}, {"thread_scaling", scaling}, {"by_size", builds}};
-  std::ofstream(out / "tracing.json") << summary["tracing"].dump(2) << "\n";
+  write_file_atomic((out / "tracing.json").string(), summary["tracing"].dump(2) + "\n");
   md += "Raw rows: [tracing.json](tracing.json).\n\n";
   return md;
 }
