@@ -10,8 +10,8 @@
 #               ./run.sh pgo (profile-guided optimisation: train, rebuild, compare; fills the report's
 #               PGO section), ./run.sh pgo-test (the test suite built with the PGO profile),
 #               ./run.sh tsan (the threaded tests, label `threads`, under ThreadSanitizer),
-#               ./run.sh fuzz [RUNS] (seeded mutations of every scene format through info, trace and
-#               render under ASan+UBSan; tools/fuzz_scenes.py).
+#               ./run.sh fuzz [RUNS [SEED]] (seeded mutations of every scene format through info, trace
+#               and render under ASan+UBSan; fuzz/scene_fuzz.cpp).
 set -euo pipefail
 cd "$(dirname "$0")"
 
@@ -197,8 +197,9 @@ case "${1:-}" in
   fuzz)
     shift
     setup
-    build debug --target raybench
-    /usr/bin/python3 tools/fuzz_scenes.py --raybench build/debug/apps/raybench "$@"
+    build debug --target raybench_fuzz
+    mkdir -p build/fuzz
+    ./build/debug/fuzz/raybench_fuzz --runs "${1:-1000}" --seed "${2:-1}" --keep build/fuzz/failures --json build/fuzz/fuzz.json
     ;;
   install-check) shift; install_check "$@" ;;
   pgo-test)
