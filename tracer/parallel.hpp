@@ -4,11 +4,17 @@
 // arena it came from. The calling thread gets the same while the scope lives and its previous
 // state back afterwards. The renderer, `raybench trace` and the accuracy lab's traces all run their
 // work through it.
+//
+// The thread count is real: TBB's default would give an arena of 64 slots only as many workers as
+// the machine has hardware threads, so the scope also raises (or lowers) TBB's allowed parallelism
+// to `threads` while it lives (tbb::global_control; while several scopes live, the smallest
+// applies). `--threads 64` on a 2-core machine runs 64 threads, oversubscribed.
 #pragma once
 
 #include "core/fpenv.hpp"
 
 #include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -19,7 +25,13 @@ namespace rb::tracer {
 
 class ThreadScope {
  public:
-  explicit ThreadScope(int threads) : threads_(std::max(1, threads)), arena_(threads_), saved_csr_(_mm_getcsr()) { set_ftz_daz(); }
+  explicit ThreadScope(int threads)
+      : threads_(std::max(1, threads)),
+        limit_(tbb::global_control::max_allowed_parallelism, std::size_t(threads_)),
+        arena_(threads_),
+        saved_csr_(_mm_getcsr()) {
+    set_ftz_daz();
+  }
   ~ThreadScope() { _mm_setcsr(saved_csr_); }
   ThreadScope(const ThreadScope&) = delete;
   ThreadScope& operator=(const ThreadScope&) = delete;
@@ -45,6 +57,7 @@ class ThreadScope {
 
  private:
   int threads_;
+  tbb::global_control limit_;
   tbb::task_arena arena_;
   unsigned saved_csr_;
 };
