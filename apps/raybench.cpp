@@ -24,6 +24,8 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -37,6 +39,22 @@ CLI::Option* add_json(CLI::App* sub, std::string& file, const std::string& what)
   return sub->add_option("--json", file, what)->expected(0, 1)->type_name("[FILE|-]");
 }
 JsonOut json_out(CLI::App* sub, const std::string& file) { return {sub->count("--json") > 0, file, {}}; }
+
+// A count given as an integer or in scientific notation (4e9, 1e6), refused outside 1..max with
+// the bound named before anything is allocated; passed on as the integer.
+CLI::Validator count_up_to(std::size_t max, const std::string& what) {
+  return CLI::Validator(
+      [max, what](std::string& s) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(s.c_str(), &end);
+        if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(v)) return "expected a number, got '" + s + "'";
+        if (!(v >= 1 && v <= double(max))) return s + " is outside 1.." + std::to_string(max) + " (the most " + what + " one run takes)";
+        if (v != std::floor(v)) return "expected a whole number, got '" + s + "'";
+        s = std::to_string(static_cast<unsigned long long>(v));
+        return "";
+      },
+      "1.." + std::to_string(max));
+}
 
 // The command line as typed, for the results history.
 std::string command_line(int argc, char** argv) {
@@ -176,7 +194,7 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({1, 8, 16, 64, 256}))
       ->capture_default_str();
   trace->add_option("--count", to.count, "About this many rays (primary: the nearest\nsquare image of 16x16 blocks)")
-      ->check(CLI::Range(std::size_t(1), std::size_t(1) << 28))->capture_default_str();
+      ->transform(count_up_to(std::size_t(1) << 28, "rays"))->capture_default_str();
   trace->add_option("--seed", to.seed, "Seed of the ray set")->capture_default_str();
   trace->add_option("--model", to.model, "How the scene is modelled: auto (what it\nneeds: `raybench plan`), fast or exact")
       ->check(CLI::IsMember({"auto", "fast", "exact"}))->capture_default_str();

@@ -126,7 +126,7 @@ TEST(Interrupt, SigtermStopsARenderAndKeepsThePreviousOutputs) {
 
 TEST(Interrupt, SigintStopsATraceAndLeavesNoNewFile) {
   // out.json does not exist yet: the placeholder the command line creates to check it is removed.
-  check_interrupt("trace", {"trace", "spd:balls:3", "--count", "16000000", "--no-embree", "-r", "20", "--json", "out.json"}, SIGINT,
+  check_interrupt("trace", {"trace", "spd:balls:3", "--count", "2000000", "--no-embree", "-r", "50", "--json", "out.json"}, SIGINT,
                   {{"keep.txt", "unrelated\n"}});
 }
 
