@@ -41,7 +41,7 @@ void build_std(StdBatch<K>& b, const scene::Scene& s, std::vector<std::uint32_t>
         if (b.id[j] != UINT32_MAX) set_slot(soa, j, K::template make<S>(s, b.id[j], origin));
     };
     if (parallel && n > 4096)
-      par::for_range(0, n, 2048, [&](std::size_t b, std::size_t e) { write(b, e); });
+      par::for_range(0, n, 2048, [&](std::size_t lo, std::size_t hi) { write(lo, hi); });
     else
       write(0, n);
   };
