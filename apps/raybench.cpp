@@ -458,7 +458,7 @@ int main(int argc, char** argv) {
         std::ostringstream f;
         rc = run_query(std::cin, f, std::cerr, query_double);
         try {
-          write_file_atomic(query_json, f.str());
+          rb::write_file_atomic(query_json, f.str());
         } catch (const std::exception& e) {
           std::cerr << error_line("query", query_json, e.what()) << "\n";
           rc = kExitError;
