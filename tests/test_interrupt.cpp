@@ -135,3 +135,24 @@ TEST(Interrupt, SigtermStopsAReportAndKeepsThePreviousReport) {
                   {{"rep/index.md", "# the previous report\n"}, {"rep/summary.json", "{\"old\": true}\n"}, {"rep/bench.json", "{}\n"}},
                   {"rep/ops.json"});
 }
+
+// Load: `trace` and `render` at 64 and 256 threads on this machine (whatever its cores) finish
+// with the same answers as on one thread: every ray's hit and every pixel, by their digests.
+TEST(Load, TraceAndRenderAt64And256ThreadsGiveTheOneThreadResults) {
+  Scratch s("load");
+  std::string trace_ref, render_ref;
+  for (int threads : {1, 64, 256}) {
+    const Outcome t = run_in(s.dir, "trace spd:balls:1 --rays diffuse --packet 8 --count 2048 --no-embree -r 1 --warmup 0 --brute 0 --threads " +
+                                        std::to_string(threads) + " --json");
+    ASSERT_EQ(t.status, 0) << t.err;
+    const std::string d = t.json().at("hits_fnv1a").get<std::string>();
+    if (threads == 1) trace_ref = d;
+    EXPECT_EQ(d, trace_ref) << threads << " threads";
+    const Outcome r = run_in(s.dir, "render lecture:five_glass_balls --width 48 --height 32 -r 1 --warmup 0 -o img.png --threads " +
+                                        std::to_string(threads) + " --json");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::string e = r.json().at("image_fnv1a").get<std::string>();
+    if (threads == 1) render_ref = e;
+    EXPECT_EQ(e, render_ref) << threads << " threads";
+  }
+}
