@@ -228,7 +228,9 @@ TEST(Cli, AbsurdSizesAndHugeScenesAreRefusedNamingTheBound) {
   // In scientific notation within the bound: accepted as the integer.
   const Outcome ok = run_in(s.dir, "trace spd:balls:1 --count 1e3 --no-embree -r 1 --warmup 0 --brute 0 --json");
   EXPECT_EQ(ok.status, 0) << ok.err;
-  if (ok.status == 0) EXPECT_LE(ok.json().at("rays").get<std::size_t>(), 2048u);
+  if (ok.status == 0) {
+    EXPECT_LE(ok.json().at("rays").get<std::size_t>(), 2048u);
+  }
 }
 
 TEST(Cli, NothingToDoExitsTwo) {

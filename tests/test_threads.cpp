@@ -111,7 +111,9 @@ TEST(Threads, TraceIsBitIdenticalForEveryThreadCountRaySetAndPacket) {
         }
         std::size_t hits = 0;
         for (std::size_t i = 0; i < rays.count; ++i) hits += ref[i].prim != bvh::kNoPrim;
-        if (set == trace::RaySet::primary) EXPECT_GT(hits, 0u) << name;
+        if (set == trace::RaySet::primary) {
+          EXPECT_GT(hits, 0u) << name;
+        }
         for (int threads : {2, 7, 16, 64, 256}) {
           trace::ThreadScope ts(threads);
           std::vector<HitRec> h;
