@@ -131,7 +131,7 @@ TEST(Interrupt, SigintStopsATraceAndLeavesNoNewFile) {
 }
 
 TEST(Interrupt, SigtermStopsAReportAndKeepsThePreviousReport) {
-  check_interrupt("report", {"report", "--out", "rep"}, SIGTERM,
+  check_interrupt("report", {"report", "--out", "rep", "--no-history"}, SIGTERM,
                   {{"rep/index.md", "# the previous report\n"}, {"rep/summary.json", "{\"old\": true}\n"}, {"rep/bench.json", "{}\n"}},
                   {"rep/ops.json"});
 }
