@@ -295,7 +295,8 @@ int main(int argc, char** argv) {
     const auto t0 = std::chrono::steady_clock::now();
     for (long r = 0; r < runs; ++r) {
       Rng g(seed * 1000003u + std::uint64_t(r) * 7919u + std::hash<std::string>{}(f.name));
-      const std::string input = mutate(f.seed, g);
+      // Input 0 is the seed itself: it must load (else the mutations test little).
+      const std::string input = r == 0 ? f.seed : mutate(f.seed, g);
       const std::string name = f.name + "-s" + std::to_string(seed) + "-r" + std::to_string(r) + "." + f.ext;
       const std::string path = (work / name).string(), err = (work / (name + ".err")).string();
       {
@@ -328,6 +329,10 @@ int main(int argc, char** argv) {
       else if (WEXITSTATUS(st) == 1 || WEXITSTATUS(st) == 2) o = good_message(es.str(), path, why) ? kRefused : kBadMessage;
       else o = kCrash, why = "exit status " + std::to_string(WEXITSTATUS(st));
       if (o == kLoaded && !good_message(es.str() + "raybench info: " + path + "\n", path, why)) o = kBadMessage;  // a sanitizer report on success
+      if (r == 0 && o != kLoaded) {
+        std::cerr << "raybench_fuzz: the " << f.name << " seed does not load:\n" << es.str();
+        ++bad_total;
+      }
       ++count[o];
       if (o >= kBadMessage) {
         ++bad_total;
