@@ -403,3 +403,10 @@ TEST(LoadScene, NonFiniteOrHugeNumbersAreRefusedNamingTheBound) {
                                     "property float z\nend_header\n0123456789ab");
   expect_error([&] { (void)load_scene(ply); }, "billion\\.ply.*1000000000 records of 12 bytes but only 12 bytes are left");
 }
+
+// Found by the libFuzzer target fuzz_json: a number beyond double's range made the JSON library
+// throw its out_of_range, which escaped the loader's contract (SceneError naming the file).
+TEST(LoadScene, JsonNumberBeyondDoubleIsASceneError) {
+  expect_error([] { (void)load_scene(std::string(RB_TEST_DATA) + "/fuzz/json-number-overflow.json"); },
+               "json-number-overflow\\.json: malformed JSON: .*number overflow");
+}
