@@ -8,7 +8,10 @@
 #               ./run.sh install-check (cmake --install into a scratch prefix, then the installed
 #               `raybench report` run from another folder, its history and a comparison),
 #               ./run.sh pgo (profile-guided optimisation: train, rebuild, compare; fills the report's
-#               PGO section), ./run.sh pgo-test (the test suite built with the PGO profile).
+#               PGO section), ./run.sh pgo-test (the test suite built with the PGO profile),
+#               ./run.sh tsan (the threaded tests, label `threads`, under ThreadSanitizer),
+#               ./run.sh fuzz [RUNS [SEED]] (seeded mutations of every scene format through info, trace
+#               and render under ASan+UBSan; fuzz/scene_fuzz.cpp).
 set -euo pipefail
 cd "$(dirname "$0")"
 
@@ -184,6 +187,20 @@ case "${1:-}" in
     ctest --preset debug
     ;;
   pgo) pgo ;;
+  tsan)
+    setup
+    # The threaded tests (parallel build, tracer and renderer tiles at 1..256 threads, FTZ/DAZ of
+    # the workers) under ThreadSanitizer, and a deliberate race that must be reported.
+    build tsan --target rb_tests_threads
+    ctest --preset tsan
+    ;;
+  fuzz)
+    shift
+    setup
+    build debug --target raybench_fuzz
+    mkdir -p build/fuzz
+    ./build/debug/fuzz/raybench_fuzz --runs "${1:-1000}" --seed "${2:-1}" --keep build/fuzz/failures --json build/fuzz/fuzz.json
+    ;;
   install-check) shift; install_check "$@" ;;
   pgo-test)
     setup
@@ -192,7 +209,7 @@ case "${1:-}" in
     ctest --preset pgo-use
     ;;
   *)
-    echo "usage: $0 report [raybench report options] | test | setup | build PRESET | pgo | pgo-test | install-check" >&2
+    echo "usage: $0 report [raybench report options] | test | setup | build PRESET | pgo | pgo-test | install-check | tsan | fuzz [RUNS]" >&2
     exit 2
     ;;
 esac

@@ -2,6 +2,7 @@
 // Google Benchmark writes every figure to its JSON file, while the terminal shows one progress bar
 // on stderr instead of Google Benchmark's console table (`raybench bench` prints its own table from
 // the JSON afterwards, apps/cmd_bench.cpp).
+#include "core/atomic_file.hpp"
 #include "apps/cli.hpp"
 #include "apps/machine.hpp"
 #include "apps/progress.hpp"
@@ -100,8 +101,12 @@ int run_benchmarks(const BenchOptions& o) {
   benchmark::AddCustomContext("raybench_simd", "xsimd 8.1 fma3<avx2> 8 x float");
   benchmark::AddCustomContext("raybench_seed", std::to_string(rb::bench::bench_data_seed()));
   benchmark::AddCustomContext("raybench_repetitions", std::to_string(o.repetitions));
+  // Google Benchmark streams its JSON: into a hidden temporary, renamed over the file once
+  // complete (an interrupt removes it: apps/interrupt.hpp).
+  const std::string tmp_out = temp_path_for(o.json_out);
+  const int tmp_slot = temp_files().add(tmp_out);
   std::vector<std::string> args = {"raybench",
-                                   "--benchmark_out=" + o.json_out,
+                                   "--benchmark_out=" + tmp_out,
                                    "--benchmark_out_format=json",
                                    fmt::format("--benchmark_repetitions={}", o.repetitions),
                                    fmt::format("--benchmark_report_aggregates_only={}", o.every_repetition ? "false" : "true"),
@@ -114,6 +119,13 @@ int run_benchmarks(const BenchOptions& o) {
   ProgressReporter progress(total, o.what);
   const std::size_t n = benchmark::RunSpecifiedBenchmarks(&progress);
   benchmark::Shutdown();
+  const bool renamed = n != 0 && std::rename(tmp_out.c_str(), o.json_out.c_str()) == 0;
+  if (!renamed) std::remove(tmp_out.c_str());
+  temp_files().remove(tmp_slot);
+  if (n != 0 && !renamed) {
+    std::cerr << error_line(o.command, o.json_out, "cannot write") << "\n";
+    return kExitError;
+  }
   if (n == 0) {
     std::cerr << error_line(o.command, "", "no benchmark ran (--filter '" + o.filter + "')") << "\n";
     return kExitNothing;

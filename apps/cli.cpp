@@ -1,3 +1,4 @@
+#include "apps/interrupt.hpp"
 #include "apps/cli.hpp"
 
 #include <fmt/format.h>
@@ -71,6 +72,7 @@ std::string check_output_file(const std::string& path) {
   if (fd < 0) return std::strerror(errno);
   ::close(fd);
   created_outputs().push_back(path);
+  note_placeholder(path);  // an interrupt removes it while still empty
   return "";
 }
 

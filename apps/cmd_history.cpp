@@ -1,5 +1,6 @@
 // `raybench history`: the runs kept in the results history, and one metric across them
 // (apps/history.hpp; the chart: tools/history_plot.py).
+#include "apps/interrupt.hpp"
 #include "apps/cli.hpp"
 #include "apps/commands.hpp"
 #include "apps/history.hpp"
@@ -136,7 +137,7 @@ int run_history_command(const HistoryOptions& o, const JsonOut& out) {
       ::close(fd);
       std::ofstream(tmpl) << doc.dump() << "\n";
       const std::string cmd = "/usr/bin/python3 " + shell_quote(tool_path("history_plot.py")) + " " + shell_quote(tmpl) + " " + shell_quote(o.plot);
-      const int rc = std::system(cmd.c_str());
+      const int rc = run_command(cmd);
       std::remove(tmpl);
       if (rc != 0) throw std::runtime_error(o.plot + ": the chart was not drawn (`" + cmd + "` failed; is python3-matplotlib installed?)");
       std::cerr << "wrote " << o.plot << " (" << o.metric << " across " << rows.size() << " run(s))\n";

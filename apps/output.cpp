@@ -1,6 +1,7 @@
 // Where a subcommand's result goes (the one convention of every subcommand with --json): the text
 // table on stdout, unless --json without a file (or "-") puts the JSON there instead; --json FILE
 // writes the JSON to FILE and still prints the table.
+#include "core/atomic_file.hpp"
 #include "apps/commands.hpp"
 
 #include "apps/cli.hpp"
@@ -23,15 +24,11 @@ int write_result(const std::string& command, bool as_json, const std::string& fi
     return 0;
   }
   const std::string doc = to_json().dump(2) + "\n";
-  std::ofstream f(file);
-  if (!f) {
-    std::cerr << error_line(command, file, std::strerror(errno)) << "\n";
-    return 1;
-  }
-  f << doc;
-  f.flush();
-  if (!f) {
-    std::cerr << error_line(command, file, std::strerror(errno)) << "\n";
+  // Whole or not at all: a temporary renamed over the file (core/atomic_file.hpp).
+  try {
+    write_file_atomic(file, doc);
+  } catch (const std::exception& e) {
+    std::cerr << error_line(command, file, e.what()) << "\n";
     return 1;
   }
   if (!wrote.empty()) std::cerr << "wrote " << wrote << " to " << file << "\n";

@@ -6,6 +6,9 @@
 // exit status 0 done, 1 a parse or input error, 2 nothing to do; one error line naming the input
 // and the reason; every output path checked before the work starts; --json [FILE|-] everywhere;
 // --filter a regex everywhere; --threads 0 all hardware threads; help within 80 columns.
+#include <sstream>
+#include "core/atomic_file.hpp"
+#include "apps/interrupt.hpp"
 #include "apps/accuracy_run.hpp"
 #include "apps/build_info.hpp"
 #include "apps/cli.hpp"
@@ -21,6 +24,8 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -34,6 +39,22 @@ CLI::Option* add_json(CLI::App* sub, std::string& file, const std::string& what)
   return sub->add_option("--json", file, what)->expected(0, 1)->type_name("[FILE|-]");
 }
 JsonOut json_out(CLI::App* sub, const std::string& file) { return {sub->count("--json") > 0, file, {}}; }
+
+// A count given as an integer or in scientific notation (4e9, 1e6), refused outside 1..max with
+// the bound named before anything is allocated; passed on as the integer.
+CLI::Validator count_up_to(std::size_t max, const std::string& what) {
+  return CLI::Validator(
+      [max, what](std::string& s) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(s.c_str(), &end);
+        if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(v)) return "expected a number, got '" + s + "'";
+        if (!(v >= 1 && v <= double(max))) return s + " is outside 1.." + std::to_string(max) + " (the most " + what + " one run takes)";
+        if (v != std::floor(v)) return "expected a whole number, got '" + s + "'";
+        s = std::to_string(static_cast<unsigned long long>(v));
+        return "";
+      },
+      "1.." + std::to_string(max));
+}
 
 // The command line as typed, for the results history.
 std::string command_line(int argc, char** argv) {
@@ -173,7 +194,7 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({1, 8, 16, 64, 256}))
       ->capture_default_str();
   trace->add_option("--count", to.count, "About this many rays (primary: the nearest\nsquare image of 16x16 blocks)")
-      ->check(CLI::Range(std::size_t(1), std::size_t(1) << 28))->capture_default_str();
+      ->transform(count_up_to(std::size_t(1) << 28, "rays"))->capture_default_str();
   trace->add_option("--seed", to.seed, "Seed of the ray set")->capture_default_str();
   trace->add_option("--model", to.model, "How the scene is modelled: auto (what it\nneeds: `raybench plan`), fast or exact")
       ->check(CLI::IsMember({"auto", "fast", "exact"}))->capture_default_str();
@@ -352,6 +373,7 @@ int main(int argc, char** argv) {
     std::cerr << app.help() << "\nraybench: a command is required\n";
     return kExitError;
   }
+  install_interrupt_handlers(sub_name);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -442,11 +464,12 @@ int main(int argc, char** argv) {
       rc = run_info_command(info_scene, json_out(info, info_json));
     } else if (*query) {
       if (query->count("--json") && !query_json.empty() && query_json != "-") {
-        std::ofstream f(query_json);
+        std::ostringstream f;
         rc = run_query(std::cin, f, std::cerr, query_double);
-        f.flush();
-        if (!f) {
-          std::cerr << error_line("query", query_json, "write failed") << "\n";
+        try {
+          rb::write_file_atomic(query_json, f.str());
+        } catch (const std::exception& e) {
+          std::cerr << error_line("query", query_json, e.what()) << "\n";
           rc = kExitError;
         }
       } else {

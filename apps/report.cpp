@@ -1,3 +1,5 @@
+#include "core/atomic_file.hpp"
+#include "apps/interrupt.hpp"
 #include "apps/report.hpp"
 
 #include "apps/cli.hpp"
@@ -29,11 +31,8 @@ struct Clock {
   double s() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); }
 };
 
-void write_file(const fs::path& p, const std::string& s) {
-  std::ofstream f(p);
-  f << s;
-  if (!f) throw std::runtime_error("cannot write " + p.string());
-}
+// Every report file is written whole or not at all (core/atomic_file.hpp).
+void write_file(const fs::path& p, const std::string& s) { write_file_atomic(p.string(), s); }
 
 // Google Benchmark writes NaN and Infinity as bare tokens (e.g. the coefficient of variation of a
 // counter that is 0 in every repetition), which is not JSON. They become null, and the file is
@@ -394,7 +393,7 @@ int run_report(const ReportOptions& o) {
   write_file(out / "summary.json", summary.dump(2));
   if (o.charts) {
     const std::string cmd = "/usr/bin/python3 " + shell_quote(tool_path("charts.py")) + " " + shell_quote(out.string());
-    const int rc = std::system(cmd.c_str());
+    const int rc = run_command(cmd);
     if (rc != 0) md += "_Charts were not drawn: `" + cmd + "` failed (is python3-matplotlib installed?)._\n\n";
   }
   md += fmt::format("---\nReport written in {:.0f} s by `raybench report --out {}`.\n", clock.s(), o.out);

@@ -1,5 +1,7 @@
 #include "bench/trace.hpp"
 
+#include "core/fpenv.hpp"
+#include "core/par.hpp"
 #include "scene/camera.hpp"
 
 #include <tbb/blocked_range.h>
@@ -89,8 +91,12 @@ RaySoA make_rays(const scene::Scene& s, const tracer::SceneAccel& accel, RaySet 
   // Primary hits.
   std::vector<HitRec> hits(prim.size());
   tracer::TraceOptions o;
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, prim.size() / 16), [&](const tbb::blocked_range<std::size_t>& r) {
-    accel.trace(prim, r.begin() * 16, r.end() * 16, hits.data(), o);
+  // Each task traces in the tracer's floating-point environment (FTZ/DAZ, core/fpenv.hpp) whatever
+  // thread runs it, and gives the thread its own back: the hits, and so the rays made from them, are
+  // the same for any thread count.
+  par::for_range(0, prim.size() / 16, 1, [&](std::size_t first, std::size_t last) {
+    const FtzScope ftz;
+    accel.trace(prim, first * 16, last * 16, hits.data(), o);
   });
   Vec3d light;
   if (!s.lights.empty()) {

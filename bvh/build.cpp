@@ -3,9 +3,7 @@
 // parallel reductions.
 #include "bvh/bvh.hpp"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_reduce.h>
-#include <tbb/task_group.h>
+#include "core/par.hpp"
 
 #include <immintrin.h>
 
@@ -15,6 +13,8 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 namespace rb::bvh {
 
@@ -82,14 +82,11 @@ struct Builder {
       return acc;
     };
     if (!opt.parallel || end - begin < kParallelNode) return body(begin, end, {});
-    return tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(begin, end, 4096), std::pair<Box, Box>{},
-        [&](const tbb::blocked_range<std::size_t>& r, std::pair<Box, Box> acc) { return body(r.begin(), r.end(), acc); },
-        [](std::pair<Box, Box> a, const std::pair<Box, Box>& b) {
-          a.first.grow(b.first);
-          a.second.grow(b.second);
-          return a;
-        });
+    return par::reduce(begin, end, 4096, std::pair<Box, Box>{}, body, [](std::pair<Box, Box> a, const std::pair<Box, Box>& b) {
+      a.first.grow(b.first);
+      a.second.grow(b.second);
+      return a;
+    });
   }
 
   // SAH counts primitives in blocks of the leaf's lane group: a leaf of up to `leaf_block`
@@ -135,7 +132,7 @@ struct Builder {
     const bool flat = !(ext[axis] > 0);
     float best_cost = kInfF;
     int best_axis = -1, best_bin = 0;
-    if (!flat && depth < opt.max_depth) {
+    if (!flat && depth < std::min(opt.max_depth, kMaxSahDepth)) {
       Bins bins;
       float scale[3];
       for (int k = 0; k < 3; ++k) scale[k] = ext[k] > 0 ? float(nb) * (1.f - 1e-6f) / ext[k] : 0.f;
@@ -156,9 +153,8 @@ struct Builder {
         }
       };
       if (opt.parallel && n >= kParallelNode) {
-        bins = tbb::parallel_reduce(
-            tbb::blocked_range<std::size_t>(begin, end, 4096), Bins{},
-            [&](const tbb::blocked_range<std::size_t>& r, Bins acc) { body(r.begin(), r.end(), acc); return acc; },
+        bins = par::reduce(
+            begin, end, 4096, Bins{}, [&](std::size_t b, std::size_t e, Bins acc) { body(b, e, acc); return acc; },
             [nb](Bins a, const Bins& b) { a.merge(b, nb); return a; });
       } else {
         body(begin, end, bins);
@@ -226,10 +222,7 @@ struct Builder {
     auto left = [&, c, begin, mid, depth, lb] { build(c, begin, mid, lb.first, lb.second, depth + 1); };
     auto right = [&, c, mid, end, depth, rb] { build(c + 1, mid, end, rb.first, rb.second, depth + 1); };
     if (opt.parallel && n >= kTaskNode) {
-      tbb::task_group g;
-      g.run(left);
-      right();
-      g.wait();
+      par::invoke(left, right);
     } else {
       left();
       right();
@@ -371,6 +364,9 @@ Bvh8 collapse8(const Bvh2& b) {
     }
     w.nodes[wi] = node;
   }
+  if (w.depth > kMaxTreeDepth)
+    throw std::length_error("the BVH is " + std::to_string(w.depth) + " wide levels deep; the traversal serves at most " +
+                            std::to_string(kMaxTreeDepth));
   w.root = 0;
   w.collapse_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   return w;

@@ -51,11 +51,21 @@ struct BuildOptions {
   float traversal_cost = 1.0f, intersection_cost = 1.0f;
   int leaf_block = 8;
   int max_depth = 48;      // below this depth SAH may split unevenly; deeper nodes split at the median
+                           // (clamped to kMaxSahDepth, so that every tree fits the traversal's bound)
   bool parallel = true;    // TBB tasks for subtrees, parallel binning at large nodes
   // Refuse (std::length_error, before allocating) a build whose estimated peak memory,
   // kBuildBytesPerPrim per primitive, exceeds this; 0: no limit.
   std::size_t max_bytes = std::size_t(16) << 30;
 };
+// The deepest tree the traversal serves. Above depth max_depth (at most kMaxSahDepth) the builder
+// splits at the object median (after at most 8 splits that part a range's kinds), so a binary tree
+// over n < 2^32 primitives is at most kMaxSahDepth + 8 + 32 levels deep whatever the geometry
+// (shrinking primitives, nested boxes, coincident centroids); the wide tree is no deeper than the
+// binary one. collapse8 refuses
+// (std::length_error, naming both depths) a tree deeper than kMaxTreeDepth, built by other means.
+inline constexpr int kMaxSahDepth = 64;
+inline constexpr int kMaxTreeDepth = kMaxSahDepth + 8 + 32;
+
 // Peak bytes per primitive of Accel::build (builder arrays, 2 binary nodes, batch slot, id,
 // wide nodes), an upper estimate checked against BuildOptions::max_bytes.
 inline constexpr std::size_t kBuildBytesPerPrim = 192;
@@ -95,10 +105,11 @@ struct Bvh8 {
   // coordinates) up to which the fast slab test cannot cull a box that the exact ray meets; 0
   // when the boxes are as built.
   float origin_bound = 0;
-  // Entries the single-ray traversal stack can hold at most: a node visit pushes at most 7 of
-  // its 8 children, once per level.
+  // Entries the traversal stack can hold at most: a node visit pushes at most 7 of its 8
+  // children, once per level (depth <= kMaxTreeDepth: at most 729).
   std::size_t stack_entries() const { return std::size_t(7) * std::size_t(depth) + 1; }
 };
+// Throws std::length_error when the tree is deeper than kMaxTreeDepth.
 Bvh8 collapse8(const Bvh2& b);
 
 // Widens every child box of the wide tree outward so that the fast slab test of bvh/traverse.hpp

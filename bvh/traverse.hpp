@@ -33,6 +33,7 @@
 #include <immintrin.h>
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -152,9 +153,22 @@ struct Compaction {
 inline constexpr Compaction kCompaction{};
 
 // The traversal stack: child references and entry distances in two arrays, so that a node visit
-// pushes its children with two 8-lane stores (8 slots of headroom above the bound). A local array
-// when the tree's bound fits it (every tree up to depth 72), else a heap array of the bound's size.
+// pushes its children with two 8-lane stores (8 slots of headroom above the bound). Sized from the
+// built tree: a node visit pushes at most 7 entries per level, so Bvh8::stack_entries() (7 per
+// level of the tree's depth) is never exceeded, and collapse8 refuses trees deeper than
+// kMaxTreeDepth. A local array when the bound fits it (every tree up to depth 73), else one heap
+// array of the bound's size per trace call. In builds with assertions (the `debug` preset, under
+// ASan) the stack is always a heap array of exactly the bound plus the headroom, so that ASan sees
+// an overrun, and every push checks the bound (RB_STACK_CHECK); the optimised builds rely on the
+// depth bound and check nothing per push.
 inline constexpr std::size_t kLocalStack = 512;
+#ifdef NDEBUG
+inline constexpr bool kCheckedStack = false;
+#define RB_STACK_CHECK(sp, cap) ((void)0)
+#else
+inline constexpr bool kCheckedStack = true;
+#define RB_STACK_CHECK(sp, cap) assert((sp) <= (cap) && "traversal stack beyond the tree's depth bound")
+#endif
 struct Stack {
   alignas(32) std::uint32_t local_ref[kLocalStack + 8];
   alignas(32) float local_d[kLocalStack + 8];
@@ -162,13 +176,14 @@ struct Stack {
   std::unique_ptr<float[]> heap_d;
   std::uint32_t* ref;
   float* d;
-  explicit Stack(const Bvh8& t) {
-    if (t.stack_entries() <= kLocalStack) {
+  std::size_t cap;  // entries below which sp stays (the 8 of headroom above it)
+  explicit Stack(const Bvh8& t) : cap(t.stack_entries()) {
+    if (!kCheckedStack && cap <= kLocalStack) {
       ref = local_ref;
       d = local_d;
     } else {
-      heap_ref.reset(new std::uint32_t[t.stack_entries() + 8]);
-      heap_d.reset(new float[t.stack_entries() + 8]);
+      heap_ref.reset(new std::uint32_t[cap + 8]);
+      heap_d.reset(new float[cap + 8]);
       ref = heap_ref.get();
       d = heap_d.get();
     }
@@ -274,6 +289,7 @@ HitRec single_loop(const Bvh8& t, const L& leaves, const Ray<float>& r, TraceCou
         const __m256i refs = _mm256_permutevar8x32_epi32(child, _mm256_load_si256(reinterpret_cast<const __m256i*>(kCompaction.idx[bits])));
         _mm256_storeu_si256(reinterpret_cast<__m256i*>(sref + sp), refs);
         sp += std::size_t(cnt - 1);
+        RB_STACK_CHECK(sp, st.cap);
         ref = sref[sp];
         continue;
       } else {
@@ -286,6 +302,7 @@ HitRec single_loop(const Bvh8& t, const L& leaves, const Ray<float>& r, TraceCou
           sref[sp] = n.child[far];
           sd[sp] = d[far];
           ++sp;
+          RB_STACK_CHECK(sp, st.cap);
           ref = n.child[near];
           continue;
         }
@@ -298,6 +315,7 @@ HitRec single_loop(const Bvh8& t, const L& leaves, const Ray<float>& r, TraceCou
         _mm256_storeu_si256(reinterpret_cast<__m256i*>(sref + sp), _mm256_permutevar8x32_epi32(child, slot));
         _mm256_storeu_ps(sd + sp, _mm256_permutevar8x32_ps(tn, slot));
         sp += std::size_t(cnt - 1);
+        RB_STACK_CHECK(sp, st.cap);
         ref = sref[sp];
         continue;
       }
@@ -572,7 +590,7 @@ void trace_packet(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_
     Mask local_mask[kLocalStack + 8];
     std::unique_ptr<Mask[]> heap_mask;
     Mask* smask = local_mask;
-    if (t.stack_entries() > kLocalStack) {
+    if (kCheckedStack || t.stack_entries() > kLocalStack) {
       heap_mask.reset(new Mask[t.stack_entries() + 8]);
       smask = heap_mask.get();
     }
@@ -644,6 +662,7 @@ void trace_packet(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_
             smask[sp] = cm[slot[k]];
             ++sp;
           }
+          RB_STACK_CHECK(sp, st.cap);
           ref = n.child[slot[cnt - 1]];
           mask = cm[slot[cnt - 1]];
         }

@@ -517,6 +517,8 @@ Scene parse_json_scene(std::string_view text, const std::string& name) {
     root = json::parse(text);
   } catch (const json::parse_error& e) {
     throw SceneError(name + ": malformed JSON at byte " + std::to_string(e.byte) + ": " + e.what());
+  } catch (const json::exception& e) {  // e.g. out_of_range: a number beyond double (found by fuzz_json)
+    throw SceneError(name + ": malformed JSON: " + e.what());
   }
   try {
     return build_scene(root, name);
@@ -531,7 +533,7 @@ CsgTree csg_from_json_text(std::string_view node_json, const std::string& where)
   json j;
   try {
     j = json::parse(node_json);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, or out_of_range for a number beyond double
     throw SceneError(where + ": malformed JSON: " + e.what());
   }
   try {

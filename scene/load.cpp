@@ -99,7 +99,8 @@ std::string lower_ext(const std::string& s) {
 }
 }  // namespace
 
-Scene load_scene(const std::string& source) {
+namespace {
+Scene load_unchecked(const std::string& source) {
   if (source.rfind("spd:", 0) == 0) {
     std::string rest = source.substr(4);
     const auto colon = rest.find(':');
@@ -126,6 +127,13 @@ Scene load_scene(const std::string& source) {
   if (ext == "json") return load_json_scene(source);
   throw SceneError(fmt::format("{}: unknown scene source: expected a .obj, .ply or .nff file, a .json scene, spd:NAME[:SIZE], lecture:NAME, csg:NAME or precision:NAME",
                                source));
+}
+}  // namespace
+
+Scene load_scene(const std::string& source) {
+  Scene s = load_unchecked(source);
+  check_numbers(s, source);
+  return s;
 }
 
 }  // namespace rb::scene

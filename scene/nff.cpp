@@ -1,6 +1,7 @@
 // Haines' Neutral File Format: reader (every entity of NFF.TXT) and writer. See loaders.hpp
 // for what each entity becomes.
 #include "scene/loaders.hpp"
+#include "core/atomic_file.hpp"
 #include "scene/parse_util.hpp"
 
 #include <algorithm>
@@ -307,10 +308,12 @@ std::string to_nff(const Scene& s) {
 }
 
 void save_nff(const Scene& scene, const std::string& path) {
-  std::ofstream f(path, std::ios::binary);
   const std::string text = to_nff(scene);
-  f.write(text.data(), std::streamsize(text.size()));
-  if (!f) throw SceneError(fmt::format("{}: cannot write file", path));
+  try {
+    write_file_atomic(path, text);  // whole or not at all (core/atomic_file.hpp)
+  } catch (const std::runtime_error& e) {
+    throw SceneError(e.what());
+  }
 }
 
 }  // namespace rb::scene

@@ -21,7 +21,18 @@ struct SceneError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-Scene load_scene(const std::string& source);          // scene/load.cpp (dispatch)
+// scene/load.cpp (dispatch). Every scene it returns has passed check_numbers.
+Scene load_scene(const std::string& source);
+
+// Numbers the tracers can work with, checked before any use (camera framing, ray sets, the BVH):
+// finite bounds within kMaxCoordinate of the origin (so that the extent, too, is at most twice
+// that), a finite camera (from, at, up, angle) and finite lights (position within the same bound,
+// colour). The tracers compute in float: products of three lengths of a scene's extent (triangle
+// and quadric determinants, squared distances times a length) stay below float's 3.4e38 for
+// extents up to about 7e12, so coordinates beyond 1e12 would turn rays and boxes into infinities.
+// Throws SceneError naming `source`, the offending value and the bound.
+inline constexpr double kMaxCoordinate = 1e12;
+void check_numbers(const Scene& s, const std::string& source);
 
 // Embedded generators (scene/spd/*.cpp, scene/lecture_scenes.cpp).
 std::vector<std::string> spd_names();                  // {"balls", "gears", ...}

@@ -7,8 +7,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
 #include <map>
 #include <random>
+#include <stdexcept>
 
 namespace {
 
@@ -349,3 +351,100 @@ TEST(Bvh, HostileInputsGiveDefinedResults) {
 }
 
 }  // namespace
+
+// ---- adversarial trees: the traversal stack against the tree's depth ----------------------------
+namespace {
+
+// Every packet mode and slab test against the oracle, for the four ray sets (no hit count
+// required: some of these scenes send their bounce rays into the void).
+void check_against_oracle(const scene::Scene& s, std::size_t count, const std::string& name) {
+  const tracer::SceneAccel a = tracer::SceneAccel::build(s);
+  ASSERT_FALSE(a.empty()) << name;
+  std::cout << "[ depth    ] " << name << ": binary " << a.bin.stats.depth << ", wide " << a.wide.depth << " (bound "
+            << bvh::kMaxTreeDepth << ")\n";
+  EXPECT_LE(a.wide.depth, bvh::kMaxTreeDepth) << name;
+  EXPECT_LE(a.bin.stats.depth, bvh::kMaxTreeDepth) << name;
+  for (auto set : {trace::RaySet::primary, trace::RaySet::shadow, trace::RaySet::diffuse, trace::RaySet::random}) {
+    const RaySoA rays = trace::make_rays(s, a, set, count, 11);
+    const bool any = set == trace::RaySet::shadow;
+    const auto ref = brute(a, rays, any);
+    for (int packet : {1, 8, 16, 64, 256})
+      for (bvh::Slab slab : {bvh::Slab::conservative, bvh::Slab::robust}) {
+        std::vector<HitRec> h(rays.size());
+        a.trace(rays, 0, rays.size(), h.data(), opts(packet, slab, any));
+        expect_same(h, ref, rays.count, any, name + " " + trace::ray_set_name(set) + " packet " + std::to_string(packet) + " " + bvh::slab_name(slab));
+      }
+  }
+}
+
+}  // namespace
+
+TEST(Bvh, AdversarialTreesStayWithinTheStackBound) {
+  // Geometrically shrinking triangles nested at one corner: every SAH split cuts off the largest.
+  // (Ratio 0.97: the smallest stays at 5e-6, above float resolution at the rays' distance; far
+  // smaller triangles are below what a float ray from there resolves, and the leaf kernel's answer
+  // for them is not a reference.)
+  {
+    scene::Scene s;
+    for (int k = 0; k < 400; ++k) {
+      const double e = std::pow(0.97, k);
+      const auto b = std::uint32_t(s.verts.size());
+      s.verts.push_back({0, 0, 1});
+      s.verts.push_back({e, 0, 1 + 1e-3 * e});
+      s.verts.push_back({0, e, 1 - 1e-3 * e});
+      s.triangles.push_back({{b, b + 1, b + 2}, 0});
+    }
+    check_against_oracle(s, 256, "shrinking triangles");
+  }
+  // A long chain of nested boxes: spheres that all touch the origin, each 1.2 times the last.
+  {
+    scene::Scene s;
+    for (int k = 0; k < 200; ++k) {
+      const double r = 1e-3 * std::pow(1.2, k);
+      s.spheres.push_back({{r, 0, 0}, r, 0});
+    }
+    check_against_oracle(s, 256, "nested boxes");
+  }
+  // Identical centroids, different sizes: 3000 concentric spheres.
+  {
+    scene::Scene s;
+    for (int k = 0; k < 3000; ++k) s.spheres.push_back({{1, 2, 3}, 1.0 + 1e-3 * k, 0});
+    check_against_oracle(s, 256, "concentric spheres");
+  }
+}
+
+TEST(Bvh, TreeDeeperThanTheTraversalServesIsRefused) {
+  // A binary chain of 1000 levels (a leaf and an internal node per level) made by hand: each wide
+  // node absorbs 7 of its levels, so the wide tree is deeper than kMaxTreeDepth.
+  bvh::Bvh2 b;
+  const int levels = 1000;
+  b.nodes.resize(2 * std::size_t(levels) + 1);
+  for (int i = 0; i < levels; ++i) {
+    bvh::BNode& n = b.nodes[2 * std::size_t(i)];
+    n = bvh::BNode{{0, 0, 0}, {1, 1, 1}, std::uint32_t(2 * i + 1), 0, 0};
+    b.nodes[2 * std::size_t(i) + 1] = bvh::BNode{{0, 0, 0}, {1, 1, 1}, std::uint32_t(i), 1, 0};
+  }
+  b.nodes[2 * std::size_t(levels)] = bvh::BNode{{0, 0, 0}, {1, 1, 1}, std::uint32_t(levels), 1, 0};
+  try {
+    (void)bvh::collapse8(b);
+    ADD_FAILURE() << "a tree deeper than the traversal's bound was collapsed";
+  } catch (const std::length_error& e) {
+    EXPECT_NE(std::string(e.what()).find("serves at most " + std::to_string(bvh::kMaxTreeDepth)), std::string::npos) << e.what();
+  }
+  // The builder never makes such a tree, whatever max_depth asks: it is clamped.
+  std::vector<float> lo, hi;
+  std::vector<std::uint8_t> kind;
+  for (int k = 0; k < 3000; ++k) {
+    const float e = std::pow(0.99f, float(k));
+    lo.insert(lo.end(), {0, 0, 0});
+    hi.insert(hi.end(), {e, e, e});
+    kind.push_back(0);
+  }
+  bvh::BuildOptions o;
+  o.max_depth = 100000;
+  o.max_leaf = 1;
+  o.parallel = false;
+  const bvh::Bvh2 deep = bvh::build_sah(lo, hi, kind, o);
+  EXPECT_LE(deep.stats.depth, bvh::kMaxTreeDepth);
+  EXPECT_NO_THROW((void)bvh::collapse8(deep));
+}

@@ -206,6 +206,33 @@ TEST(Cli, InputErrorsExitOneWithTheSystemsReason) {
   }
 }
 
+// Absurd sizes are refused before anything is allocated, with the bound in the one error line;
+// a scene with a vertex at 1e38 (its camera framing and rays would overflow) is refused by every
+// command with the bound named.
+TEST(Cli, AbsurdSizesAndHugeScenesAreRefusedNamingTheBound) {
+  Scratch s("absurd");
+  std::ofstream(s / "huge.obj") << "v 0 0 0\nv 1 0 0\nv 0 1e38 0\nf 1 2 3\n";
+  struct Case { std::string args, command, input, bound; };
+  for (const Case& c : std::vector<Case>{{"render spd:balls:1 --width 100000 --height 100000", "render", "", "16384"},
+                                         {"trace spd:balls:1 --count 4e9", "trace", "", "268435456"},
+                                         {"trace spd:balls:1 --count -1", "trace", "", "268435456"},
+                                         {"trace spd:balls:1 --threads 100000", "trace", "", "256"},
+                                         {"info huge.obj", "info", "huge.obj", "1e+12"},
+                                         {"trace huge.obj --no-embree -r 1", "trace", "huge.obj", "1e+12"},
+                                         {"render huge.obj --width 8 -r 1 -o x.png", "render", "huge.obj", "1e+12"}}) {
+    const Outcome r = run_in(s.dir, c.args);
+    EXPECT_EQ(r.status, 1) << c.args << ": " << r.err;
+    expect_one_error_line(r, c.command, c.input);
+    EXPECT_TRUE(has(r.err, c.bound)) << c.args << ": " << r.err;
+  }
+  // In scientific notation within the bound: accepted as the integer.
+  const Outcome ok = run_in(s.dir, "trace spd:balls:1 --count 1e3 --no-embree -r 1 --warmup 0 --brute 0 --json");
+  EXPECT_EQ(ok.status, 0) << ok.err;
+  if (ok.status == 0) {
+    EXPECT_LE(ok.json().at("rays").get<std::size_t>(), 2048u);
+  }
+}
+
 TEST(Cli, NothingToDoExitsTwo) {
   Scratch s("nothing");
   std::ofstream(s / "empty.obj") << "# no geometry\n";

@@ -10,6 +10,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <regex>
 
 namespace fs = std::filesystem;
@@ -369,4 +370,43 @@ TEST(LoadScene, EmbeddedMeshes) {
   EXPECT_EQ(bunny.verts.size(), 35947u);
   const Scene dragon = load_scene(std::string(RB_SOURCE_DIR) + "/data/meshes/dragon_vrip_res3_bin.ply");
   EXPECT_EQ(dragon.triangles.size(), 47794u);
+}
+
+// Numbers the tracers can use: a scene whose bounds, camera or lights are not finite, or reach
+// beyond kMaxCoordinate (float arithmetic on the extent would overflow), is refused by load_scene
+// with the file, the value and the bound named.
+TEST(LoadScene, NonFiniteOrHugeNumbersAreRefusedNamingTheBound) {
+  const std::string huge = write_tmp("huge.obj", "v 0 0 0\nv 1 0 0\nv 0 1e38 0\nf 1 2 3\n");
+  expect_error([&] { (void)load_scene(huge); }, "huge\\.obj: the scene's bounds reach 1e\\+38 .*largest coordinate traced, 1e\\+12");
+  const std::string far_sphere = write_tmp("far.nff", "s 0 0 0 1\ns 2e13 0 0 1\n");
+  expect_error([&] { (void)load_scene(far_sphere); }, "far\\.nff: the scene's bounds reach 2e\\+13");
+  const std::string cam = write_tmp("cam.nff", "v\nfrom 0 0 -1e30\nat 0 0 0\nup 0 1 0\nangle 45\nhither 0\nresolution 8 8\ns 0 0 0 1\n");
+  expect_error([&] { (void)load_scene(cam); }, "cam\\.nff: the camera .*beyond the largest coordinate traced, 1e\\+12");
+  const std::string light = write_tmp("light.json",
+                                      R"({"lights": [{"position": [1e300, 0, 0]}], "objects": [{"type": "sphere", "center": [0,0,0], "radius": 1}]})");
+  expect_error([&] { (void)load_scene(light); }, "light\\.json: light 1 at .*beyond the largest coordinate traced");
+  // In memory (generators, tests): the same check by name.
+  Scene s;
+  s.spheres.push_back({{0, 0, 0}, 1, 0});
+  s.lights.push_back({{0, std::numeric_limits<double>::quiet_NaN(), 0}, {1, 1, 1}});
+  expect_error([&] { check_numbers(s, "mine"); }, "^mine: light 1 is not finite");
+  s.lights.clear();
+  s.camera.up = {0, std::numeric_limits<double>::infinity(), 0};
+  expect_error([&] { check_numbers(s, "mine"); }, "^mine: the camera is not finite");
+  // At the bound: accepted.
+  const std::string edge = write_tmp("edge.obj", "v 0 0 0\nv 1e12 0 0\nv 0 -1e12 0\nf 1 2 3\n");
+  EXPECT_NO_THROW((void)load_scene(edge));
+  // A header announcing 10^9 records is refused before anything is allocated, naming the count
+  // and the bytes that follow.
+  const std::string ply = write_tmp("billion.ply",
+                                    "ply\nformat binary_little_endian 1.0\nelement vertex 1000000000\nproperty float x\nproperty float y\n"
+                                    "property float z\nend_header\n0123456789ab");
+  expect_error([&] { (void)load_scene(ply); }, "billion\\.ply.*1000000000 records of 12 bytes but only 12 bytes are left");
+}
+
+// Found by the libFuzzer target fuzz_json: a number beyond double's range made the JSON library
+// throw its out_of_range, which escaped the loader's contract (SceneError naming the file).
+TEST(LoadScene, JsonNumberBeyondDoubleIsASceneError) {
+  expect_error([] { (void)load_scene(std::string(RB_TEST_DATA) + "/fuzz/json-number-overflow.json"); },
+               "json-number-overflow\\.json: malformed JSON: .*number overflow");
 }

@@ -13,6 +13,9 @@ import os
 import statistics
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import atomic_save  # noqa: E402
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -91,7 +94,7 @@ def main():
         panel(axes[1], [(n, x, u) for n, x, _, u in pts], 0.1,
               "worst p99 t error (ulps of the precision)", f"{fam}: t error")
         fig.tight_layout()
-        fig.savefig(os.path.join(out, f"accuracy_{fam}.png"), dpi=110)
+        atomic_save.savefig(fig, os.path.join(out, f"accuracy_{fam}.png"), dpi=110)
         plt.close(fig)
 
 

@@ -7,6 +7,9 @@ import json
 import os
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import atomic_save  # noqa: E402
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -43,7 +46,7 @@ def simd_speedup(out, summary):
     m = summary["machine"]
     fig.suptitle(f"SIMD speedup, L1-resident, one thread: {m['cpu']}, -ffp-contract={m['fp_contract']}, git {m['git']}", fontsize=10)
     fig.tight_layout(rect=(0, 0.03, 1, 1))
-    fig.savefig(os.path.join(out, "simd_speedup.png"), dpi=100)
+    atomic_save.savefig(fig, os.path.join(out, "simd_speedup.png"), dpi=100)
     plt.close(fig)
 
 
@@ -66,7 +69,7 @@ def trace_scaling(out, summary):
     ax.grid(True, which="both", lw=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(os.path.join(out, "trace_scaling.png"), dpi=100)
+    atomic_save.savefig(fig, os.path.join(out, "trace_scaling.png"), dpi=100)
     plt.close(fig)
 
 
@@ -101,7 +104,7 @@ def plan_models(out, summary):
     ax.set_title("Each scene under the three models: speed against failures")
     ax.legend(title="model", loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
     fig.tight_layout()
-    fig.savefig(os.path.join(out, "plan_models.png"), dpi=110)
+    atomic_save.savefig(fig, os.path.join(out, "plan_models.png"), dpi=110)
     plt.close(fig)
 
 

@@ -11,7 +11,11 @@ shows as one step.
 """
 import json
 import math
+import os
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import atomic_save  # noqa: E402
 
 import matplotlib
 
@@ -58,7 +62,7 @@ def main():
     ax.set_ylabel(f"{doc['metric']} ({doc['unit']}{', ' + direction if direction else ''})")
     ax.grid(True, lw=0.3)
     fig.tight_layout()
-    fig.savefig(sys.argv[2], dpi=100)
+    atomic_save.savefig(fig, sys.argv[2], dpi=100)
     plt.close(fig)
 
 

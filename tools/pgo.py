@@ -18,6 +18,9 @@ import re
 import statistics
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import atomic_save  # noqa: E402
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -172,7 +175,7 @@ def charts(out, rows, trows):
         ax.set_title("Profile-guided optimisation, kernel benchmarks")
         ax.legend(loc="lower right", fontsize=8)
         fig.tight_layout()
-        fig.savefig(os.path.join(out, "pgo_kernels.png"), dpi=110)
+        atomic_save.savefig(fig, os.path.join(out, "pgo_kernels.png"), dpi=110)
         plt.close(fig)
     if trows:
         labels = [f"{os.path.basename(r['scene'])} {r['ray_set']} K={r['packet']}" for r in trows]
@@ -189,7 +192,7 @@ def charts(out, rows, trows):
         ax.set_title("Profile-guided optimisation, whole-scene traces (1 thread)")
         ax.legend(loc="lower right", fontsize=8)
         fig.tight_layout()
-        fig.savefig(os.path.join(out, "pgo_traces.png"), dpi=110)
+        atomic_save.savefig(fig, os.path.join(out, "pgo_traces.png"), dpi=110)
         plt.close(fig)
 
 
@@ -278,13 +281,12 @@ def main():
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
     rows, trows, flags = compare(args.results)
-    with open(os.path.join(args.out, "pgo.json"), "w") as f:
-        json.dump({"benchmarks": rows, "traces": trows, "flags": flags, "honest_training": args.honest,
-                   "tuned_training": args.tuned}, f, indent=2)
+    atomic_save.write_text(os.path.join(args.out, "pgo.json"),
+                           json.dumps({"benchmarks": rows, "traces": trows, "flags": flags, "honest_training": args.honest,
+                                       "tuned_training": args.tuned}, indent=2))
     charts(args.out, rows, trows)
     md = markdown(rows, trows, flags, args, machine_load(args.results))
-    with open(os.path.join(args.out, "pgo.md"), "w") as f:
-        f.write(md)
+    atomic_save.write_text(os.path.join(args.out, "pgo.md"), md)
     index = os.path.join(args.out, "index.md")
     if os.path.exists(index):
         with open(index) as f:
@@ -292,8 +294,7 @@ def main():
         block = "<!-- pgo-section -->\n" + md + "<!-- /pgo-section -->"
         new, n = re.subn(r"<!-- pgo-section -->.*?<!-- /pgo-section -->", lambda _: block, text, flags=re.S)
         if n:
-            with open(index, "w") as f:
-                f.write(new)
+            atomic_save.write_text(index, new)
     print(f"PGO section written: {os.path.join(args.out, 'pgo.md')} ({len(rows)} benchmarks, {len(trows)} traces)")
     return 0 if rows or trows else 1
 

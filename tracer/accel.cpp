@@ -5,7 +5,7 @@
 #include "core/spawn.hpp"
 #include "tracer/traversal.hpp"
 
-#include <tbb/parallel_for.h>
+#include "core/par.hpp"
 
 #include <chrono>
 #include <stdexcept>
@@ -41,7 +41,7 @@ void build_std(StdBatch<K>& b, const scene::Scene& s, std::vector<std::uint32_t>
         if (b.id[j] != UINT32_MAX) set_slot(soa, j, K::template make<S>(s, b.id[j], origin));
     };
     if (parallel && n > 4096)
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 2048), [&](const auto& r) { write(r.begin(), r.end()); });
+      par::for_range(0, n, 2048, [&](std::size_t lo, std::size_t hi) { write(lo, hi); });
     else
       write(0, n);
   };
@@ -122,7 +122,7 @@ SceneAccel SceneAccel::build(const scene::Scene& s, const Plan& plan, const bvh:
     }
   };
   if (opt.parallel)
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, kind.size(), 4096), [&](const auto& r) { boxes(r.begin(), r.end()); });
+    par::for_range(0, kind.size(), 4096, [&](std::size_t b, std::size_t e) { boxes(b, e); });
   else
     boxes(0, kind.size());
   a.bin = builder ? builder(lo, hi, kind, opt) : bvh::build_sah(lo, hi, kind, opt);

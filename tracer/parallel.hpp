@@ -4,11 +4,18 @@
 // arena it came from. The calling thread gets the same while the scope lives and its previous
 // state back afterwards. The renderer, `raybench trace` and the accuracy lab's traces all run their
 // work through it.
+//
+// The thread count is real: TBB's default would give an arena of 64 slots only as many workers as
+// the machine has hardware threads, so the scope also raises (or lowers) TBB's allowed parallelism
+// to `threads` while it lives (tbb::global_control; while several scopes live, the smallest
+// applies). `--threads 64` on a 2-core machine runs 64 threads, oversubscribed.
 #pragma once
 
 #include "core/fpenv.hpp"
+#include "core/par.hpp"
 
 #include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -19,34 +26,58 @@ namespace rb::tracer {
 
 class ThreadScope {
  public:
-  explicit ThreadScope(int threads) : threads_(std::max(1, threads)), arena_(threads_), saved_csr_(_mm_getcsr()) { set_ftz_daz(); }
-  ~ThreadScope() { _mm_setcsr(saved_csr_); }
+  explicit ThreadScope(int threads)
+      : threads_(std::max(1, threads)),
+        limit_(tbb::global_control::max_allowed_parallelism, std::size_t(threads_)),
+        arena_(threads_),
+        saved_csr_(_mm_getcsr()) {
+    set_ftz_daz();
+#if RB_TSAN
+    saved_concurrency_ = par::concurrency();
+    par::concurrency() = threads_;
+#endif
+  }
+  ~ThreadScope() {
+    _mm_setcsr(saved_csr_);
+#if RB_TSAN
+    par::concurrency() = saved_concurrency_;
+#endif
+  }
   ThreadScope(const ThreadScope&) = delete;
   ThreadScope& operator=(const ThreadScope&) = delete;
   int threads() const { return threads_; }
   // f() inside the arena, on the calling thread (which may then help with f's parallel loops).
   template <class Fn>
   void run(Fn&& f) {
+#if RB_TSAN
+    set_ftz_daz();  // the tsan preset's std::thread backend (core/par.hpp): no arena
+    f();
+#else
     arena_.execute([&] {
       set_ftz_daz();
       f();
     });
+#endif
   }
   // f(i) for i in [0, n), `grain` at a time per task, in the arena; every task sets FTZ/DAZ first.
   template <class Fn>
   void parallel_for(std::size_t n, std::size_t grain, Fn&& f) {
     run([&] {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, std::max<std::size_t>(1, grain)), [&](const tbb::blocked_range<std::size_t>& r) {
+      par::for_range(0, n, grain, [&](std::size_t b, std::size_t e) {
         set_ftz_daz();
-        for (std::size_t i = r.begin(); i != r.end(); ++i) f(i);
+        for (std::size_t i = b; i != e; ++i) f(i);
       });
     });
   }
 
  private:
   int threads_;
+  tbb::global_control limit_;
   tbb::task_arena arena_;
   unsigned saved_csr_;
+#if RB_TSAN
+  int saved_concurrency_ = 2;
+#endif
 };
 
 }  // namespace rb::tracer
