@@ -13,7 +13,8 @@
 // was no crash, hang or bad message. The failing inputs are kept in --keep.
 //
 //   raybench_fuzz [--runs N per format] [--seed S] [--format obj|ply|plyb|nff|json|all]
-//                 [--timeout SECONDS] [--keep DIR] [--json FILE]
+//                 [--timeout SECONDS] [--slow SECONDS] [--keep DIR] [--json FILE]
+// An input slower than --slow seconds (default 20) is kept too, as slow-NAME (not a failure).
 #include "apps/commands.hpp"
 #include "apps/render_options.hpp"
 #include "apps/trace_options.hpp"
@@ -261,7 +262,7 @@ int main(int argc, char** argv) {
   long runs = 200;
   std::uint64_t seed = 1;
   std::string only = "all", keep = "fuzz-failures", json_out;
-  double timeout = 60;
+  double timeout = 60, slow = 20;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto val = [&]() -> std::string {
@@ -275,10 +276,11 @@ int main(int argc, char** argv) {
     else if (a == "--seed") seed = std::stoull(val());
     else if (a == "--format") only = val();
     else if (a == "--timeout") timeout = std::stod(val());
+    else if (a == "--slow") slow = std::stod(val());
     else if (a == "--keep") keep = val();
     else if (a == "--json") json_out = val();
     else {
-      std::cerr << "usage: raybench_fuzz [--runs N] [--seed S] [--format obj|ply|plyb|nff|json|all] [--timeout S] [--keep DIR] [--json FILE]\n";
+      std::cerr << "usage: raybench_fuzz [--runs N] [--seed S] [--format obj|ply|plyb|nff|json|all] [--timeout S] [--slow S] [--keep DIR] [--json FILE]\n";
       return a == "--help" ? 0 : 1;
     }
   }
@@ -317,7 +319,12 @@ int main(int argc, char** argv) {
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(2));
       }
-      max_s = std::max(max_s, std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count());
+      const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - s0).count();
+      max_s = std::max(max_s, took);
+      if (!hung && took > slow) {
+        fs::copy_file(path, fs::path(keep) / ("slow-" + name), fs::copy_options::overwrite_existing);
+        std::cerr << "raybench_fuzz: slow (" << took << " s): " << (fs::path(keep) / ("slow-" + name)).string() << "\n";
+      }
       std::ifstream ef(err);
       std::stringstream es;
       es << ef.rdbuf();

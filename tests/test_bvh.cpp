@@ -357,8 +357,8 @@ namespace {
 
 // Every packet mode and slab test against the oracle, for the four ray sets (no hit count
 // required: some of these scenes send their bounce rays into the void).
-void check_against_oracle(const scene::Scene& s, std::size_t count, const std::string& name) {
-  const tracer::SceneAccel a = tracer::SceneAccel::build(s);
+void check_against_oracle(const scene::Scene& s, std::size_t count, const std::string& name, const bvh::BuildOptions& opt = {}) {
+  const tracer::SceneAccel a = tracer::SceneAccel::build(s, opt);
   ASSERT_FALSE(a.empty()) << name;
   std::cout << "[ depth    ] " << name << ": binary " << a.bin.stats.depth << ", wide " << a.wide.depth << " (bound "
             << bvh::kMaxTreeDepth << ")\n";
@@ -404,6 +404,13 @@ TEST(Bvh, AdversarialTreesStayWithinTheStackBound) {
       s.spheres.push_back({{r, 0, 0}, r, 0});
     }
     check_against_oracle(s, 256, "nested boxes");
+    // The same with one primitive per leaf and SAH asked for any depth (clamped to kMaxSahDepth):
+    // the deepest tree the builder makes of them, traversed with the stack at its bound.
+    bvh::BuildOptions deep;
+    deep.max_leaf = 1;
+    deep.leaf_block = 1;
+    deep.max_depth = 100000;
+    check_against_oracle(s, 256, "nested boxes, one per leaf", deep);
   }
   // Identical centroids, different sizes: 3000 concentric spheres.
   {
@@ -445,6 +452,7 @@ TEST(Bvh, TreeDeeperThanTheTraversalServesIsRefused) {
   o.max_leaf = 1;
   o.parallel = false;
   const bvh::Bvh2 deep = bvh::build_sah(lo, hi, kind, o);
+  std::cout << "[ depth    ] 3000 shrinking boxes, one per leaf, max_depth 100000: binary " << deep.stats.depth << "\n";
   EXPECT_LE(deep.stats.depth, bvh::kMaxTreeDepth);
   EXPECT_NO_THROW((void)bvh::collapse8(deep));
 }
