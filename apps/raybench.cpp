@@ -125,10 +125,13 @@ int main(int argc, char** argv) {
       "is what Google Benchmark's compare.py and `raybench compare` read.");
 
   // ---- info ----
-  std::string info_scene, info_json;
+  std::string info_scene, info_json, info_dump;
   auto* info = app.add_subcommand("info", "Describe a scene: counts, bounds, memory");
   info->add_option("scene", info_scene, "A scene (see below)")->required();
   add_json(info, info_json, "Write the description as JSON to FILE\n(no FILE: stdout)");
+  info->add_option("--dump-json", info_dump, "Write the scene itself in the JSON scene\nformat to FILE (no FILE: stdout), a start\nfor a scene of your own (docs/SCENE_FORMAT.md)")
+      ->expected(0, 1)
+      ->type_name("[FILE|-]");
   info->footer(
       "Scenes: a .obj, .ply or .nff file, a .json scene (CSG trees),\n"
       "spd:NAME[:SIZE] (balls gears mount rings teapot tetra tree), lecture:NAME,\n"
@@ -430,7 +433,8 @@ int main(int argc, char** argv) {
       out.record = recorder("bench");
       rc = run_bench_command(bo, bench_list, out);
     } else if (*info) {
-      rc = run_info_command(info_scene, json_out(info, info_json));
+      rc = info->count("--dump-json") ? run_dump_scene_command(info_scene, info_dump)
+                                      : run_info_command(info_scene, json_out(info, info_json));
     } else if (*query) {
       if (query->count("--json") && !query_json.empty() && query_json != "-") {
         std::ofstream f(query_json);
