@@ -82,6 +82,7 @@ int main(int argc, char** argv) {
   report->add_option("--filter", ro.filter, "Only the benchmarks whose name\n(kernel/method/variant/case) matches this regex")
       ->capture_default_str();
   report->add_flag("!--no-charts", ro.charts, "Skip the matplotlib charts");
+  report->add_flag("--quick", ro.quick, "A small report in about a minute, to check its\nlayout and links: 2 repetitions of 0.005 s\n(unless -r, --min-time say otherwise), few\nrays, 128x128 renders, fewer scenes");
   add_json(report, ro.json_file, "The summary JSON also to FILE (no FILE: stdout,\nthe terminal summary then to stderr)");
   report->add_option("--history", report_history, "Keep the run in this results history\n(default: $RAYBENCH_HISTORY, else\nresults/history.sqlite)")
       ->type_name("FILE");
@@ -418,6 +419,8 @@ int main(int argc, char** argv) {
   try {
     if (*report) {
       ro.json = report->count("--json") > 0;
+      if (ro.quick && report->count("--repetitions") == 0) ro.repetitions = 2;
+      if (ro.quick && report->count("--min-time") == 0) ro.min_time = 0.005;
       if (!report_no_history && !open_history(report_history, kReportHistory)) return kExitError;
       rc = run_report(ro);
       if (rc == 0 && hist) {

@@ -4,6 +4,7 @@
 #include "apps/machine.hpp"
 #include "apps/paths.hpp"
 #include "apps/progress.hpp"
+#include "apps/report_doc.hpp"
 #include "apps/report_sections.hpp"
 #include "bench/ops_table.hpp"
 
@@ -282,6 +283,78 @@ std::string terminal_summary(const json& summary, const std::vector<Goal>& goals
   return t;
 }
 
+// The goals every section checks, for the summary at the top of the report: the speed goals and
+// the 4x target of section "Scalar against SIMD", the tracing goals (computed here from the
+// section's rows), the rendering goal and the accuracy lab's targets.
+std::vector<doc::Goal> report_goals(const std::vector<Goal>& speed, const json& summary) {
+  std::vector<doc::Goal> g;
+  for (const auto& s : speed) g.push_back({"Scalar against SIMD", s.goal, s.measured, s.met, "simd_speedup.png"});
+  if (summary.contains("simd_target_4x_counts")) {
+    const auto& c = summary["simd_target_4x_counts"];
+    const int met = c["met"].get<int>(), n = c["methods"].get<int>();
+    g.push_back({"Scalar against SIMD", "every kernel's SIMD form >= 4x its true-scalar form",
+                 fmt::format("{} of {} methods; {} short for a stated structural reason, {} unexplained", met, n,
+                             c["explained"].get<int>(), c["unexplained"].get<int>()),
+                 n > 0 ? int(met == n) : -1, "simd_speedup.png"});
+  }
+  if (summary.contains("tracing")) {
+    const json& t = summary["tracing"];
+    auto num = [](const json& v) { return v.is_number() ? v.get<double>() : -1.0; };
+    const std::string sec = "Tracing whole scenes", fig = "trace_scaling.png";
+    // (1) the best packet size of each engine, per ray set and thread count.
+    std::map<std::pair<std::string, int>, std::pair<double, double>> best;
+    double worst_mismatch = -1;
+    std::string short1, short2;
+    int have_embree = 0;
+    for (const auto& r : t["bunny"]) {
+      auto& b = best[{r["ray_set"].get<std::string>(), r["threads"].get<int>()}];
+      b.first = std::max(b.first, num(r["mrays_per_s"]));
+      b.second = std::max(b.second, num(r["embree_mrays_per_s"]));
+      have_embree += num(r["embree_mrays_per_s"]) > 0;
+      worst_mismatch = std::max(worst_mismatch, num(r["mismatch_rate"]));
+      if (r["ray_set"] == "primary" && r["packet"].get<int>() > 1 && num(r["embree_mrays_per_s"]) > 0 &&
+          num(r["mrays_per_s"]) < num(r["embree_mrays_per_s"]))
+        short2 += fmt::format("{}{} rays x {} thr {:.2f}x", short2.empty() ? "" : "; ", r["packet"].get<int>(), r["threads"].get<int>(),
+                              num(r["mrays_per_s"]) / num(r["embree_mrays_per_s"]));
+    }
+    double lowest = 1e30;
+    for (const auto& [k, v] : best)
+      if (v.second > 0 && v.first / v.second < lowest) {
+        lowest = v.first / v.second;
+        short1 = fmt::format("{}, {} thread{}", k.first, k.second, k.second > 1 ? "s" : "");
+      }
+    if (have_embree) {
+      g.push_back({sec, "bunny: at least Embree's rays/s for every ray set, 1 and 2 threads (best packet size of each)",
+                   fmt::format("lowest raybench / Embree {:.2f} ({})", lowest, short1), int(lowest >= 1), fig});
+      g.push_back({sec, "bunny: 8- and 16-ray packets at least Embree's packets on primary rays",
+                   short2.empty() ? "every primary packet row >= 1.00" : "below: " + short2, int(short2.empty()), fig});
+    }
+    for (const auto& r : t["by_size"])
+      if (r["scene"] == "stanford-bunny.obj" && num(r["embree_build_ms"]) > 0) {
+        const double b = num(r["build_ms"]) / num(r["embree_build_ms"]), m = num(r["bytes_per_prim"]) / num(r["embree_bytes_per_prim"]);
+        g.push_back({sec, "bunny: build within 1.5x of Embree's, no more memory per triangle",
+                     fmt::format("build {:.2f}x, memory {:.2f}x Embree's", b, m), int(b <= 1.5 && m <= 1), fig});
+      }
+    double scale = 1e30;
+    for (const auto& s : t["thread_scaling"])
+      if (s["ours"].is_number()) scale = std::min(scale, s["ours"].get<double>());
+    if (scale < 1e30) g.push_back({sec, "two threads at least 1.8x one", fmt::format("lowest {:.2f}x", scale), int(scale >= 1.8), fig});
+    if (worst_mismatch >= 0)
+      g.push_back({sec, "under 0.1 % of rays disagree with Embree", fmt::format("worst {:.4f} %", 100 * worst_mismatch),
+                   int(worst_mismatch < 0.001), fig});
+  }
+  if (summary.contains("render_goal_half_of_primary")) {
+    const auto& r = summary["render_goal_half_of_primary"];
+    const int met = r["met"].get<int>(), n = r["scenes"].get<int>();
+    g.push_back({"Rendering", "rendering at least half as fast per ray as primary-ray tracing",
+                 fmt::format("{} of {} scenes", met, n), n > 0 ? int(met == n) : -1, "render_spd_balls.png"});
+  }
+  if (summary.contains("accuracy"))
+    for (const auto& t : summary["accuracy"]["targets"])
+      g.push_back({"Accuracy and stability", t["target"].get<std::string>(), t["measured"].get<std::string>(), int(t["met"].get<bool>()), ""});
+  return g;
+}
+
 // The profile-guided optimisation section is measured by `./run.sh pgo` (four builds and three
 // benchmark runs: too long for the default report), which writes OUT/pgo.md; the report carries
 // the latest one between markers so that `./run.sh pgo` can also refresh an existing index.md.
@@ -323,6 +396,9 @@ int run_report(const ReportOptions& o) {
   json summary;
   summary["machine"] = m.json();
   std::string md = "# raybench report\n\n";
+  if (o.quick)
+    md += "**Quick mode** (`--quick`): few repetitions, few rays and small images, to check the report's layout; its figures "
+          "are not the ones to quote.\n\n";
   md += "Produced by `raybench report` on the embedded default scenes; every figure below was measured in this run. "
         "Speeds are medians over " + std::to_string(o.repetitions) + " repetitions, ratios are taken within this run.\n\n";
   md += "## Machine and build\n\n" + m.markdown() + "\n";
@@ -393,12 +469,17 @@ int run_report(const ReportOptions& o) {
     const int rc = std::system(cmd.c_str());
     if (rc != 0) md += "_Charts were not drawn: `" + cmd + "` failed (is python3-matplotlib installed?)._\n\n";
   }
-  md += fmt::format("---\nReport written in {:.0f} s by `raybench report --out {}`.\n", clock.s(), o.out);
-  write_file(out / "index.md", md);
+  md += fmt::format("---\n\nReport written in {:.0f} s by `raybench report --out {}{}`.\n", clock.s(), o.out, o.quick ? " --quick" : "");
+  // One model, two pages: index.md and the self-contained index.html beside it.
+  doc::Document page = doc::parse_markdown(md);
+  doc::organise(page, report_goals(goals, summary), out);
+  write_file(out / "index.md", doc::to_markdown(page));
+  write_file(out / "index.html", doc::to_html(page));
+  for (const auto& b : doc::broken_links(out / "index.html")) std::cerr << "raybench report: warning: index.html: " << b << "\n";
   // The terminal summary goes to stdout, unless --json without a file puts the summary JSON there.
   const bool json_stdout = o.json && (o.json_file.empty() || o.json_file == "-");
   (json_stdout ? std::cerr : std::cout) << fit_columns(terminal_summary(summary, goals, rows.size() / 2, clock.s()), 4)
-                                        << "report written: " << fs::absolute(out / "index.md").string() << "\n";
+                                        << "report written: " << fs::absolute(out / "index.md").string() << " and index.html\n";
   if (json_stdout) std::cout << summary.dump(2) << "\n";
   else if (o.json) write_file(o.json_file, summary.dump(2) + "\n");
   return 0;

@@ -48,10 +48,9 @@ std::string ratio(const json& a, const json& b) {
 }  // namespace
 
 std::string report_section_tracing(const ReportOptions& o, const fs::path& out, json& summary) {
-  (void)o;
   const std::string data = data_dir() + "/meshes/";
-  const std::size_t count = 1u << 18;
-  const int reps = 3;
+  const std::size_t count = o.quick ? 1u << 12 : 1u << 18;
+  const int reps = o.quick ? 1 : 3;
   json rows = json::array(), scaling = json::array(), builds = json::array();
   std::string md = "## Tracing whole scenes\n\n";
   md += "Goal: answer \"how many rays per second on my mesh, against Embree?\". One binned-SAH build (TBB) gives an "
@@ -115,11 +114,11 @@ std::string report_section_tracing(const ReportOptions& o, const fs::path& out, 
   std::cerr << "[report] tracing: scenes by size\n";
   struct Src { std::string label; std::function<rb::scene::Scene()> make; };
   std::vector<Src> srcs;
-  for (int k = 1; k <= 5; ++k) srcs.push_back({fmt::format("spd:balls:{}", k), [k] { return rb::scene::generate_spd("balls", k); }});
+  for (int k = 1; k <= (o.quick ? 1 : 5); ++k) srcs.push_back({fmt::format("spd:balls:{}", k), [k] { return rb::scene::generate_spd("balls", k); }});
   for (const char* d : {"dragon_vrip_res4_bin.ply", "dragon_vrip_res3_bin.ply", "dragon_vrip_res2_bin.ply"})
-    if (fs::exists(data + d)) srcs.push_back({d, [data, d] { return rb::scene::load_scene(data + d); }});
+    if (!o.quick && fs::exists(data + d)) srcs.push_back({d, [data, d] { return rb::scene::load_scene(data + d); }});
   srcs.push_back({"stanford-bunny.obj", [bunny] { return rb::scene::load_scene(bunny); }});
-  srcs.push_back({"height field 708x707 (generated)", [] { return height_field(708, 707); }});
+  if (!o.quick) srcs.push_back({"height field 708x707 (generated)", [] { return height_field(708, 707); }});
   md += "### Scenes by size: primary rays, 8-wide, single rays, one thread\n\n"
         "| scene | primitives | raybench ns/ray | Embree ns/ray | raybench build ms | Embree build ms | raybench B/prim | Embree B/prim | "
         "mismatch vs Embree |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
