@@ -458,7 +458,7 @@ th{background:#eef2f8;cursor:pointer;user-select:none;position:sticky;top:0}th.s
 tr:nth-child(even) td{background:#fafbfd}td.right,th.right{text-align:right}td.center,th.center{text-align:center}
 img{max-width:100%}.grid{display:grid;grid-template-columns:repeat(auto-fill,minmax(200px,1fr));gap:14px;margin:1em 0}
 .grid figure{margin:0;text-align:center;font-size:.85em}.grid img{border:1px solid #d6dbe5;display:block;margin:0 auto .3em}
-nav.toc ul{columns:2;margin:.3em 0}
+nav.toc>ul{columns:2;margin:.3em 0}nav.toc ul ul{columns:1;break-inside:avoid}nav.toc li{break-inside:avoid}
 )";
 
 // Sorting: a click on a header sorts the table's rows by that column (numbers by value, with
