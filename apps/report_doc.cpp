@@ -328,7 +328,7 @@ void organise(Document& d, const std::vector<Goal>& goals, const fs::path& out, 
         appendix.push_back({Block::Kind::heading, 3, fmt::format("A.{} {}", k, where), id, {}, {}});
         appendix.push_back(blk);
         b.push_back({Block::Kind::text, 0,
-                     fmt::format("The table of this section ({} rows, sortable) is in [Appendix A.{}](#{}).", blk.table.rows.size(), k, id),
+                     fmt::format("The table of this section ({} rows) is in [Appendix A.{}](#{}).", blk.table.rows.size(), k, id),
                      "", {}, {}});
       } else {
         b.push_back(std::move(blk));
