@@ -53,7 +53,9 @@ struct SmallReport : ::testing::Test {
     const std::vector<doc::Goal> goals = {{"Scalar against SIMD", "SIMD >= 6x", "5.1x", 0, "chart.png"},
                                           {"Rendering", "half of primary", "3 of 3", 1, ""},
                                           {"Nowhere", "not measured", "-", -1, ""}};
-    doc::organise(d, goals, dir);
+    doc::OrganiseOptions o;
+    o.thumb_width = 16;  // below the test image's width, so that the thumbnail is scaled down
+    doc::organise(d, goals, dir, o);
     return d;
   }
 };
@@ -93,9 +95,9 @@ TEST_F(SmallReport, LongTablesGoToTheAppendixAndImagesInARowToAGrid) {
     ASSERT_TRUE(fs::exists(dir / "thumbs" / n)) << n;
     const auto [w, h] = png_size(dir / "thumbs" / n);
     const auto [W, H] = png_size(dir / n);
-    EXPECT_EQ(w, std::min<std::uint32_t>(192, W));
-    EXPECT_NEAR(double(h) / w, double(H) / W, 0.02);
-    EXPECT_LT(fs::file_size(dir / "thumbs" / n), fs::file_size(dir / n) + 1);
+    ASSERT_GT(W, 16u);
+    EXPECT_EQ(w, 16u);
+    EXPECT_NEAR(double(h) / w, double(H) / W, 0.07);
   }
   // The single chart stays a plain image.
   EXPECT_NE(text.find("![SIMD speedup](chart.png)"), std::string::npos);
