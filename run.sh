@@ -209,7 +209,7 @@ install_check() {
     raybench --version | tail -1
     raybench report --out report "$@" 2>&1 | tee report.log
     grep -q '^\[report 9/9, ' report.log || { echo "[install-check] the report's stages were not numbered" >&2; exit 1; }
-    for f in report/index.md report/summary.json report/bench.json report/simd_speedup.png results/history.sqlite; do
+    for f in report/index.md report/index.html report/summary.json report/bench.json report/simd_speedup.png results/history.sqlite; do
       [ -s "$f" ] || { echo "[install-check] missing: $work/$f" >&2; exit 1; }
     done
     raybench history >history.txt
