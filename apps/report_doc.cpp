@@ -355,7 +355,7 @@ void organise(Document& d, const std::vector<Goal>& goals, const fs::path& out, 
       (g.met < 0 ? unmeasured : g.met ? met : not_met)++;
     }
     top.push_back({Block::Kind::text, 0,
-                   fmt::format("{} goals: **{} met**, **{} not met**{}. Each is checked against this run's medians in the section "
+                   fmt::format("{} goals: **{} met**, **{} not met**{}. Each is checked against this run's figures in the section "
                                "named beside it, with the reason it is a goal.",
                                goals.size(), met, not_met, unmeasured ? fmt::format(", {} not measured", unmeasured) : ""),
                    "", {}, {}});
