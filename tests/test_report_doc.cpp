@@ -25,11 +25,9 @@ std::pair<std::uint32_t, std::uint32_t> png_size(const fs::path& p) {
   return {be(16), be(20)};
 }
 
-std::string read(const fs::path& p) {
-  std::ifstream f(p);
-  return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
-}
+}  // namespace
 
+// Outside the anonymous namespace: the TEST_F classes derive from it (GCC's -Wsubobject-linkage).
 struct SmallReport : ::testing::Test {
   fs::path dir = fs::temp_directory_path() / ("rb_report_doc_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" +
                                                ::testing::UnitTest::GetInstance()->current_test_info()->name());
@@ -59,8 +57,6 @@ struct SmallReport : ::testing::Test {
     return d;
   }
 };
-
-}  // namespace
 
 TEST_F(SmallReport, SectionsAreNumberedWithTheSummaryAndContentsFirst) {
   const doc::Document d = organised();
