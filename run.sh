@@ -12,6 +12,8 @@
 #               ./run.sh tsan (the threaded tests, label `threads`, under ThreadSanitizer),
 #               ./run.sh fuzz [RUNS [SEED]] (seeded mutations of every scene format through info, trace
 #               and render under ASan+UBSan; fuzz/scene_fuzz.cpp).
+#               ./run.sh report-check [DIR] (installs Debian chromium, opens DIR/index.html headless:
+#               fails on a broken image or link or a console error, writes DIR/screenshot.png).
 set -euo pipefail
 cd "$(dirname "$0")"
 
@@ -139,6 +141,59 @@ pgo() {
     --minutes $(( (SECONDS - t0 + 59) / 60 ))
 }
 
+# ---- the report in a browser -------------------------------------------------------------------
+# Debian's chromium, headless, opens REPORT/index.html from disk: every image and link must resolve
+# beside the page (checked first, in Python), the page must log no console message (the page's own
+# script logs every image that did not decode as a console error; a script error is one too), and
+# a screenshot of the page's first 1280 x 2400 pixels is written beside it (screenshot.png).
+report_check() {
+  local dir=${1:-report}
+  [ -f "$dir/index.html" ] || { echo "error: $dir/index.html not found: run ./run.sh report (or ./run.sh report --quick) first" >&2; exit 1; }
+  if ! command -v chromium >/dev/null; then
+    [ "$(id -u)" -eq 0 ] || { echo "error: Debian package chromium missing and this is not root: sudo apt-get install chromium" >&2; exit 1; }
+    echo "[report-check] installing the Debian package chromium"
+    export DEBIAN_FRONTEND=noninteractive
+    apt-get update -qq
+    apt-get install -y -qq --no-install-recommends chromium >/dev/null
+  fi
+  local page log
+  page=$(realpath "$dir/index.html")
+  log=$(mktemp /tmp/raybench-report-check.XXXXXX)
+  /usr/bin/python3 - "$page" <<'PY'
+import html.parser, os, sys
+page = sys.argv[1]
+base = os.path.dirname(page)
+refs, ids = [], set()
+class P(html.parser.HTMLParser):
+    def handle_starttag(self, tag, attrs):
+        a = dict(attrs)
+        if "id" in a: ids.add(a["id"])
+        for k in ("src", "href"):
+            if k in a: refs.append((tag, k, a[k] or ""))
+P().feed(open(page, encoding="utf-8").read())
+bad = []
+for tag, k, v in refs:
+    if "://" in v or v.startswith("//"): bad.append(f"<{tag} {k}={v}>: a network address")
+    elif v.startswith("#"):
+        if v[1:] not in ids: bad.append(f"<{tag} {k}={v}>: no element with this id")
+    elif not os.path.isfile(os.path.join(base, v.split("#")[0])): bad.append(f"<{tag} {k}={v}>: no such file beside the page")
+for b in bad: print("[report-check] broken:", b, file=sys.stderr)
+print(f"[report-check] {len(refs)} images and links, {len(bad)} broken")
+sys.exit(1 if bad else 0)
+PY
+  chromium --headless --no-sandbox --disable-gpu --hide-scrollbars --enable-logging=stderr --v=0 \
+    --window-size=1280,2400 --virtual-time-budget=10000 --screenshot="$(dirname "$page")/screenshot.png" \
+    "file://$page" >"$log" 2>&1 || { cat "$log" >&2; echo "[report-check] chromium failed" >&2; exit 1; }
+  if grep -q 'CONSOLE' "$log"; then
+    grep 'CONSOLE' "$log" >&2
+    echo "[report-check] the page logged console messages (above): a broken image or a script error" >&2
+    exit 1
+  fi
+  [ -s "$dir/screenshot.png" ] || { echo "[report-check] no screenshot written" >&2; exit 1; }
+  echo "[report-check] ok: $page opened in $(chromium --version | head -1), no console message; screenshot: $dir/screenshot.png"
+  rm -f "$log"
+}
+
 # ---- the installed binary -----------------------------------------------------------------------
 # cmake --install into a scratch prefix, then from another folder: the installed `raybench report`
 # (it finds its chart scripts and meshes in PREFIX/share/raybench), the run in its default history
@@ -156,8 +211,8 @@ install_check() {
     export PATH="$prefix/bin:$PATH"
     raybench --version | tail -1
     raybench report --out report "$@" 2>&1 | tee report.log
-    grep -q '^\[report 8/8, ' report.log || { echo "[install-check] the report's stages were not numbered" >&2; exit 1; }
-    for f in report/index.md report/summary.json report/bench.json report/simd_speedup.png results/history.sqlite; do
+    grep -q '^\[report 9/9, ' report.log || { echo "[install-check] the report's stages were not numbered" >&2; exit 1; }
+    for f in report/index.md report/index.html report/summary.json report/bench.json report/simd_speedup.png results/history.sqlite; do
       [ -s "$f" ] || { echo "[install-check] missing: $work/$f" >&2; exit 1; }
     done
     raybench history >history.txt
@@ -202,6 +257,7 @@ case "${1:-}" in
     ./build/debug/fuzz/raybench_fuzz --runs "${1:-1000}" --seed "${2:-1}" --keep build/fuzz/failures --json build/fuzz/fuzz.json
     ;;
   install-check) shift; install_check "$@" ;;
+  report-check) shift; report_check "$@" ;;
   pgo-test)
     setup
     [ -d build/pgo-profiles/honest ] || { echo "error: no profile yet: run ./run.sh pgo first" >&2; exit 1; }
@@ -209,7 +265,7 @@ case "${1:-}" in
     ctest --preset pgo-use
     ;;
   *)
-    echo "usage: $0 report [raybench report options] | test | setup | build PRESET | pgo | pgo-test | install-check | tsan | fuzz [RUNS]" >&2
+    echo "usage: $0 report [raybench report options] | test | setup | build PRESET | pgo | pgo-test | install-check | report-check [DIR] | tsan | fuzz [RUNS [SEED]]" >&2
     exit 2
     ;;
 esac

@@ -4,6 +4,7 @@
 #include "apps/scene_info.hpp"
 #include "kernels/csg.hpp"
 #include "tracer/plan.hpp"
+#include "scene/csg.hpp"
 #include "scene/sources.hpp"
 
 #include <fmt/format.h>
@@ -172,6 +173,33 @@ int run_info_command(const std::string& scene, const JsonOut& out) {
     return kExitError;
   }
   return write_result("info", out, [&] { return fit_columns(scene_info_text(j), 12); }, [&] { return j; }, "the scene description");
+}
+
+int run_dump_scene_command(const std::string& scene, const std::string& file) {
+  if (!is_generated_scene(scene))
+    if (const std::string why = check_input_file(scene); !why.empty()) {
+      std::cerr << error_line("info", scene, why) << "\n";
+      return kExitError;
+    }
+  std::string text;
+  try {
+    text = rb::scene::scene_json(rb::scene::load_scene(scene));
+  } catch (const std::exception& e) {
+    std::cerr << error_line("info", scene, e.what()) << "\n";
+    return kExitError;
+  }
+  if (file.empty() || file == "-") {
+    std::cout << text;
+    return 0;
+  }
+  std::ofstream f(file);
+  f << text;
+  if (!f) {
+    std::cerr << error_line("info", file, "cannot write the scene") << "\n";
+    return kExitError;
+  }
+  std::cerr << "raybench info: wrote " << file << "\n";
+  return 0;
 }
 
 }  // namespace rb::app

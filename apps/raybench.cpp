@@ -103,6 +103,7 @@ int main(int argc, char** argv) {
   report->add_option("--filter", ro.filter, "Only the benchmarks whose name\n(kernel/method/variant/case) matches this regex")
       ->capture_default_str();
   report->add_flag("!--no-charts", ro.charts, "Skip the matplotlib charts");
+  report->add_flag("--quick", ro.quick, "A small report in about a minute, to check its\nlayout and links: 2 repetitions of 0.005 s\n(unless -r, --min-time say otherwise), few\nrays, 128x128 renders, fewer scenes");
   add_json(report, ro.json_file, "The summary JSON also to FILE (no FILE: stdout,\nthe terminal summary then to stderr)");
   report->add_option("--history", report_history, "Keep the run in this results history\n(default: $RAYBENCH_HISTORY, else\nresults/history.sqlite)")
       ->type_name("FILE");
@@ -146,10 +147,13 @@ int main(int argc, char** argv) {
       "is what Google Benchmark's compare.py and `raybench compare` read.");
 
   // ---- info ----
-  std::string info_scene, info_json;
+  std::string info_scene, info_json, info_dump;
   auto* info = app.add_subcommand("info", "Describe a scene: counts, bounds, memory");
   info->add_option("scene", info_scene, "A scene (see below)")->required();
   add_json(info, info_json, "Write the description as JSON to FILE\n(no FILE: stdout)");
+  info->add_option("--dump-json", info_dump, "Write the scene itself in the JSON scene\nformat to FILE (no FILE: stdout), a start\nfor a scene of your own (docs/SCENE_FORMAT.md)")
+      ->expected(0, 1)
+      ->type_name("[FILE|-]");
   info->footer(
       "Scenes: a .obj, .ply or .nff file, a .json scene (CSG trees),\n"
       "spd:NAME[:SIZE] (balls gears mount rings teapot tetra tree), lecture:NAME,\n"
@@ -446,6 +450,8 @@ int main(int argc, char** argv) {
   try {
     if (*report) {
       ro.json = report->count("--json") > 0;
+      if (ro.quick && report->count("--repetitions") == 0) ro.repetitions = 2;
+      if (ro.quick && report->count("--min-time") == 0) ro.min_time = 0.005;
       if (!report_no_history && !open_history(report_history, kReportHistory)) return kExitError;
       rc = run_report(ro);
       if (rc == 0 && hist) {
@@ -461,7 +467,8 @@ int main(int argc, char** argv) {
       out.record = recorder("bench");
       rc = run_bench_command(bo, bench_list, out);
     } else if (*info) {
-      rc = run_info_command(info_scene, json_out(info, info_json));
+      rc = info->count("--dump-json") ? run_dump_scene_command(info_scene, info_dump)
+                                      : run_info_command(info_scene, json_out(info, info_json));
     } else if (*query) {
       if (query->count("--json") && !query_json.empty() && query_json != "-") {
         std::ostringstream f;

@@ -6,6 +6,7 @@
 #include "apps/machine.hpp"
 #include "apps/paths.hpp"
 #include "apps/progress.hpp"
+#include "apps/report_doc.hpp"
 #include "apps/report_sections.hpp"
 #include "bench/ops_table.hpp"
 
@@ -285,6 +286,37 @@ std::string terminal_summary(const json& summary, const std::vector<Goal>& goals
   return t;
 }
 
+// The goals every section checks, for the summary at the top of the report: the speed goals and
+// the 4x target of section "Scalar against SIMD", the tracing goals (checked by that section), the
+// rendering goal and the accuracy lab's targets.
+std::vector<doc::Goal> report_goals(const std::vector<Goal>& speed, const json& summary) {
+  std::vector<doc::Goal> g;
+  for (const auto& s : speed) g.push_back({"Scalar against SIMD", s.goal, s.measured, s.met, "simd_speedup.png"});
+  if (summary.contains("simd_target_4x_counts")) {
+    const auto& c = summary["simd_target_4x_counts"];
+    const int met = c["met"].get<int>(), n = c["methods"].get<int>();
+    g.push_back({"Scalar against SIMD", "every kernel's SIMD form >= 4x its true-scalar form",
+                 fmt::format("{} of {} methods; {} short for a stated structural reason, {} unexplained", met, n,
+                             c["explained"].get<int>(), c["unexplained"].get<int>()),
+                 n > 0 ? int(met == n) : -1, "simd_speedup.png"});
+  }
+  // The tracing goals are checked by the section itself, each against its worst row.
+  if (summary.contains("tracing") && summary["tracing"].contains("goals"))
+    for (const auto& r : summary["tracing"]["goals"])
+      g.push_back({"Tracing whole scenes", r["goal"].get<std::string>(), r["measured"].get<std::string>(), r["met"].get<int>(),
+                   "trace_matrix.png"});
+  if (summary.contains("render_goal_half_of_primary")) {
+    const auto& r = summary["render_goal_half_of_primary"];
+    const int met = r["met"].get<int>(), n = r["scenes"].get<int>();
+    g.push_back({"Rendering", "rendering at least half as fast per ray as primary-ray tracing",
+                 fmt::format("{} of {} scenes", met, n), n > 0 ? int(met == n) : -1, "render_spd_balls.png"});
+  }
+  if (summary.contains("accuracy"))
+    for (const auto& t : summary["accuracy"]["targets"])
+      g.push_back({"Accuracy and stability", t["target"].get<std::string>(), t["measured"].get<std::string>(), int(t["met"].get<bool>()), ""});
+  return g;
+}
+
 // The profile-guided optimisation section is measured by `./run.sh pgo` (four builds and three
 // benchmark runs: too long for the default report), which writes OUT/pgo.md; the report carries
 // the latest one between markers so that `./run.sh pgo` can also refresh an existing index.md.
@@ -326,6 +358,9 @@ int run_report(const ReportOptions& o) {
   json summary;
   summary["machine"] = m.json();
   std::string md = "# raybench report\n\n";
+  if (o.quick)
+    md += "**Quick mode** (`--quick`): few repetitions, few rays and small images, to check the report's layout; its figures "
+          "are not the ones to quote.\n\n";
   md += "Produced by `raybench report` on the embedded default scenes; every figure below was measured in this run. "
         "Speeds are medians over " + std::to_string(o.repetitions) + " repetitions, ratios are taken within this run.\n\n";
   md += "## Machine and build\n\n" + m.markdown() + "\n";
@@ -396,12 +431,17 @@ int run_report(const ReportOptions& o) {
     const int rc = run_command(cmd);
     if (rc != 0) md += "_Charts were not drawn: `" + cmd + "` failed (is python3-matplotlib installed?)._\n\n";
   }
-  md += fmt::format("---\nReport written in {:.0f} s by `raybench report --out {}`.\n", clock.s(), o.out);
-  write_file(out / "index.md", md);
+  md += fmt::format("---\n\nReport written in {:.0f} s by `raybench report --out {}{}`.\n", clock.s(), o.out, o.quick ? " --quick" : "");
+  // One model, two pages: index.md and the self-contained index.html beside it.
+  doc::Document page = doc::parse_markdown(md);
+  doc::organise(page, report_goals(goals, summary), out);
+  write_file(out / "index.md", doc::to_markdown(page));
+  write_file(out / "index.html", doc::to_html(page));
+  for (const auto& b : doc::broken_links(out / "index.html")) std::cerr << "raybench report: warning: index.html: " << b << "\n";
   // The terminal summary goes to stdout, unless --json without a file puts the summary JSON there.
   const bool json_stdout = o.json && (o.json_file.empty() || o.json_file == "-");
   (json_stdout ? std::cerr : std::cout) << fit_columns(terminal_summary(summary, goals, rows.size() / 2, clock.s()), 4)
-                                        << "report written: " << fs::absolute(out / "index.md").string() << "\n";
+                                        << "report written: " << fs::absolute(out / "index.md").string() << " and index.html\n";
   if (json_stdout) std::cout << summary.dump(2) << "\n";
   else if (o.json) write_file(o.json_file, summary.dump(2) + "\n");
   return 0;

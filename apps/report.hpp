@@ -14,6 +14,9 @@ struct ReportOptions {
   double min_time = 0.05;       // seconds per benchmark repetition
   std::string filter = ".";     // benchmark name filter (regex)
   bool charts = true;
+  // A small report in about a minute (few repetitions, few rays, small images, fewer scenes): to
+  // check the report's layout and links, not to quote its figures.
+  bool quick = false;
   bool json = false;            // --json: the summary JSON also to json_file ("" or "-": stdout)
   std::string json_file;
 };

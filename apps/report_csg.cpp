@@ -190,7 +190,7 @@ std::string csg_markdown(const json& speed, const std::vector<opstable::Row>& ro
 std::string report_section_csg(const ReportOptions& o, const std::filesystem::path& out, json& summary) {
   const auto rows = opstable::build();
   ProgressBar bar("  CSG scenes");
-  const json speed = measure_csg_speed(std::max(3, o.repetitions), 1 << 15, &bar);
+  const json speed = measure_csg_speed(o.quick ? 1 : std::max(3, o.repetitions), o.quick ? 1 << 11 : 1 << 15, &bar);
   bar.done();
   write_file_atomic((out / "csg.json").string(), speed.dump(2) + "\n");
   summary["csg"] = speed;

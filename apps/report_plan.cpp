@@ -68,7 +68,6 @@ double plan_differing(const std::vector<std::uint8_t>& a, const std::vector<std:
 }  // namespace
 
 std::string report_section_plan(const ReportOptions& o, const fs::path& out, json& summary) {
-  (void)o;
   std::string md = "## What each scene needs: the plan, its cost and its failures\n\n";
   md += "Model no more than a scene needs. Before tracing, raybench reads the scene's numerical profile (per primitive kind: the "
         "float step at its coordinates against its sizes, how far away it is seen, how large it is against the smallest object) "
@@ -109,7 +108,7 @@ std::string report_section_plan(const ReportOptions& o, const fs::path& out, jso
     std::cerr << fmt::format("[report plan {}/{}] {}\n", ++step, srcs.size(), src.label);
     const scene::Scene s = src.make();
     const tracer::Plan plan = tracer::make_plan(s, tracer::Model::automatic);
-    const auto r = acc::whole_scene_rows(s, src.label, s.name, src.rays, true, 1);
+    const auto r = acc::whole_scene_rows(s, src.label, s.name, o.quick ? src.rays / 16 : src.rays, true, 1);
     auto speed = [](const acc::Row& x) { return 1e3 / x.ns_per_test; };
     md += fmt::format("| {} | {} | {} | {} | {:.2f} / {:.2f} / {:.2f} | {:.2f} | {} / {} / {} |\n", src.label, s.primitive_count(),
                       tracer::frame_name(plan.frame), plan_kinds_text(plan), speed(r[0]), speed(r[1]), speed(r[2]), speed(r[1]) / speed(r[0]),
@@ -134,7 +133,7 @@ std::string report_section_plan(const ReportOptions& o, const fs::path& out, jso
   // A far and a scaled copy rendered beside the original.
   std::cerr << "[report plan] far and scaled copies\n";
   const scene::Scene base = scene::precision_scene("ball_ground");
-  const int size = 160;
+  const int size = o.quick ? 64 : 160;
   const auto ref = plan_render_rgb(base, tracer::Model::automatic, size);
   struct Copy {
     std::string label, file;

@@ -54,8 +54,8 @@ std::uint64_t poly_like(const json& j) {
 }  // namespace
 
 std::string report_section_render(const ReportOptions& o, const fs::path& out, json& summary) {
-  (void)o;
   const int threads = 2;
+  const int size = o.quick ? 128 : 512;
   std::string md = "## Rendering: the recursive ray tracer\n\n";
   md += "The lecture's RT_trace / RT_shade over the 8-wide BVH (`raybench render`): the closest hit, an ambient term, per light "
         "a shadow ray (none when the normal faces away from the light; opaque occluders block, transmitting ones scale the "
@@ -82,15 +82,15 @@ std::string report_section_render(const ReportOptions& o, const fs::path& out, j
     ro.out = (out / png).string();
     ro.threads = threads;
     ro.spd = spd;
-    ro.width = ro.height = 512;
+    ro.width = ro.height = size;
     json j = run_render(ro, nullptr);
     TraceRunOptions t;
     t.scene = src;
     t.ray_set = "primary";
     t.threads = threads;
     t.packet = 8;
-    t.count = 512 * 512;
-    t.repetitions = 3;
+    t.count = std::size_t(size) * std::size_t(size);
+    t.repetitions = o.quick ? 1 : 3;
     t.brute_rays = 0;
     t.embree = false;
     const json tj = run_trace(t, false);

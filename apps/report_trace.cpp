@@ -56,10 +56,9 @@ std::string ratio(const json& a, const json& b) {
 }  // namespace
 
 std::string report_section_tracing(const ReportOptions& o, const fs::path& out, json& summary) {
-  (void)o;
   const std::string data = data_dir() + "/meshes/";
-  const std::size_t count = 1u << 18;
-  const int reps = 3;
+  const std::size_t count = o.quick ? 1u << 12 : 1u << 18;
+  const int reps = o.quick ? 1 : 3;
   json rows = json::array(), scaling = json::array(), builds = json::array(), matrix_builds = json::array();
   std::string md = "## Tracing whole scenes\n\n";
   md += "Goal: answer \"how many rays per second on my mesh, against Embree?\". One binned-SAH build (TBB) gives an "
@@ -87,9 +86,9 @@ std::string report_section_tracing(const ReportOptions& o, const fs::path& out, 
   struct Mesh { std::string label; std::function<rb::scene::Scene()> make; };
   std::vector<Mesh> meshes;
   meshes.push_back({"stanford-bunny.obj", [data] { return rb::scene::load_scene(data + "stanford-bunny.obj"); }});
-  if (fs::exists(data + "dragon_vrip_res2_bin.ply"))
+  if (!o.quick && fs::exists(data + "dragon_vrip_res2_bin.ply"))
     meshes.push_back({"dragon_vrip_res2_bin.ply", [data] { return rb::scene::load_scene(data + "dragon_vrip_res2_bin.ply"); }});
-  meshes.push_back({"height field 708x707 (generated)", [] { return height_field(708, 707); }});
+  if (!o.quick) meshes.push_back({"height field 708x707 (generated)", [] { return height_field(708, 707); }});
   const std::vector<int> packets{1, 8, 16, kLargePacket};
   md += fmt::format("### The matrix: every ray set, packet size and thread count\n\nPacket sizes: 1 (single rays), 8 and 16 "
                     "(one packet traverses the tree under an active mask), {} (a large coherent packet: an 8x8 block of the "
@@ -105,7 +104,7 @@ std::string report_section_tracing(const ReportOptions& o, const fs::path& out, 
     json times = json::object();
     for (int th : {1, 2}) {
       std::vector<double> ours, theirs;
-      for (int r = 0; r < kBuildReps; ++r) {
+      for (int r = 0; r < (o.quick ? 1 : kBuildReps); ++r) {
         TraceSession b(s, m.label, th, true);
         const json j = b.build_json();
         ours.push_back(j["build_ms"].get<double>());
@@ -121,7 +120,7 @@ std::string report_section_tracing(const ReportOptions& o, const fs::path& out, 
     md += fmt::format("#### {} ({} triangles)\n\n", m.label, prims);
     md += fmt::format("Build, median of {}: raybench {:.1f} ms at one thread, {:.1f} ms at two; Embree {} ms and {} ms "
                       "(raybench / Embree {} and {}). Memory: raybench {:.1f} bytes per triangle, Embree {}.\n\n",
-                      kBuildReps, bj["build_ms_1t"].get<double>(), bj["build_ms_2t"].get<double>(), f2(bj["embree_build_ms_1t"]),
+                      o.quick ? 1 : kBuildReps, bj["build_ms_1t"].get<double>(), bj["build_ms_2t"].get<double>(), f2(bj["embree_build_ms_1t"]),
                       f2(bj["embree_build_ms_2t"]), ratio(bj["build_ms_1t"], bj["embree_build_ms_1t"]),
                       ratio(bj["build_ms_2t"], bj["embree_build_ms_2t"]), bj["bytes_per_prim"].get<double>(),
                       f2(bj["embree_bytes_per_prim"]));
@@ -266,11 +265,11 @@ std::string report_section_tracing(const ReportOptions& o, const fs::path& out, 
   std::cerr << "[report] tracing: scenes by size\n";
   struct Src { std::string label; std::function<rb::scene::Scene()> make; };
   std::vector<Src> srcs;
-  for (int k = 1; k <= 5; ++k) srcs.push_back({fmt::format("spd:balls:{}", k), [k] { return rb::scene::generate_spd("balls", k); }});
+  for (int k = 1; k <= (o.quick ? 1 : 5); ++k) srcs.push_back({fmt::format("spd:balls:{}", k), [k] { return rb::scene::generate_spd("balls", k); }});
   for (const char* d : {"dragon_vrip_res4_bin.ply", "dragon_vrip_res3_bin.ply", "dragon_vrip_res2_bin.ply"})
-    if (fs::exists(data + d)) srcs.push_back({d, [data, d] { return rb::scene::load_scene(data + d); }});
+    if (!o.quick && fs::exists(data + d)) srcs.push_back({d, [data, d] { return rb::scene::load_scene(data + d); }});
   srcs.push_back({"stanford-bunny.obj", [data] { return rb::scene::load_scene(data + "stanford-bunny.obj"); }});
-  srcs.push_back({"height field 708x707 (generated)", [] { return height_field(708, 707); }});
+  if (!o.quick) srcs.push_back({"height field 708x707 (generated)", [] { return height_field(708, 707); }});
   md += "### Scenes by size: primary rays, 8-wide, single rays, one thread\n\n"
         "| scene | primitives | raybench ns/ray | Embree ns/ray | raybench build ms | Embree build ms | raybench B/prim | Embree B/prim | "
         "mismatch vs Embree |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -402,6 +403,40 @@ Material parse_material(const json& m, const std::string& path) {
   return mat;
 }
 
+// Material i of n's name in scene_json's output: "default" for 0, else "m<i>", zero-padded to the digits of n - 1 so
+// that the names sort in index order (the format's materials object is read in key order).
+// Appended, not operator+: GCC 12 gives a false -Wrestrict on a short literal plus a temporary.
+std::string material_name(std::uint32_t i, std::size_t n) {
+  if (i == 0) return "default";
+  const std::string d = std::to_string(i);
+  const std::size_t width = std::to_string(n > 1 ? n - 1 : 1).size();
+  std::string s = "m";
+  s.append(width > d.size() ? width - d.size() : 0, '0');
+  s += d;
+  return s;
+}
+
+// The node with every "material": NAME renamed "m<index>" (scene_json writes materials so).
+json canonical_materials(const json& node, const std::map<std::string, std::uint32_t>& mats, std::size_t n) {
+  if (node.is_array()) {
+    json a = json::array();
+    for (const auto& v : node) a.push_back(canonical_materials(v, mats, n));
+    return a;
+  }
+  if (!node.is_object()) return node;
+  json o = json::object();
+  for (auto it = node.begin(); it != node.end(); ++it)
+    if (it.key() == "material" && it.value().is_string()) {
+      const auto m = mats.find(it.value().get<std::string>());
+      o["material"] = m == mats.end() ? it.value() : json(material_name(m->second, n));
+    } else if (it.key() == "left" || it.key() == "right" || it.key() == "children") {
+      o[it.key()] = canonical_materials(it.value(), mats, n);
+    } else {
+      o[it.key()] = it.value();
+    }
+  return o;
+}
+
 Scene build_scene(const json& root, const std::string& name) {
   Scene s;
   s.name = name;
@@ -448,6 +483,12 @@ Scene build_scene(const json& root, const std::string& name) {
     const json& m = root["materials"];
     if (!m.is_object()) fail("materials", "expected an object of named materials");
     for (auto it = m.begin(); it != m.end(); ++it) {
+      // "default": the material of every object that names none (material 0).
+      if (it.key() == "default") {
+        mats[it.key()] = 0;
+        s.materials[0] = parse_material(it.value(), "materials.default");
+        continue;
+      }
       mats[it.key()] = std::uint32_t(s.materials.size());
       s.materials.push_back(parse_material(it.value(), "materials." + it.key()));
     }
@@ -504,7 +545,7 @@ Scene build_scene(const json& root, const std::string& name) {
       const std::uint32_t r = fb.node(*node, p, Affine3d::translate(origin * -1.0), mat, 1);
       return std::make_shared<const CsgTree>(fb.finish(r));
     };
-    s.csgs.push_back({std::make_shared<const CsgTree>(b.finish(root_id)), mat, in_frame});
+    s.csgs.push_back({std::make_shared<const CsgTree>(b.finish(root_id)), mat, in_frame, canonical_materials(o, mats, s.materials.size()).dump()});
   }
   return s;
 }
@@ -528,6 +569,94 @@ Scene parse_json_scene(std::string_view text, const std::string& name) {
 }
 
 Scene load_json_scene(const std::string& path) { return parse_json_scene(detail::read_file(path), path); }
+
+namespace {
+// A float as its shortest decimal form that reads back to the same float (0.9f -> 0.9).
+json jfloat(float x) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof buf, x);
+  return json::parse(std::string(buf, r.ptr));
+}
+json jvec(const Vec3d& v) { return json::array({v.x, v.y, v.z}); }
+json jvec(const Vec3f& v) { return json::array({jfloat(v.x), jfloat(v.y), jfloat(v.z)}); }
+
+// Indented JSON for people: a value whose one-line form fits in 96 columns stays on one line
+// (points, colours, CSG leaves), everything else opens one line per member.
+void write_readable(const json& v, int indent, std::string& out) {
+  std::string line = v.dump();
+  // one-line form with spaces after ',' and ':' (outside strings; the format's strings hold no quotes)
+  std::string spaced;
+  bool in_str = false;
+  for (char ch : line) {
+    spaced += ch;
+    if (ch == '"') in_str = !in_str;
+    if (!in_str && (ch == ',' || ch == ':')) spaced += ' ';
+  }
+  if (!v.is_structured() || int(spaced.size()) + indent <= 96) {
+    out += spaced;
+    return;
+  }
+  const std::string pad(std::size_t(indent + 2), ' ');
+  out += v.is_object() ? "{\n" : "[\n";
+  std::size_t i = 0;
+  for (auto it = v.begin(); it != v.end(); ++it, ++i) {
+    out += pad;
+    if (v.is_object()) out += json(it.key()).dump() + ": ";
+    write_readable(it.value(), indent + 2, out);
+    out += i + 1 < v.size() ? ",\n" : "\n";
+  }
+  out += std::string(std::size_t(indent), ' ') + (v.is_object() ? "}" : "]");
+}
+}  // namespace
+
+std::string scene_json(const Scene& s) {
+  std::string missing;
+  auto cannot = [&](std::size_t n, const char* what) {
+    if (n) missing += (missing.empty() ? "" : ", ") + std::to_string(n) + " " + what;
+  };
+  cannot(s.triangles.size(), "triangles (a mesh: keep it as OBJ or PLY)");
+  cannot(s.cones.size(), "NFF cones");
+  cannot(s.poly_normals.empty() ? 0 : s.polygons.size(), "polygons with per-vertex normals");
+  std::size_t checker = 0;
+  for (const auto& m : s.materials) checker += m.checker > 0;
+  cannot(checker, "checkerboard materials");
+  for (const auto& c : s.csgs) cannot(c.json.empty() ? 1 : 0, "CSG objects built without JSON");
+  if (!missing.empty()) throw SceneError(s.name + ": the JSON scene format cannot represent " + missing);
+
+  json root = json::object();
+  const Camera& c = s.camera;
+  root["camera"] = {{"from", jvec(c.from)}, {"at", jvec(c.at)}, {"up", jvec(c.up)}, {"angle", c.angle},
+                    {"width", c.width},     {"height", c.height}, {"hither", c.hither}};
+  root["background"] = jvec(s.background);
+  json lights = json::array();
+  for (const auto& l : s.lights) lights.push_back({{"position", jvec(l.pos)}, {"color", jvec(l.color)}});
+  root["lights"] = lights;
+  json mats = json::object();
+  for (std::size_t i = 0; i < s.materials.size(); ++i) {
+    const Material& m = s.materials[i];
+    mats[material_name(std::uint32_t(i), s.materials.size())] = {{"color", jvec(m.color)}, {"kd", jfloat(m.kd)}, {"ks", jfloat(m.ks)},
+                                     {"shine", jfloat(m.shine)}, {"t", jfloat(m.t)}, {"ior", jfloat(m.ior)}};
+  }
+  root["materials"] = mats;
+  json objs = json::array();
+  auto with_mat = [&s](json o, std::uint32_t mat) {
+    if (mat) o["material"] = material_name(mat, s.materials.size());
+    return o;
+  };
+  for (const auto& sp : s.spheres) objs.push_back(with_mat({{"type", "sphere"}, {"center", jvec(sp.c)}, {"radius", sp.r}}, sp.mat));
+  for (const auto& t : s.tori)
+    objs.push_back(with_mat({{"type", "torus"}, {"center", jvec(t.c)}, {"axis", jvec(t.axis)}, {"major", t.R}, {"minor", t.r}}, t.mat));
+  for (const auto& p : s.polygons) {
+    json v = json::array();
+    for (std::uint32_t k = 0; k < p.count; ++k) v.push_back(jvec(s.poly_verts[p.first + k]));
+    objs.push_back(with_mat({{"type", "polygon"}, {"vertices", v}}, p.mat));
+  }
+  for (const auto& g : s.csgs) objs.push_back(json::parse(g.json));
+  root["objects"] = objs;
+  std::string out;
+  write_readable(root, 0, out);
+  return out + "\n";
+}
 
 CsgTree csg_from_json_text(std::string_view node_json, const std::string& where) {
   json j;

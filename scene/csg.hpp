@@ -5,6 +5,7 @@
 //     "background": [r,g,b],
 //     "lights": [{"position": [..], "color": [..]}],
 //     "materials": {"NAME": {"color": [..], "kd": 1, "ks": 0, "shine": 0, "t": 0, "ior": 1}},
+//                  (the name "default" sets the material of every object that names none)
 //     "objects": [ NODE, ... ] }
 //
 // Every key but "objects" is optional. A NODE is
@@ -39,6 +40,13 @@ namespace rb::scene {
 
 Scene load_json_scene(const std::string& path);
 Scene parse_json_scene(std::string_view text, const std::string& name);
+
+// The scene in the JSON scene format (pretty-printed), a starting point for a scene of one's own:
+// parse_json_scene of the text gives the same scene (camera, background, lights, materials,
+// spheres, polygons, tori and CSG objects, every number as stored). Material 0 is written as
+// "default", material i as "m<i>". Throws SceneError naming what the format cannot
+// represent: triangle meshes, NFF cones, per-vertex normals, checkerboard materials.
+std::string scene_json(const Scene& s);
 
 // One CSG node (a JSON object's text) as a tree; `where` prefixes the messages (e.g. "primitive").
 // Materials are not resolved (every leaf gets material 0). Throws SceneError "WHERE.PATH: ...".

@@ -98,6 +98,9 @@ struct CsgIn {
   std::shared_ptr<const CsgTree> tree;
   std::uint32_t mat;
   std::function<std::shared_ptr<const CsgTree>(const Vec3d& origin)> in_frame;
+  // The node as the JSON scene format wrote it, every "material" renamed "m<index>" (the index
+  // into Scene::materials): what scene_json (scene/csg.hpp) writes back.
+  std::string json;
 };
 
 // An axis-aligned box in double (world coordinates).

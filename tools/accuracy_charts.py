@@ -3,10 +3,15 @@
 
 Usage: /usr/bin/python3 tools/accuracy_charts.py ACCURACY.json OUTDIR
 Writes OUTDIR/accuracy_<family>.png: x = ns per test (median over the family's cases, timed in
-the same run), y = the worst failure rate (left) and the worst p99 t error in ulps (right), both
-over the cases that at least one method passes, log scales; one point per method and precision;
-the Pareto front (no other point both faster and better) is drawn as a line. A method without
-failures is drawn at the floor of the left panel, labelled "0".
+the same run), y = the worst failure rate (left) and the worst p99 relative error of t (right),
+both over the cases that at least one method passes, log scales; one point per method and
+precision, coloured by precision (the key outside the axes). The right panel uses one unit for
+every precision: the relative error |dt| / t, from the lab's error in ulps of the precision times
+that precision's machine epsilon (2^-23 for float and 8-lane float SIMD, 2^-52 for double; an ulp
+of t is between eps t / 2 and eps t, so the figure is within a factor 2). The Pareto front (no
+other point both faster and better) is drawn as a line, and only its points are named; the
+others are listed in the key beside the panel. A method without failures or error is drawn at
+the floor of the panel.
 """
 import json
 import os
@@ -57,16 +62,29 @@ def pareto(pts):
     return sorted(front)
 
 
+COLORS = {"float": "tab:blue", "double": "tab:orange", "simd8": "tab:green"}
+EPS = {"float": 2.0 ** -23, "simd8": 2.0 ** -23, "double": 2.0 ** -52}
+
+
 def panel(ax, pts, floor, ylabel, title):
     shown = [(n, x, max(y, floor)) for n, x, y in pts]
-    colors = {"float": "tab:blue", "double": "tab:orange", "simd8": "tab:green"}
-    for n, x, y in shown:
-        ax.scatter([x], [y], color=colors.get(n.split()[-1], "grey"), s=28, zorder=3)
-        ax.annotate(n, (x, y), fontsize=7, xytext=(3, 3), textcoords="offset points")
+    for prec, c in COLORS.items():
+        xs = [x for n, x, y in shown if n.split()[-1] == prec]
+        ys = [y for n, x, y in shown if n.split()[-1] == prec]
+        if xs:
+            ax.scatter(xs, ys, color=c, s=28, zorder=3, label=prec)
     fr = pareto(shown)
     if fr:
         ax.plot([p[0] for p in fr], [p[1] for p in fr], color="red", lw=1, ls="--", zorder=2, label="Pareto front")
-        ax.legend(fontsize=7, loc="upper right")
+    # The front's points are numbered (numbers only, beside the point) and named in a key below the
+    # colour key, right of the axes: no name can overlap a point or another name.
+    on_front = sorted({(x, y, n) for n, x, y in shown if (x, y) in fr})
+    for i, (x, y, n) in enumerate(on_front, 1):
+        ax.annotate(str(i), (x, y), fontsize=7, xytext=(4, 4 if i % 2 else -9), textcoords="offset points", color="darkred")
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False, title="precision", title_fontsize=7)
+    if on_front:
+        ax.text(1.03, 0.58, "on the Pareto front:\n" + "\n".join(f"{i:>2} {n}" for i, (_, _, n) in enumerate(on_front, 1)),
+                transform=ax.transAxes, fontsize=7, va="top", ha="left", family="monospace", color="darkred")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.axhline(floor, color="grey", lw=0.5, ls=":")
@@ -88,12 +106,12 @@ def main():
         pts = points(rows, fam)
         if not pts:
             continue
-        fig, axes = plt.subplots(1, 2, figsize=(12, 4.6))
+        fig, axes = plt.subplots(1, 2, figsize=(15, 5.0))
         panel(axes[0], [(n, x, f) for n, x, f, _ in pts], 0.1,
-              "worst failure rate (ppm; 0 drawn at 0.1)", f"{fam}: failures (false hits, misses, leaks, NaN, wrong roots)")
-        panel(axes[1], [(n, x, u) for n, x, _, u in pts], 0.1,
-              "worst p99 t error (ulps of the precision)", f"{fam}: t error")
-        fig.tight_layout()
+              "worst failure rate (per million tests; 0 drawn at 0.1)", f"{fam}: failures (false hits, misses, leaks, NaN, wrong roots)")
+        rel = [(n, x, u * EPS.get(n.split()[-1], 2.0 ** -23)) for n, x, _, u in pts]
+        panel(axes[1], rel, 1e-18, "worst p99 relative error of t, |dt| / t (0 drawn at 1e-18)", f"{fam}: error of t, one unit for every precision")
+        fig.subplots_adjust(left=0.06, right=0.84, wspace=0.62, bottom=0.11, top=0.92)
         atomic_save.savefig(fig, os.path.join(out, f"accuracy_{fam}.png"), dpi=110)
         plt.close(fig)
 

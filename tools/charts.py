@@ -50,25 +50,35 @@ def simd_speedup(out, summary):
     plt.close(fig)
 
 
+def numbered_key(fig, ax, items, title):
+    """Number the points instead of naming them (no label overlaps a point or another label): a
+    small number beside each point, the key of numbers to names in a column right of the axes."""
+    for i, (x, y, _) in enumerate(items, 1):
+        ax.annotate(str(i), (x, y), fontsize=7, xytext=(4, 3), textcoords="offset points", color="0.25")
+    key = "\n".join(f"{i:>2}  {name}" for i, (_, _, name) in enumerate(items, 1))
+    ax.text(1.03, 0.0, title + "\n" + key, transform=ax.transAxes, fontsize=7, va="bottom", ha="left", family="monospace")
+
+
 def trace_scaling(out, summary):
     """Log-log: time per ray against primitive count, raybench and Embree (primary rays, 1 thread)."""
     rows = summary.get("tracing", {}).get("by_size", [])
     if not rows:
         return
     rows = sorted(rows, key=lambda r: r["primitives"])
-    fig, ax = plt.subplots(figsize=(7, 4.5))
+    fig, ax = plt.subplots(figsize=(9.5, 4.8))
     x = [r["primitives"] for r in rows]
-    ax.loglog(x, [r["ns_per_ray"] for r in rows], "o", label="raybench (8-wide BVH, single rays)")
+    ax.loglog(x, [r["ns_per_ray"] for r in rows], "o", color="tab:blue", label="raybench (8-wide BVH, single rays)")
     e = [(r["primitives"], r["embree_ns_per_ray"]) for r in rows if r.get("embree_ns_per_ray") is not None]
     if e:
-        ax.loglog([p[0] for p in e], [p[1] for p in e], "s", mfc="none", label="Embree 3 (rtcIntersect1)")
-    for r in rows:
-        ax.annotate(r["scene"], (r["primitives"], r["ns_per_ray"]), fontsize=6, xytext=(3, 3), textcoords="offset points")
-    ax.set_xlabel("primitives")
-    ax.set_ylabel("ns per primary ray (one thread)")
+        ax.loglog([p[0] for p in e], [p[1] for p in e], "s", mfc="none", color="tab:orange", label="Embree 3 (rtcIntersect1)")
+    numbered_key(fig, ax, [(r["primitives"], r["ns_per_ray"], f"{r['scene']} ({r['primitives']:,})") for r in rows],
+                 "scenes (primitives)")
+    ax.set_xlabel("primitives in the scene (log)")
+    ax.set_ylabel("ns per primary ray, one thread (log)")
+    ax.set_title("Time per ray against scene size", fontsize=10)
     ax.grid(True, which="both", lw=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
+    ax.legend(fontsize=8, loc="lower left", bbox_to_anchor=(0.0, 1.08), ncol=2, frameon=False)
+    fig.subplots_adjust(left=0.11, right=0.68, bottom=0.11, top=0.82)
     atomic_save.savefig(fig, os.path.join(out, "trace_scaling.png"), dpi=100)
     plt.close(fig)
 
@@ -81,7 +91,7 @@ def plan_models(out, summary):
         return
     colors = {"fast": "tab:red", "auto": "tab:blue", "exact": "tab:green"}
     floor = 0.3
-    fig, ax = plt.subplots(figsize=(8.5, 5.2))
+    fig, ax = plt.subplots(figsize=(10, 5.2))
     for s in scenes:
         pts = [(s[m]["mrays_per_s"], max(s[m]["failure_ppm"], floor)) for m in ("fast", "auto", "exact") if m in s]
         ax.plot([p[0] for p in pts], [p[1] for p in pts], color="0.8", lw=0.8, zorder=1)
@@ -89,11 +99,11 @@ def plan_models(out, summary):
         xs = [s[m]["mrays_per_s"] for s in scenes if m in s]
         ys = [max(s[m]["failure_ppm"], floor) for s in scenes if m in s]
         ax.scatter(xs, ys, color=c, label=m, s=28, zorder=2)
-    # Label the scenes where the fast model fails: those are where the plan matters.
-    for s in scenes:
-        if s.get("fast", {}).get("failure_ppm", 0) > 0:
-            ax.annotate(s["scene"].replace("precision:", ""), (s["fast"]["mrays_per_s"], s["fast"]["failure_ppm"]),
-                        fontsize=7, xytext=(4, 2), textcoords="offset points", color="tab:red")
+    # Number the scenes where the fast model fails (those are where the plan matters); the key of
+    # numbers to scenes stands right of the axes, so no name overlaps a point or another name.
+    failing = [(s["fast"]["mrays_per_s"], s["fast"]["failure_ppm"], s["scene"].replace("precision:", ""))
+               for s in scenes if s.get("fast", {}).get("failure_ppm", 0) > 0]
+    numbered_key(fig, ax, failing, "fast model fails on")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_ylim(floor / 1.5, 2e6)
@@ -103,7 +113,7 @@ def plan_models(out, summary):
     ax.set_ylabel("failures per million rays (log)")
     ax.set_title("Each scene under the three models: speed against failures")
     ax.legend(title="model", loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
-    fig.tight_layout()
+    fig.subplots_adjust(left=0.09, right=0.68, bottom=0.11, top=0.93)
     atomic_save.savefig(fig, os.path.join(out, "plan_models.png"), dpi=110)
     plt.close(fig)
 
@@ -144,7 +154,7 @@ def trace_matrix(out, summary):
     fig.legend(loc="upper left", bbox_to_anchor=(0.86, 0.98), fontsize=8, frameon=False,
                title="solid: raybench\nhatched: Embree")
     fig.tight_layout(rect=(0, 0, 0.85, 1))
-    fig.savefig(os.path.join(out, "trace_matrix.png"), dpi=100)
+    atomic_save.savefig(fig, os.path.join(out, "trace_matrix.png"), dpi=100)
     plt.close(fig)
 
 

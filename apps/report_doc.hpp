@@ -1,0 +1,73 @@
+// The report as a document model, written twice from the one model: report/index.md and a
+// self-contained report/index.html (images beside it, charts as PNG, tables that sort by a small
+// inline script, no network).
+//
+// The report's sections assemble markdown (apps/report*.cpp); parse_markdown reads that subset
+// (headings, paragraphs, lists, fenced code, pipe tables, images, HTML comments) into blocks;
+// organise numbers the sections, puts the summary of every goal and a table of contents at the
+// top, turns runs of images into a thumbnail grid and moves long tables into an appendix; the two
+// writers only render blocks.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace rb::app::doc {
+
+struct Table {
+  std::vector<std::string> head;
+  std::vector<std::string> align;  // per column: "", "left", "right", "center"
+  std::vector<std::vector<std::string>> rows;
+};
+
+struct Picture {
+  std::string caption, src, thumb;  // thumb: a small copy beside the page ("" when none)
+};
+
+struct Block {
+  enum class Kind { heading, text, table, gallery, code, comment };
+  Kind kind = Kind::text;
+  int level = 0;     // heading: 1..4
+  std::string text;  // heading title; text: markdown paragraphs and lists; code; comment
+  std::string id;    // heading anchor
+  Table table;
+  std::vector<Picture> pictures;  // gallery
+};
+
+// One goal of the report, checked in this run. met: 1 yes, 0 no, -1 not measured.
+struct Goal {
+  std::string section;  // the start of the title of the section that measures it
+  std::string goal, measured;
+  int met = -1;
+  std::string figure;  // a PNG beside the page that shows it ("" when none)
+};
+
+struct Document {
+  std::string title;
+  std::vector<Block> blocks;
+};
+
+Document parse_markdown(const std::string& md);
+
+struct OrganiseOptions {
+  std::size_t appendix_rows = 30;  // tables with more rows go to the appendix
+  int thumb_width = 192;           // pixels; thumbnails go to OUT/thumbs/
+  std::size_t gallery_min = 3;     // this many images in a row become a grid
+};
+// `out` is the folder the page is written to (thumbnails are made there).
+void organise(Document& d, const std::vector<Goal>& goals, const std::filesystem::path& out, const OrganiseOptions& o = {});
+
+std::string to_markdown(const Document& d);
+std::string to_html(const Document& d);
+
+// A PNG scaled to `width` pixels wide (height in proportion), written as PNG; false with the
+// reason in `why` when the image cannot be read or written.
+bool make_thumbnail(const std::filesystem::path& png, const std::filesystem::path& thumb, int width, std::string* why);
+
+// Every image source and link target of an HTML page that does not resolve: a file missing
+// beside the page, an anchor with no element of that id, or a network address (the page must
+// stand alone). One line per problem; empty when the page is whole.
+std::vector<std::string> broken_links(const std::filesystem::path& html);
+
+}  // namespace rb::app::doc
