@@ -124,11 +124,19 @@ std::string report_section_tracing(const ReportOptions& o, const fs::path& out, 
                       f2(bj["embree_build_ms_2t"]), ratio(bj["build_ms_1t"], bj["embree_build_ms_1t"]),
                       ratio(bj["build_ms_2t"], bj["embree_build_ms_2t"]), bj["bytes_per_prim"].get<double>(),
                       f2(bj["embree_bytes_per_prim"]));
-    md += "| rays | packet | threads | raybench Mrays/s | Embree Mrays/s | Embree mode (ISA) | raybench / Embree | boxes/ray | "
-          "prims/ray | mismatch vs Embree |\n|---|---:|---:|---:|---:|---|---:|---:|---:|---:|\n";
+    // One table row per ray set and packet size, one and two threads side by side (16 rows).
+    md += "| rays | packet | raybench Mrays/s, 1 thread | Embree | ratio | raybench, 2 threads | Embree | ratio | Embree's mode, "
+          "1 / 2 threads (ISA) | boxes/ray | prims/ray | mismatch vs Embree |\n"
+          "|---|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|\n";
     json mrows = json::array();
+    auto mode = [](const json& j) {
+      return j.contains("embree_mode") ? j["embree_mode"].get<std::string>() + " (" + j.value("embree_isa", std::string("?")) + ")"
+                                       : std::string("-");
+    };
+    auto mismatch = [](const json& j) { return j["mismatch_rate"].is_null() ? -1.0 : j["mismatch_rate"].get<double>(); };
     for (const char* set : {"primary", "shadow", "diffuse", "random"})
-      for (int packet : packets)
+      for (int packet : packets) {
+        json pair[2];
         for (int th : {1, 2}) {
           TraceRunOptions t;
           t.ray_set = set;
@@ -138,17 +146,21 @@ std::string report_section_tracing(const ReportOptions& o, const fs::path& out, 
           t.repetitions = reps;
           t.brute_rays = 0;
           json j = sess.run(t, true);
-          const std::string call = j.contains("embree_mode")
-                                       ? j["embree_mode"].get<std::string>() + " (" + j.value("embree_isa", std::string("?")) + ")"
-                                       : std::string("-");
-          md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {:.1f} | {:.1f} | {} |\n", set, packet, th, f2(j["mrays_per_s"]),
-                            f2(j["embree_mrays_per_s"]), call, ratio(j["mrays_per_s"], j["embree_mrays_per_s"]),
-                            j["box_tests_per_ray"].get<double>(), j["prim_tests_per_ray"].get<double>(),
-                            j["mismatch_rate"].is_null() ? "-" : fmt::format("{:.4f} %", 100 * j["mismatch_rate"].get<double>()));
           j["mesh"] = m.label;
           mrows.push_back(j);
           rows.push_back(j);  // with the seconds of every run: `raybench compare` tests two reports' repetitions
+          pair[th - 1] = std::move(j);
         }
+        const json& a = pair[0];
+        const json& b = pair[1];
+        const std::string modes = mode(a) == mode(b) ? mode(a) : mode(a) + " / " + mode(b);
+        const double mm = std::max(mismatch(a), mismatch(b));
+        md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.1f} | {:.1f} | {} |\n", set, packet, f2(a["mrays_per_s"]),
+                          f2(a["embree_mrays_per_s"]), ratio(a["mrays_per_s"], a["embree_mrays_per_s"]), f2(b["mrays_per_s"]),
+                          f2(b["embree_mrays_per_s"]), ratio(b["mrays_per_s"], b["embree_mrays_per_s"]), modes,
+                          a["box_tests_per_ray"].get<double>(), a["prim_tests_per_ray"].get<double>(),
+                          mm < 0 ? "-" : fmt::format("{:.4f} %", 100 * mm));
+      }
     md += "\n";
     bj["mesh"] = m.label;
     bj["triangles"] = prims;
