@@ -734,14 +734,17 @@ void trace_range(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_t
     for (std::size_t i = begin; i < end; ++i) out[i] = trace_single<S, Any, Count>(t, leaves, rays.get(i), c);
     return;
   }
-  auto octant = [&](std::size_t k) {
-    return int(std::signbit(rays.dx[k])) | int(std::signbit(rays.dy[k])) << 1 | int(std::signbit(rays.dz[k])) << 2;
-  };
+  // Whether the valid rays of [i, i + n) share a direction octant, and whether one of them needs
+  // the robust slab test: 8 rays per step, from the SoA lanes.
   auto coherent = [&](std::size_t i, std::size_t n) {
     int oct = -1;
-    for (std::size_t k = i; k < i + n; ++k) {
-      if (!(rays.tmin[k] <= rays.tmax[k])) continue;
-      const int q = octant(k);
+    for (std::size_t k = i; k < i + n; k += 8) {
+      const int valid = _mm256_movemask_ps(_mm256_cmp_ps(_mm256_loadu_ps(&rays.tmin[k]), _mm256_loadu_ps(&rays.tmax[k]), _CMP_LE_OQ));
+      const int sx = _mm256_movemask_ps(_mm256_loadu_ps(&rays.dx[k])) & valid, sy = _mm256_movemask_ps(_mm256_loadu_ps(&rays.dy[k])) & valid,
+                sz = _mm256_movemask_ps(_mm256_loadu_ps(&rays.dz[k])) & valid;
+      if (!((sx == 0 || sx == valid) && (sy == 0 || sy == valid) && (sz == 0 || sz == valid))) return false;
+      if (!valid) continue;
+      const int q = (sx != 0) | (sy != 0) << 1 | (sz != 0) << 2;  // the group's octant
       if (oct >= 0 && q != oct) return false;
       oct = q;
     }
@@ -749,10 +752,19 @@ void trace_range(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_t
   };
   auto robust = [&](std::size_t i, std::size_t n) {
     if constexpr (S == Slab::robust) return true;
-    for (std::size_t k = i; k < i + n; ++k) {
-      if (!(rays.tmin[k] <= rays.tmax[k])) continue;
-      if (!(rays.tmin[k] >= 0)) return true;
-      if (S == Slab::conservative && detail::beyond_bound(t, {rays.ox[k], rays.oy[k], rays.oz[k]})) return true;
+    const __m256 zero = _mm256_setzero_ps(), bound = _mm256_set1_ps(t.origin_bound);
+    const __m256 abs_mask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+    for (std::size_t k = i; k < i + n; k += 8) {
+      const __m256 tmin = _mm256_loadu_ps(&rays.tmin[k]);
+      const int valid = _mm256_movemask_ps(_mm256_cmp_ps(tmin, _mm256_loadu_ps(&rays.tmax[k]), _CMP_LE_OQ));
+      int need = _mm256_movemask_ps(_mm256_cmp_ps(tmin, zero, _CMP_NGE_UQ));  // !(tmin >= 0)
+      if constexpr (S == Slab::conservative) {
+        auto beyond = [&](const float* o) {  // !(|o| <= bound), NaN included
+          return _mm256_movemask_ps(_mm256_cmp_ps(_mm256_and_ps(_mm256_loadu_ps(o), abs_mask), bound, _CMP_NLE_UQ));
+        };
+        need |= beyond(&rays.ox[k]) | beyond(&rays.oy[k]) | beyond(&rays.oz[k]);
+      }
+      if (need & valid) return true;
     }
     return false;
   };
