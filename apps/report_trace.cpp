@@ -49,9 +49,7 @@ json ratio_value(const json& a, const json& b) {
 }
 
 std::string f2(const json& v) { return v.is_null() ? "-" : fmt::format("{:.2f}", v.get<double>()); }
-std::string ratio(const json& a, const json& b) {
-  return a.is_null() || b.is_null() || b.get<double>() <= 0 ? "-" : fmt::format("{:.2f}", a.get<double>() / b.get<double>());
-}
+std::string ratio(const json& a, const json& b) { return f2(ratio_value(a, b)); }
 
 }  // namespace
 

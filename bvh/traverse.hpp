@@ -124,20 +124,6 @@ RB_INLINE __m256i sort8_descending(__m256i v) {
   return v;
 }
 
-struct Entry {
-  std::uint32_t ref;
-  float d;
-};
-// Sorts `n` (>= 2) entries by distance, farthest first (so the nearest is popped first).
-inline void sort_far_first(Entry* e, int n) {
-  for (int i = 1; i < n; ++i) {
-    const Entry x = e[i];
-    int j = i - 1;
-    while (j >= 0 && e[j].d < x.d) { e[j + 1] = e[j]; --j; }
-    e[j + 1] = x;
-  }
-}
-
 // The slots of the set bits of a byte, lowest first (the rest 0): pushes the hit children of an
 // any-hit visit with one permute.
 struct Compaction {
