@@ -3,6 +3,7 @@
 // parallel reductions.
 #include "bvh/bvh.hpp"
 
+#include "core/memory.hpp"
 #include "core/par.hpp"
 
 #include <immintrin.h>
@@ -65,9 +66,9 @@ struct alignas(16) PrimRef {
 
 struct Builder {
   const BuildOptions& opt;
-  std::vector<PrimRef>& refs;
+  big_vector<PrimRef>& refs;
   const std::uint8_t* kind;
-  std::vector<BNode>& nodes;
+  uninit_array<BNode>& nodes;  // a pool of 2 n nodes, each written once when the build claims it
   std::atomic<std::uint32_t> next{1};
 
   static float lane(__m128 v, int axis) { alignas(16) float f[4]; _mm_store_ps(f, v); return f[axis]; }
@@ -106,14 +107,17 @@ struct Builder {
     n.kind = kind_of(begin);
   }
 
-  // Builds node `ni` over refs[begin, end) whose box is `box`.
-  void build(std::uint32_t ni, std::size_t begin, std::size_t end, const Box& box, const Box& cbox, int depth) {
+  // Builds node `ni` over refs[begin, end) whose box is `box`. `may_mix`: the range may hold more
+  // than one kind (false below a node that held one: its kinds are not scanned again).
+  void build(std::uint32_t ni, std::size_t begin, std::size_t end, const Box& box, const Box& cbox, int depth, bool may_mix) {
     const std::size_t n = end - begin;
     BNode& node = nodes[ni];
     for (int k = 0; k < 3; ++k) { node.lo[k] = box.l(k); node.hi[k] = box.h(k); }
+    node.pad_ = 0;
     bool mixed = false;
     const std::uint8_t k0 = kind_of(begin);
-    for (std::size_t i = begin + 1; i < end && !mixed; ++i) mixed = kind_of(i) != k0;
+    if (may_mix)
+      for (std::size_t i = begin + 1; i < end && !mixed; ++i) mixed = kind_of(i) != k0;
     const std::size_t max_leaf = std::size_t(std::max(1, std::min(opt.max_leaf, 8)));
     // With a visit cost at least one leaf call, a split of at most one lane group never beats a
     // leaf (split cost Ct + Ci (AL + AR) / A > Ci): no binning needed.
@@ -219,8 +223,8 @@ struct Builder {
       lb = bounds(begin, mid);
       rb = bounds(mid, end);
     }
-    auto left = [&, c, begin, mid, depth, lb] { build(c, begin, mid, lb.first, lb.second, depth + 1); };
-    auto right = [&, c, mid, end, depth, rb] { build(c + 1, mid, end, rb.first, rb.second, depth + 1); };
+    auto left = [&, c, begin, mid, depth, lb, mixed] { build(c, begin, mid, lb.first, lb.second, depth + 1, mixed); };
+    auto right = [&, c, mid, end, depth, rb, mixed] { build(c + 1, mid, end, rb.first, rb.second, depth + 1, mixed); };
     if (opt.parallel && n >= kTaskNode) {
       par::invoke(left, right);
     } else {
@@ -249,18 +253,25 @@ Bvh2 build_sah(const std::vector<float>& lo, const std::vector<float>& hi, const
     out.stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return out;
   }
-  std::vector<PrimRef> refs(idx.size());
-  for (std::size_t j = 0; j < idx.size(); ++j) {
-    const std::size_t i = idx[j];
-    refs[j].box.lo = _mm_castsi128_ps(_mm_insert_epi32(_mm_castps_si128(_mm_setr_ps(lo[3 * i], lo[3 * i + 1], lo[3 * i + 2], 0.f)), int(i), 3));
-    refs[j].box.hi = _mm_setr_ps(hi[3 * i], hi[3 * i + 1], hi[3 * i + 2], 0.f);
-  }
-  out.nodes.resize(2 * refs.size());
-  Builder b{opt, refs, kind.data(), out.nodes};
+  big_vector<PrimRef> refs(idx.size());
+  auto fill = [&](std::size_t b, std::size_t e) {
+    for (std::size_t j = b; j < e; ++j) {
+      const std::size_t i = idx[j];
+      refs[j].box.lo = _mm_castsi128_ps(_mm_insert_epi32(_mm_castps_si128(_mm_setr_ps(lo[3 * i], lo[3 * i + 1], lo[3 * i + 2], 0.f)), int(i), 3));
+      refs[j].box.hi = _mm_setr_ps(hi[3 * i], hi[3 * i + 1], hi[3 * i + 2], 0.f);
+    }
+  };
+  if (opt.parallel && idx.size() >= kParallelNode)
+    par::for_range(0, idx.size(), 4096, fill);
+  else
+    fill(0, idx.size());
+  // A binary tree over n leaves has 2 n - 1 nodes. The pool is not initialised as a whole: only the
+  // pages of the nodes the build claims are touched, and the claimed ones are copied out once.
+  uninit_array<BNode> pool(2 * refs.size());
+  Builder b{opt, refs, kind.data(), pool};
   const auto [box, cbox] = b.bounds(0, refs.size());
-  b.build(0, 0, refs.size(), box, cbox, 0);
-  out.nodes.resize(b.next.load());
-  out.nodes.shrink_to_fit();
+  b.build(0, 0, refs.size(), box, cbox, 0, true);
+  out.nodes.assign(pool.data(), pool.data() + b.next.load());
   for (std::size_t j = 0; j < refs.size(); ++j) idx[j] = refs[j].id();
   out.order = std::move(idx);
   out.stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -374,7 +385,7 @@ Bvh8 collapse8(const Bvh2& b) {
 
 void make_conservative(Bvh8& t, float origin_bound) {
   const double u = 0x1p-24, O = double(origin_bound);
-  for (WNode& n : t.nodes)
+  auto widen = [&](WNode& n) {
     for (int a = 0; a < 3; ++a)
       for (int c = 0; c < 8; ++c) {
         if (n.child[c] == kEmpty) continue;
@@ -389,6 +400,10 @@ void make_conservative(Bvh8& t, float origin_bound) {
         lo = fl;
         hi = fh;
       }
+  };
+  par::for_range(0, t.nodes.size(), 1024, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) widen(t.nodes[i]);
+  });
   t.origin_bound = origin_bound;
 }
 

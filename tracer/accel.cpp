@@ -7,6 +7,7 @@
 
 #include "core/par.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <stdexcept>
 #include <string>
@@ -29,21 +30,36 @@ void set_slot(PrimSoA<P, S>& b, std::size_t i, std::type_identity_t<P<S>> p) {
   [&]<std::size_t... I>(std::index_sequence<I...>) { ((b.f[I][i] = std::get<I>(t)), ...); }(std::make_index_sequence<PrimSoA<P, S>::kFields>{});
 }
 
+// The batch in leaf order: slot j holds scene primitive ids[j]. The primitives are made in scene
+// order and scattered to their slots: a mesh's vertices are read in the order the file keeps them
+// (mostly near each other), where reading them in leaf order jumps across the vertex array.
 template <class K>
 void build_std(StdBatch<K>& b, const scene::Scene& s, std::vector<std::uint32_t> ids, const Vec3d& origin, bool store64, bool parallel) {
   b.id = std::move(ids);
   const std::size_t n = b.id.size();
+  std::size_t range = 0;  // scene indices are below this (a kind's indices need not be dense)
+  for (const std::uint32_t i : b.id)
+    if (i != UINT32_MAX) range = std::max(range, std::size_t(i) + 1);
+  std::vector<std::uint32_t> slot_of(range, UINT32_MAX);
+  std::vector<std::uint32_t> more;  // further slots of a primitive in several leaves (spatial splits)
+  for (std::size_t j = 0; j < n; ++j) {
+    const std::uint32_t i = b.id[j];
+    if (i == UINT32_MAX) continue;
+    if (slot_of[i] == UINT32_MAX) slot_of[i] = std::uint32_t(j);
+    else more.push_back(std::uint32_t(j));
+  }
   auto fill = [&](auto& soa, auto tag) {
     using S = decltype(tag);
     fill_never(soa, n);
     auto write = [&](std::size_t lo, std::size_t hi) {
-      for (std::size_t j = lo; j < hi; ++j)
-        if (b.id[j] != UINT32_MAX) set_slot(soa, j, K::template make<S>(s, b.id[j], origin));
+      for (std::size_t i = lo; i < hi; ++i)
+        if (slot_of[i] != UINT32_MAX) set_slot(soa, slot_of[i], K::template make<S>(s, std::uint32_t(i), origin));
     };
-    if (parallel && n > 4096)
-      par::for_range(0, n, 2048, [&](std::size_t lo, std::size_t hi) { write(lo, hi); });
+    if (parallel && slot_of.size() > 4096)
+      par::for_range(0, slot_of.size(), 2048, [&](std::size_t lo, std::size_t hi) { write(lo, hi); });
     else
-      write(0, n);
+      write(0, slot_of.size());
+    for (const std::uint32_t j : more) set_slot(soa, j, K::template make<S>(s, b.id[j], origin));
   };
   bool s64 = false;
   if constexpr (K::methods[0].f64_storage) s64 = store64;
@@ -132,15 +148,17 @@ SceneAccel SceneAccel::build(const scene::Scene& s, const Plan& plan, const bvh:
   const auto t1 = std::chrono::steady_clock::now();
   std::array<std::vector<std::uint32_t>, kKinds> ids;
   std::size_t groups[kKinds] = {};
+  for (const bvh::BNode& n : a.bin.nodes) groups[n.kind] += n.leaf();
+  for (std::size_t k = 0; k < kKinds; ++k) ids[k].assign(groups[k] * 8, UINT32_MAX);  // sized once
+  std::fill(std::begin(groups), std::end(groups), 0);
   for (bvh::BNode& n : a.bin.nodes) {
     if (!n.leaf()) continue;
     const std::uint32_t first = n.first;
     const std::size_t g = groups[n.kind]++;
     n.first = std::uint32_t(g);
     n.pad_ = 0;
-    auto& v = ids[n.kind];
-    v.resize((g + 1) * 8, UINT32_MAX);
-    for (std::uint32_t j = 0; j < n.count; ++j) v[g * 8 + j] = index[a.bin.order[first + j]];
+    std::uint32_t* v = ids[n.kind].data() + g * 8;
+    for (std::uint32_t j = 0; j < n.count; ++j) v[j] = index[a.bin.order[first + j]];
   }
   std::array<LeafChoice, kKinds> choice{};
   AllKinds::each([&]<class K>() {
