@@ -6,7 +6,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <iostream>
 #include <map>
 #include <random>
@@ -272,6 +275,54 @@ TEST(Bvh, ConservativeBoxesContainTheBuiltOnes) {
         wider += a.wide.nodes[i].b[2 * ax][c] < raw.nodes[i].b[2 * ax][c];
       }
   EXPECT_GT(wider, 0u);
+}
+
+// A frame box lies three floats outside the nearest float of each double coordinate, whatever its
+// sign and size: across zero (through the subnormals), at the largest float (to infinity), and
+// with infinities and NaN left as they are.
+TEST(Bvh, FrameBoxesStepThreeFloatsOutward) {
+  auto steps = [](float v, int n) {
+    for (int i = 0; i < std::abs(n); ++i) v = n > 0 ? std::nextafter(v, INFINITY) : std::nextafter(v, -INFINITY);
+    return v;
+  };
+  const float big = std::numeric_limits<float>::max(), sub = std::numeric_limits<float>::denorm_min();
+  const double values[] = {0.0, -0.0, 1.0, -1.0, 0.1, -0.1, 1e-40, -1e-40, double(sub), -double(sub), 2.0 * double(sub), -3.0 * double(sub),
+                           1e30, -1e30, double(big), -double(big), 123456.789, -0.0078125};
+  for (const double v : values) {
+    scene::Bounds b;
+    b.grow(Vec3d{v, v, v});
+    float lo[3], hi[3];
+    kinds::frame_box(b, Vec3d{0, 0, 0}, lo, hi);
+    const float f = float(v);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(lo[k], steps(f, -3)) << v;
+      EXPECT_EQ(hi[k], steps(f, 3)) << v;
+      EXPECT_LE(double(lo[k]), v);
+      EXPECT_GE(double(hi[k]), v);
+    }
+  }
+  scene::Bounds inf;
+  inf.grow(Vec3d{-INFINITY, 0, 0});
+  inf.grow(Vec3d{INFINITY, 0, 0});
+  float lo[3], hi[3];
+  kinds::frame_box(inf, Vec3d{0, 0, 0}, lo, hi);
+  EXPECT_EQ(lo[0], -INFINITY);
+  EXPECT_EQ(hi[0], INFINITY);
+}
+
+// Large arrays (huge-page advice from 2 MiB) keep the vector contract: value-initialised,
+// aligned for the SIMD loads, and the same contents after growing past the threshold.
+TEST(Bvh, LargeArraysAreAlignedAndInitialised) {
+  avec<float> a(100);
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(a.data()) % kSimdAlign, 0u);
+  for (std::size_t i = 0; i < a.size(); ++i) a[i] = float(i);
+  a.resize((std::size_t(3) << 20) / sizeof(float), 0.5f);
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(a.data()) % kSimdAlign, 0u);
+  EXPECT_EQ(a[99], 99.f);
+  EXPECT_EQ(a[100], 0.5f);
+  EXPECT_EQ(a.back(), 0.5f);
+  big_vector<std::uint32_t> z(std::size_t(1) << 20);
+  EXPECT_EQ(std::count(z.begin(), z.end(), 0u), std::ptrdiff_t(z.size()));
 }
 
 TEST(Bvh, HostileInputsGiveDefinedResults) {
