@@ -243,11 +243,13 @@ Bvh2 build_sah(const std::vector<float>& lo, const std::vector<float>& hi, const
   const std::size_t n = kind.size();
   std::vector<std::uint32_t> idx;
   idx.reserve(n);
+  bool mixed = false;  // more than one kind among the kept primitives (else no node scans kinds)
   for (std::size_t i = 0; i < n; ++i) {
     bool ok = true;
     for (int k = 0; k < 3; ++k)
       ok = ok && std::isfinite(lo[3 * i + std::size_t(k)]) && std::isfinite(hi[3 * i + std::size_t(k)]) && lo[3 * i + std::size_t(k)] <= hi[3 * i + std::size_t(k)];
     if (ok) idx.push_back(std::uint32_t(i));
+    mixed = mixed || (ok && kind[i] != kind[idx.front()]);
   }
   if (idx.empty()) {
     out.stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -270,7 +272,7 @@ Bvh2 build_sah(const std::vector<float>& lo, const std::vector<float>& hi, const
   uninit_array<BNode> pool(2 * refs.size());
   Builder b{opt, refs, kind.data(), pool};
   const auto [box, cbox] = b.bounds(0, refs.size());
-  b.build(0, 0, refs.size(), box, cbox, 0, true);
+  b.build(0, 0, refs.size(), box, cbox, 0, mixed);
   out.nodes.assign(pool.data(), pool.data() + b.next.load());
   for (std::size_t j = 0; j < refs.size(); ++j) idx[j] = refs[j].id();
   out.order = std::move(idx);
