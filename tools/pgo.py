@@ -260,6 +260,16 @@ def markdown(rows, trows, flags, args, load):
         md.append("")
         md.append("![PGO ratios per scene](pgo_traces.png)")
         md.append("")
+        if "hot-bb-count-fraction" in flags.get("pgo", ""):
+            md.append("Why the traces once lost 5-10 % with PGO: GCC calls a block hot when its training count is at least the "
+                      "largest counter of the whole training divided by 10,000. The kernel benchmarks set that counter (about 1e9), "
+                      "so every call site of the BVH traversal (under 1e5 runs in training) was cold, and GCC stopped inlining its "
+                      "small lambdas (\"call is unlikely and code size would grow\"): a mesh leaf's vertex load became a call "
+                      "returning 8-lane vectors through memory, three per ray and leaf, and 8-ray packets ran 33 % more instructions "
+                      "than the normal build (callgrind, bunny, primary rays). The PGO builds here pass "
+                      "`--param=hot-bb-count-fraction=1000000`, so any block that ran in training may be hot, and the traversal is inlined as in the "
+                      "normal build (instruction counts with and without it: docs/DESIGN.md, section 11).")
+            md.append("")
     if not rows and not trows:
         md.append("_No results were found: the PGO runs failed; see the output of `./run.sh pgo`._")
         md.append("")
