@@ -226,7 +226,9 @@ int main(int argc, char** argv) {
       "--warmup untimed runs the engines alternate run by run; the table gives the\n"
       "median Mrays/s with its range and coefficient of variation, build time, memory,\n"
       "traversal cost and the rate of rays the engines disagree on. A warning follows\n"
-      "when the runs varied by over 5 % or the machine was busy.");
+      "when the runs varied by over 5 % or the machine was busy. Arrays of 2 MiB and\n"
+      "more are advised for transparent huge pages, as Embree does for its own;\n"
+      "RAYBENCH_NO_HUGE_PAGES=1 turns that off.");
 
   // ---- render ----
   RenderRunOptions rdo;
