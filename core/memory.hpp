@@ -28,15 +28,16 @@ namespace rb {
 
 inline constexpr std::size_t kHugePage = std::size_t(2) << 20;
 
-// Raw storage of `bytes` bytes aligned to `align` (a power of two); huge-page advice from 2 MiB.
-// Throws std::bad_alloc.
 inline bool huge_pages_wanted() {
   static const bool wanted = std::getenv("RAYBENCH_NO_HUGE_PAGES") == nullptr;
   return wanted;
 }
 
+// Raw storage of `bytes` bytes aligned to `align` (a power of two); huge-page advice from 2 MiB.
+// Throws std::bad_alloc (also for a size that rounding up would overflow).
 inline void* big_alloc(std::size_t bytes, std::size_t align) {
   if (bytes == 0) bytes = 1;
+  if (bytes > std::size_t(-1) - kHugePage) throw std::bad_alloc();
   void* p = nullptr;
   if (bytes >= kHugePage && huge_pages_wanted()) {
     const std::size_t size = (bytes + kHugePage - 1) / kHugePage * kHugePage;
