@@ -88,10 +88,8 @@ class uninit_array {
   std::unique_ptr<T[], Free> p_;
 
  public:
-  uninit_array() = default;
   explicit uninit_array(std::size_t n) : p_(BigAllocator<T>().allocate(n)) {}
   T& operator[](std::size_t i) { return p_[i]; }
-  const T& operator[](std::size_t i) const { return p_[i]; }
   T* data() { return p_.get(); }
 };
 
