@@ -3,6 +3,7 @@
 #include "bench/trace.hpp"
 #include "tracer/accel.hpp"
 #include "scene/sources.hpp"
+#include "soa/groups.hpp"
 
 #include <gtest/gtest.h>
 
@@ -323,6 +324,41 @@ TEST(Bvh, LargeArraysAreAlignedAndInitialised) {
   EXPECT_EQ(a.back(), 0.5f);
   big_vector<std::uint32_t> z(std::size_t(1) << 20);
   EXPECT_EQ(std::count(z.begin(), z.end(), 0u), std::ptrdiff_t(z.size()));
+}
+
+// The leaves' batch layout: each group of 8 slots one block, field after field; the kernels read
+// the same primitives from it as from the structure of arrays.
+TEST(Bvh, LeafGroupsHoldTheSamePrimitivesAsArrays) {
+  PrimGroups<TriVerts> g;
+  PrimSoA<TriVerts> s;
+  g.assign_never(16);
+  for (std::size_t i = 0; i < 16; ++i) {
+    const float v = float(i);
+    const TriVerts<float> t{{v, v + 100, v + 200}, {v + 300, v + 400, v + 500}, {v + 600, v + 700, v + 800}};
+    if (i != 5) g.set(i, t);
+    s.push(i == 5 ? TriVerts<float>::never() : t);
+  }
+  EXPECT_EQ(g.bytes(), 16 * 9 * sizeof(float));
+  for (std::size_t f = 0; f < 9; ++f)
+    for (std::size_t i = 0; i < 16; ++i) {
+      EXPECT_EQ(g.field(f, i), g.field(0, i - i % 8) + 8 * f + i % 8);  // one block per group
+      const float want = s.f[f][i];
+      if (std::isnan(want)) EXPECT_TRUE(std::isnan(*g.field(f, i)));
+      else EXPECT_EQ(*g.field(f, i), want);
+    }
+  auto same = []<class F>(TriVerts<F> a, TriVerts<F> b) {  // equal, NaN equal to NaN
+    auto x = a.fields();
+    auto y = b.fields();
+    bool eq = true;
+    [&]<std::size_t... I>(std::index_sequence<I...>) {
+      ((eq = eq && all_of<F>((std::get<I>(x) == std::get<I>(y)) | ((std::get<I>(x) != std::get<I>(x)) & (std::get<I>(y) != std::get<I>(y))))), ...);
+    }(std::make_index_sequence<9>{});
+    return eq;
+  };
+  EXPECT_TRUE(same(g.load<f8>(8), s.load<f8>(8)));
+  EXPECT_TRUE(same(g.load<d4>(12), s.load<d4>(12)));
+  EXPECT_TRUE(same(g.broadcast<f8>(3), s.broadcast<f8>(3)));
+  EXPECT_THROW(g.assign_never(12), std::invalid_argument);
 }
 
 TEST(Bvh, HostileInputsGiveDefinedResults) {

@@ -16,20 +16,6 @@ namespace rb::tracer {
 
 namespace {
 
-// A batch of `slots` never-hit slots (count = slots: every leaf group is already padded).
-template <template <class> class P, class S>
-void fill_never(PrimSoA<P, S>& b, std::size_t slots) {
-  P<S> nv = P<S>::never();
-  auto t = nv.fields();
-  [&]<std::size_t... I>(std::index_sequence<I...>) { ((b.f[I].assign(slots, std::get<I>(t))), ...); }(std::make_index_sequence<PrimSoA<P, S>::kFields>{});
-  b.count = slots;
-}
-template <template <class> class P, class S>
-void set_slot(PrimSoA<P, S>& b, std::size_t i, std::type_identity_t<P<S>> p) {
-  auto t = p.fields();
-  [&]<std::size_t... I>(std::index_sequence<I...>) { ((b.f[I][i] = std::get<I>(t)), ...); }(std::make_index_sequence<PrimSoA<P, S>::kFields>{});
-}
-
 // The batch in leaf order: slot j holds scene primitive ids[j]. The primitives are made in scene
 // order and scattered to their slots: a mesh's vertices are read in the order the file keeps them
 // (mostly near each other), where reading them in leaf order jumps across the vertex array.
@@ -50,16 +36,16 @@ void build_std(StdBatch<K>& b, const scene::Scene& s, std::vector<std::uint32_t>
   }
   auto fill = [&](auto& soa, auto tag) {
     using S = decltype(tag);
-    fill_never(soa, n);
+    soa.assign_never(n);
     auto write = [&](std::size_t lo, std::size_t hi) {
       for (std::size_t i = lo; i < hi; ++i)
-        if (slot_of[i] != UINT32_MAX) set_slot(soa, slot_of[i], K::template make<S>(s, std::uint32_t(i), origin));
+        if (slot_of[i] != UINT32_MAX) soa.set(slot_of[i], K::template make<S>(s, std::uint32_t(i), origin));
     };
     if (parallel && slot_of.size() > 4096)
       par::for_range(0, slot_of.size(), 2048, [&](std::size_t lo, std::size_t hi) { write(lo, hi); });
     else
       write(0, slot_of.size());
-    for (const std::uint32_t j : more) set_slot(soa, j, K::template make<S>(s, b.id[j], origin));
+    for (const std::uint32_t j : more) soa.set(j, K::template make<S>(s, b.id[j], origin));
   };
   bool s64 = false;
   if constexpr (K::methods[0].f64_storage) s64 = store64;
