@@ -154,7 +154,7 @@ struct Writer {
 
 }  // namespace
 
-bvh::Bvh2 embree_binary_tree(const std::vector<float>& lo, const std::vector<float>& hi, const std::vector<std::uint8_t>& kind,
+bvh::Bvh2 embree_binary_tree(std::span<const float> lo, std::span<const float> hi, const std::vector<std::uint8_t>& kind,
                              const bvh::BuildOptions& opt, EmbreeQuality q, int threads, const SplitFn& split) {
   const auto t0 = std::chrono::steady_clock::now();
   bvh::Bvh2 out;
@@ -293,7 +293,7 @@ tracer::BinaryBuilder embree_builder(const std::string& name, const scene::Scene
       rlo[dim] = std::max(rlo[dim], std::min(hi[dim], pos));
     };
   }
-  return [q, threads, split](const std::vector<float>& lo, const std::vector<float>& hi, const std::vector<std::uint8_t>& kind,
+  return [q, threads, split](std::span<const float> lo, std::span<const float> hi, const std::vector<std::uint8_t>& kind,
                              const bvh::BuildOptions& opt) { return embree_binary_tree(lo, hi, kind, opt, q, threads, split); };
 }
 

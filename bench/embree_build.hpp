@@ -24,7 +24,7 @@ bool is_builder_name(const std::string& s);
 // its two sides (each within the box it was given); without it Embree builds as at medium quality.
 using SplitFn = std::function<void(std::uint32_t prim, int dim, float pos, const float lo[3], const float hi[3], float llo[3], float lhi[3],
                                    float rlo[3], float rhi[3])>;
-bvh::Bvh2 embree_binary_tree(const std::vector<float>& lo, const std::vector<float>& hi, const std::vector<std::uint8_t>& kind,
+bvh::Bvh2 embree_binary_tree(std::span<const float> lo, std::span<const float> hi, const std::vector<std::uint8_t>& kind,
                              const bvh::BuildOptions& opt, EmbreeQuality q, int threads, const SplitFn& split = {});
 
 // The builder hook for tracer::SceneAccel::build ("embree" or "embree-high"; empty for "sah").

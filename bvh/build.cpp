@@ -236,7 +236,7 @@ struct Builder {
 
 }  // namespace
 
-Bvh2 build_sah(const std::vector<float>& lo, const std::vector<float>& hi, const std::vector<std::uint8_t>& kind,
+Bvh2 build_sah(std::span<const float> lo, std::span<const float> hi, const std::vector<std::uint8_t>& kind,
                const BuildOptions& opt) {
   const auto t0 = std::chrono::steady_clock::now();
   Bvh2 out;

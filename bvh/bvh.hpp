@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace rb::bvh {
@@ -88,7 +89,7 @@ struct Bvh2 {
 
 // Binned SAH over primitive boxes. lo/hi: 3 floats per primitive; kind: per primitive (leaves
 // hold one kind only: a small mixed range is split by kind).
-Bvh2 build_sah(const std::vector<float>& lo, const std::vector<float>& hi, const std::vector<std::uint8_t>& kind,
+Bvh2 build_sah(std::span<const float> lo, std::span<const float> hi, const std::vector<std::uint8_t>& kind,
                const BuildOptions& opt = {});
 
 // Surface-area cost and depth of a finished tree (fills stats.sah_cost, depth, leaves, hist).

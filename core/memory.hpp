@@ -77,9 +77,9 @@ struct BigAllocator {
 template <class T>
 using big_vector = std::vector<T, BigAllocator<T>>;
 
-// `n` uninitialised elements of a trivially copyable T, for arrays whose every used element is
-// written before it is read.
-template <class T>
+// `n` uninitialised elements of a trivially copyable T (aligned to Align), for arrays whose every
+// used element is written before it is read.
+template <class T, std::size_t Align = alignof(T)>
 class uninit_array {
   static_assert(std::is_trivially_copyable_v<T> && std::is_trivially_destructible_v<T>);
   struct Free {
@@ -88,9 +88,11 @@ class uninit_array {
   std::unique_ptr<T[], Free> p_;
 
  public:
-  explicit uninit_array(std::size_t n) : p_(BigAllocator<T>().allocate(n)) {}
+  uninit_array() = default;
+  explicit uninit_array(std::size_t n) : p_(BigAllocator<T, Align>().allocate(n)) {}
   T& operator[](std::size_t i) { return p_[i]; }
   T* data() { return p_.get(); }
+  const T* data() const { return p_.get(); }
 };
 
 }  // namespace rb

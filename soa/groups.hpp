@@ -17,28 +17,32 @@ template <template <class> class P, class S = float>
 struct PrimGroups {
   static constexpr std::size_t kFields = PrimSoA<P, S>::kFields;
   static constexpr std::size_t kGroup = kFields * kPadLanes;  // values per group
-  avec<S> v;
   std::size_t count = 0;  // slots (a multiple of kPadLanes)
 
   std::size_t size() const { return count; }
-  std::size_t bytes() const { return v.size() * sizeof(S); }
+  std::size_t bytes() const { return count * kFields * sizeof(S); }
 
-  // `slots` slots (a multiple of kPadLanes), each the kind's never-hit filler.
-  void assign_never(std::size_t slots) {
+  // `slots` slots (a multiple of kPadLanes), not initialised: each must be set before a kernel
+  // reads it (the builder writes every slot once, in parallel, with no filling pass before).
+  void allocate(std::size_t slots) {
     if (slots % kPadLanes) throw std::invalid_argument("PrimGroups: slots must fill whole groups");
-    v.resize(slots / kPadLanes * kGroup);
+    v_ = uninit_array<S, kSimdAlign>(slots * kFields);
     count = slots;
+  }
+  // `slots` slots, each the kind's never-hit filler.
+  void assign_never(std::size_t slots) {
+    allocate(slots);
     const P<S> nv = P<S>::never();
-    for (std::size_t i = 0; i < slots; i += kPadLanes)
-      for (std::size_t l = 0; l < kPadLanes; ++l) set(i + l, nv);
+    for (std::size_t i = 0; i < slots; ++i) set(i, nv);
   }
   void set(std::size_t i, P<S> p) {
     auto t = p.fields();
+    S* const v = v_.data();
     [&]<std::size_t... I>(std::index_sequence<I...>) { ((v[at(I, i)] = std::get<I>(t)), ...); }(std::make_index_sequence<kFields>{});
   }
 
   // Slot i's value of field f; a load from there reads the following slots of the same group.
-  RB_INLINE const S* field(std::size_t f, std::size_t i) const { return v.data() + at(f, i); }
+  RB_INLINE const S* field(std::size_t f, std::size_t i) const { return v_.data() + at(f, i); }
 
   // Slots i, i + 1, ... in the lanes of F (they must lie in one group: i a multiple of F's lanes).
   template <class F>
@@ -58,6 +62,7 @@ struct PrimGroups {
   }
 
  private:
+  uninit_array<S, kSimdAlign> v_;
   static constexpr std::size_t at(std::size_t f, std::size_t i) { return i / kPadLanes * kGroup + f * kPadLanes + i % kPadLanes; }
 };
 

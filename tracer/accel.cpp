@@ -2,6 +2,7 @@
 // -> conservative boxes; the leaf sources; surfaces and spawn points.
 #include "tracer/accel.hpp"
 
+#include "core/memory.hpp"
 #include "core/spawn.hpp"
 #include "tracer/traversal.hpp"
 
@@ -36,7 +37,7 @@ void build_std(StdBatch<K>& b, const scene::Scene& s, std::vector<std::uint32_t>
   }
   auto fill = [&](auto& soa, auto tag) {
     using S = decltype(tag);
-    soa.assign_never(n);
+    soa.allocate(n);  // every slot written once below: a primitive, or the filler of a padding slot
     auto write = [&](std::size_t lo, std::size_t hi) {
       for (std::size_t i = lo; i < hi; ++i)
         if (slot_of[i] != UINT32_MAX) soa.set(slot_of[i], K::template make<S>(s, std::uint32_t(i), origin));
@@ -46,6 +47,9 @@ void build_std(StdBatch<K>& b, const scene::Scene& s, std::vector<std::uint32_t>
     else
       write(0, slot_of.size());
     for (const std::uint32_t j : more) soa.set(j, K::template make<S>(s, b.id[j], origin));
+    const auto never = K::template Prim<S>::never();
+    for (std::size_t j = 0; j < n; ++j)
+      if (b.id[j] == UINT32_MAX) soa.set(j, never);
   };
   bool s64 = false;
   if constexpr (K::methods[0].f64_storage) s64 = store64;
@@ -115,7 +119,11 @@ SceneAccel SceneAccel::build(const scene::Scene& s, const Plan& plan, const bvh:
   a.scene_prims_ = kind.size();
 
   // Boxes in the frame (rounded outward to float).
-  std::vector<float> lo(3 * kind.size()), hi(3 * kind.size());
+  // Every coordinate is written below: the arrays are not initialised first (a serial pass over
+  // pages that the parallel one would touch anyway).
+  uninit_array<float> lo_a(3 * kind.size()), hi_a(3 * kind.size());
+  float* const lo = lo_a.data();
+  float* const hi = hi_a.data();
   const Vec3d origin = plan.origin;
   auto boxes = [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {
@@ -127,7 +135,8 @@ SceneAccel SceneAccel::build(const scene::Scene& s, const Plan& plan, const bvh:
     par::for_range(0, kind.size(), 4096, [&](std::size_t b, std::size_t e) { boxes(b, e); });
   else
     boxes(0, kind.size());
-  a.bin = builder ? builder(lo, hi, kind, opt) : bvh::build_sah(lo, hi, kind, opt);
+  const std::span<const float> los(lo, 3 * kind.size()), his(hi, 3 * kind.size());
+  a.bin = builder ? builder(los, his, kind, opt) : bvh::build_sah(los, his, kind, opt);
 
   // Reorder: every leaf becomes one 8-slot group of its kind's batch, groups assigned in node
   // order; ids[kind][slot] is the scene index of each slot.

@@ -32,7 +32,7 @@ struct TraceOptions {
 // `order`; stats filled by bvh::tree_stats). Empty: bvh::build_sah. Another builder (Embree's, in
 // bench/embree_build.hpp) feeds the same reorder and 8-wide collapse, so that its tree is traced by
 // the same traversal.
-using BinaryBuilder = std::function<bvh::Bvh2(const std::vector<float>& lo, const std::vector<float>& hi,
+using BinaryBuilder = std::function<bvh::Bvh2(std::span<const float> lo, std::span<const float> hi,
                                               const std::vector<std::uint8_t>& kind, const bvh::BuildOptions& opt)>;
 
 class SceneAccel {
