@@ -46,7 +46,7 @@ static_assert(sizeof(WNode) == 224);
 
 struct BuildOptions {
   int max_leaf = 8;        // primitives per leaf (one 8-lane group)
-  int bins = 32;           // SAH bins per axis
+  int bins = 32;           // SAH bins per axis at most: a node of n primitives bins with min(bins, 8 + n / 16)
   // SAH: cost of a node visit and of one leaf kernel call over a block of `leaf_block` primitives
   // (primitives in lanes: a leaf of 1..8 costs one call).
   float traversal_cost = 1.0f, intersection_cost = 1.0f;
