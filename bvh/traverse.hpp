@@ -643,9 +643,14 @@ void trace_packet(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_
           tn.store_aligned(dist);
           // Any hit: no order (as for single rays: the highest slot next, the rest popped downwards);
           // sorting shadow packets' children cost 4-14 % of their rate.
-          if constexpr (Any) _mm256_store_si256(reinterpret_cast<__m256i*>(slot), _mm256_load_si256(reinterpret_cast<const __m256i*>(kCompaction.idx[bits])));
-          else _mm256_store_si256(reinterpret_cast<__m256i*>(slot), order_far_first<Robust>(tn, bits));
           const int cnt = __builtin_popcount(bits);
+          if constexpr (Any) _mm256_store_si256(reinterpret_cast<__m256i*>(slot), _mm256_load_si256(reinterpret_cast<const __m256i*>(kCompaction.idx[bits])));
+          else if (cnt == 2) {
+            const std::uint32_t a = std::uint32_t(__builtin_ctz(bits)), b = std::uint32_t(__builtin_ctz(bits & (bits - 1)));
+            const bool a_first = dist[a] <= dist[b];
+            slot[0] = a_first ? b : a;
+            slot[1] = a_first ? a : b;
+          } else _mm256_store_si256(reinterpret_cast<__m256i*>(slot), order_far_first<Robust>(tn, bits));
           for (int k = 0; k < cnt - 1; ++k) {
             sref[sp] = n.child[slot[k]];
             sd[sp] = dist[slot[k]];
