@@ -228,7 +228,7 @@ bvh::Bvh2 embree_binary_tree(std::span<const float> lo, std::span<const float> h
   if (failed) throw std::runtime_error("Embree's builder (rtcBuildBVH) reported an error");
   out.nodes.shrink_to_fit();
   out.stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  bvh::tree_stats(out, opt);
+  if (opt.stats) bvh::tree_stats(out, opt);
   return out;
 }
 

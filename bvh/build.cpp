@@ -66,7 +66,7 @@ struct alignas(16) PrimRef {
 
 struct Builder {
   const BuildOptions& opt;
-  big_vector<PrimRef>& refs;
+  std::span<PrimRef> refs;
   const std::uint8_t* kind;
   uninit_array<BNode>& nodes;  // a pool of 2 n nodes, each written once when the build claims it
   std::atomic<std::uint32_t> next{1};
@@ -257,7 +257,10 @@ Bvh2 build_sah(std::span<const float> lo, std::span<const float> hi, const std::
     out.stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return out;
   }
-  big_vector<PrimRef> refs(idx.size());
+  // Every reference is written by the fill below: not initialised first (a serial pass that also
+  // took the pages' faults on one thread).
+  uninit_array<PrimRef> refs_a(idx.size());
+  const std::span<PrimRef> refs(refs_a.data(), idx.size());
   auto fill = [&](std::size_t b, std::size_t e) {
     for (std::size_t j = b; j < e; ++j) {
       const std::size_t i = idx[j];
@@ -276,10 +279,16 @@ Bvh2 build_sah(std::span<const float> lo, std::span<const float> hi, const std::
   const auto [box, cbox] = b.bounds(0, refs.size());
   b.build(0, 0, refs.size(), box, cbox, 0, mixed);
   out.nodes.assign(pool.data(), pool.data() + b.next.load());
-  for (std::size_t j = 0; j < refs.size(); ++j) idx[j] = refs[j].id();
+  auto ids = [&](std::size_t from, std::size_t to) {
+    for (std::size_t j = from; j < to; ++j) idx[j] = refs[j].id();
+  };
+  if (opt.parallel && idx.size() >= kParallelNode)
+    par::for_range(0, idx.size(), 4096, ids);
+  else
+    ids(0, idx.size());
   out.order = std::move(idx);
   out.stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  tree_stats(out, opt);
+  if (opt.stats) tree_stats(out, opt);
   return out;
 }
 

@@ -54,6 +54,7 @@ struct BuildOptions {
   int max_depth = 48;      // below this depth SAH may split unevenly; deeper nodes split at the median
                            // (clamped to kMaxSahDepth, so that every tree fits the traversal's bound)
   bool parallel = true;    // TBB tasks for subtrees, parallel binning at large nodes
+  bool stats = true;       // fill Bvh2::stats (tree_stats) before returning; false: the caller does
   // Refuse (std::length_error, before allocating) a build whose estimated peak memory,
   // kBuildBytesPerPrim per primitive, exceeds this; 0: no limit.
   std::size_t max_bytes = std::size_t(16) << 30;

@@ -29,12 +29,6 @@ struct PrimGroups {
     v_ = uninit_array<S, kSimdAlign>(slots * kFields);
     count = slots;
   }
-  // `slots` slots, each the kind's never-hit filler.
-  void assign_never(std::size_t slots) {
-    allocate(slots);
-    const P<S> nv = P<S>::never();
-    for (std::size_t i = 0; i < slots; ++i) set(i, nv);
-  }
   void set(std::size_t i, P<S> p) {
     auto t = p.fields();
     S* const v = v_.data();

@@ -136,7 +136,9 @@ SceneAccel SceneAccel::build(const scene::Scene& s, const Plan& plan, const bvh:
   else
     boxes(0, kind.size());
   const std::span<const float> los(lo, 3 * kind.size()), his(hi, 3 * kind.size());
-  a.bin = builder ? builder(los, his, kind, opt) : bvh::build_sah(los, his, kind, opt);
+  bvh::BuildOptions bopt = opt;
+  bopt.stats = false;  // made below, beside the batches and the 8-wide tree
+  a.bin = builder ? builder(los, his, kind, bopt) : bvh::build_sah(los, his, kind, bopt);
 
   // Reorder: every leaf becomes one 8-slot group of its kind's batch, groups assigned in node
   // order; ids[kind][slot] is the scene index of each slot.
@@ -155,18 +157,31 @@ SceneAccel SceneAccel::build(const scene::Scene& s, const Plan& plan, const bvh:
     std::uint32_t* v = ids[n.kind].data() + g * 8;
     for (std::uint32_t j = 0; j < n.count; ++j) v[j] = index[a.bin.order[first + j]];
   }
+  // The batches, and the 8-wide tree with its conservative boxes and the binary tree's statistics:
+  // independent (both read the renumbered binary tree), side by side.
   std::array<LeafChoice, kKinds> choice{};
-  AllKinds::each([&]<class K>() {
-    const KindPlan& kp = plan.kinds[std::size_t(K::id)];
-    choice[std::size_t(K::id)] = {kp.method, kp.f64, kp.f64_storage};
-    auto& b = std::get<Batch<K>>(a.batches_);
-    auto& v = ids[std::size_t(K::id)];
-    if constexpr (K::custom) K::build(b, s, std::move(v), origin, kp.method, kp.f64, kp.f64_storage);
-    else build_std<K>(b, s, std::move(v), origin, kp.f64_storage, opt.parallel);
-  });
-  a.reorder_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
-  a.wide = bvh::collapse8(a.bin);
-  bvh::make_conservative(a.wide, plan.origin_bound);
+  auto batches = [&] {
+    AllKinds::each([&]<class K>() {
+      const KindPlan& kp = plan.kinds[std::size_t(K::id)];
+      choice[std::size_t(K::id)] = {kp.method, kp.f64, kp.f64_storage};
+      auto& b = std::get<Batch<K>>(a.batches_);
+      auto& v = ids[std::size_t(K::id)];
+      if constexpr (K::custom) K::build(b, s, std::move(v), origin, kp.method, kp.f64, kp.f64_storage);
+      else build_std<K>(b, s, std::move(v), origin, kp.f64_storage, opt.parallel);
+    });
+    a.reorder_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
+  };
+  auto wide = [&] {
+    a.wide = bvh::collapse8(a.bin);
+    bvh::make_conservative(a.wide, plan.origin_bound);
+    if (opt.stats) bvh::tree_stats(a.bin, opt);
+  };
+  if (opt.parallel) {
+    par::invoke(batches, wide);
+  } else {
+    batches();
+    wide();
+  }
   a.fns_ = leaf_table(choice);
   std::size_t present = 0;
   AllKinds::each([&]<class K>() { present += K::count(s) > 0; });

@@ -18,6 +18,7 @@
 
 #include "bvh/bvh.hpp"
 #include "core/ray.hpp"
+#include "core/spawn.hpp"
 #include "scene/scene.hpp"
 
 #include <algorithm>
@@ -161,8 +162,24 @@ inline std::uint32_t code(Kind k, std::uint32_t index) { return bvh::prim_code(i
 inline Kind kind_of(std::uint32_t code) { return Kind(bvh::prim_kind(code)); }
 inline std::uint32_t index_of(std::uint32_t code) { return bvh::prim_index(code); }
 
-// A float box that contains the double box b translated by -origin (each bound rounded outward).
-Bounds frame_box(const Bounds& b, const Vec3d& origin, float lo[3], float hi[3]);
+// A float box that contains the double box b translated by -origin: each bound rounded to the
+// nearest float, then 3 floats outward (a primitive made from the same double values and rounded to
+// nearest per coordinate, a sphere's centre, stays inside: rounding to nearest is at most one
+// step inward). Empty b: the empty box (+inf, -inf). The 6 bounds in the lanes of one register
+// (the build runs this once per primitive).
+inline void frame_box(const Bounds& b, const Vec3d& origin, float lo[3], float hi[3]) {
+  const float inf = std::numeric_limits<float>::infinity();
+  if (b.empty()) {
+    for (int k = 0; k < 3; ++k) lo[k] = inf, hi[k] = -inf;
+    return;
+  }
+  const __m256d o = _mm256_setr_pd(origin.x, origin.y, origin.z, 0.0);
+  const __m128 l = _mm256_cvtpd_ps(_mm256_sub_pd(_mm256_setr_pd(b.lo.x, b.lo.y, b.lo.z, 0.0), o));
+  const __m128 h = _mm256_cvtpd_ps(_mm256_sub_pd(_mm256_setr_pd(b.hi.x, b.hi.y, b.hi.z, 0.0), o));
+  alignas(32) float v[8];
+  _mm256_store_ps(v, spawn::step_floats8(_mm256_set_m128(h, l), _mm256_setr_epi32(-3, -3, -3, 0, 3, 3, 3, 0)));
+  for (int k = 0; k < 3; ++k) lo[k] = v[k], hi[k] = v[4 + k];
+}
 
 }  // namespace rb::kinds
 
