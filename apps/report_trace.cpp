@@ -42,7 +42,7 @@ rb::scene::Scene height_field(std::uint32_t nx, std::uint32_t ny) {
 }
 
 constexpr int kLargePacket = 64;  // the large coherent packet of the matrix
-constexpr int kBuildReps = 3;
+constexpr int kBuildReps = 5;
 
 json ratio_value(const json& a, const json& b) {
   return a.is_null() || b.is_null() || b.get<double>() <= 0 ? json(nullptr) : json(a.get<double>() / b.get<double>());
@@ -56,7 +56,7 @@ std::string ratio(const json& a, const json& b) { return f2(ratio_value(a, b)); 
 std::string report_section_tracing(const ReportOptions& o, const fs::path& out, json& summary) {
   const std::string data = data_dir() + "/meshes/";
   const std::size_t count = o.quick ? 1u << 12 : 1u << 18;
-  const int reps = o.quick ? 1 : 3;
+  const int reps = o.quick ? 1 : 5;
   json rows = json::array(), scaling = json::array(), builds = json::array(), matrix_builds = json::array();
   std::string md = "## Tracing whole scenes\n\n";
   md += "Goal: answer \"how many rays per second on my mesh, against Embree?\". One binned-SAH build (TBB) gives an "
