@@ -56,8 +56,8 @@ inline float next_down(float v) { return -next_up(-v); }
 // `n` floats up (n > 0) or down (n < 0) from a finite v, through the ordered integer key of the bit
 // pattern (-x has key -key(x); +0 and -0 share key 0), so one step from 0 is the smallest subnormal
 // and steps past the largest float stop at infinity (as n calls of next_up or next_down would give,
-// but without their sign branch, which mispredicts on box coordinates near the origin: frame boxes
-// take three steps per side). Infinities and NaN stay as they are.
+// but without their sign branch). Infinities and NaN stay as they are. The definition, one float at
+// a time; frame boxes (three steps per side) use the 8-lane form below, tested equal to it.
 inline float step_floats(float v, int n) {
   if (!(std::fabs(v) <= std::numeric_limits<float>::max())) return v;
   constexpr std::int32_t kInfKey = 0x7F800000;

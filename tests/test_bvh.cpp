@@ -312,8 +312,8 @@ TEST(Bvh, FrameBoxesStepThreeFloatsOutward) {
   EXPECT_EQ(hi[0], INFINITY);
 }
 
-// The 8-lane step (frame boxes) equals the scalar one on every special value and on random bit
-// patterns (the scalar one is checked against next_up/next_down for all 2^32 floats).
+// The 8-lane step (frame boxes) equals the scalar definition on every special value and on random
+// bit patterns (the scalar one was checked once against next_up/next_down for all 2^32 floats).
 TEST(Bvh, EightLaneFloatStepEqualsTheScalarOne) {
   std::vector<std::uint32_t> bits = {0u, 0x80000000u, 1u, 0x80000001u, 2u, 0x007FFFFFu, 0x807FFFFFu, 0x00800000u, 0x80800000u,
                                      0x7F7FFFFFu, 0xFF7FFFFFu, 0x7F7FFFFEu, 0x7F800000u, 0xFF800000u, 0x7FC00000u, 0xFFC00001u, 0x3F800000u,

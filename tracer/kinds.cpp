@@ -1,10 +1,5 @@
 #include "tracer/kinds.hpp"
 
-#include "core/spawn.hpp"
-
-#include <cmath>
-#include <limits>
-
 namespace rb::kinds {
 
 const char* kind_name(Kind k) {
