@@ -4,7 +4,9 @@
 //     (bounds) and their numerical features (feature: centre, smallest and largest size), the
 //     inputs of the BVH build and of the scene's numerical profile (tracer/profile.hpp);
 //   - the kernel primitive stored in the leaf batches (Prim<S>, S = float, or double where the
-//     kind supports double storage) and how one is made relative to a frame origin (make);
+//     kind supports double storage) and how one is made relative to a frame origin (make;
+//     optionally prefetch_input, which fetches make's scene data ahead when the batch is written in
+//     leaf order);
 //   - its methods, cheapest first, each a kernel over any number type (hit<M>), with what each
 //     precision costs and which lab cases show where it fails (tracer/plan.cpp chooses);
 //   - the surface at a hit (point, normals, material: the renderer's shading input);
