@@ -238,40 +238,69 @@ struct Builder {
 
 }  // namespace
 
-Bvh2 build_sah(std::span<const float> lo, std::span<const float> hi, const std::vector<std::uint8_t>& kind,
-               const BuildOptions& opt) {
+Bvh2 build_sah(std::size_t n, const BoxFill& boxes, const std::vector<std::uint8_t>& kind, const BuildOptions& opt) {
   const auto t0 = std::chrono::steady_clock::now();
   Bvh2 out;
-  const std::size_t n = kind.size();
-  std::vector<std::uint32_t> idx;
-  idx.reserve(n);
-  bool mixed = false;  // more than one kind among the kept primitives (else no node scans kinds)
-  for (std::size_t i = 0; i < n; ++i) {
-    bool ok = true;
-    for (int k = 0; k < 3; ++k)
-      ok = ok && std::isfinite(lo[3 * i + std::size_t(k)]) && std::isfinite(hi[3 * i + std::size_t(k)]) && lo[3 * i + std::size_t(k)] <= hi[3 * i + std::size_t(k)];
-    if (ok) idx.push_back(std::uint32_t(i));
-    mixed = mixed || (ok && kind[i] != kind[idx.front()]);
+  // One pass makes every primitive's reference at its own index from the boxes it is given (no
+  // array of input boxes in between: on the 1M-triangle height field 24 MB less fresh memory and
+  // one pass fewer), counts the unusable ones (an empty or non-finite box: left out, they never
+  // hit) and finds the kinds of the usable ones (one kind: no node scans kinds). The pages of the
+  // references are first written here, in parallel.
+  uninit_array<PrimRef> refs_a(std::max<std::size_t>(n, 1));
+  PrimRef* const rs = refs_a.data();
+  auto usable = [](const PrimRef& r) {
+    const __m128 lo = r.box.lo, hi = r.box.hi;
+    // lanes 0-2: finite (x - x == 0 fails for inf and NaN) and lo <= hi
+    const __m128 ok = _mm_and_ps(_mm_and_ps(_mm_cmpeq_ps(_mm_sub_ps(lo, lo), _mm_setzero_ps()), _mm_cmpeq_ps(_mm_sub_ps(hi, hi), _mm_setzero_ps())),
+                                 _mm_cmple_ps(lo, hi));
+    return (_mm_movemask_ps(ok) & 7) == 7;
+  };
+  struct Scan {
+    std::size_t bad = 0;
+    int kmin = 256, kmax = -1;
+  };
+  auto scan = [&](std::size_t b, std::size_t e, Scan acc) {
+    alignas(16) float lo[3 * kBoxChunk], hi[3 * kBoxChunk];
+    for (std::size_t c = b; c < e; c += kBoxChunk) {
+      const std::size_t ce = std::min(e, c + kBoxChunk);
+      boxes(c, ce, lo, hi);
+      for (std::size_t i = c; i < ce; ++i) {
+        const float* l = lo + 3 * (i - c);
+        const float* h = hi + 3 * (i - c);
+        PrimRef& r = rs[i];
+        r.box.lo = _mm_castsi128_ps(_mm_insert_epi32(_mm_castps_si128(_mm_setr_ps(l[0], l[1], l[2], 0.f)), int(i), 3));
+        r.box.hi = _mm_setr_ps(h[0], h[1], h[2], 0.f);
+        if (usable(r)) {
+          acc.kmin = std::min(acc.kmin, int(kind[i]));
+          acc.kmax = std::max(acc.kmax, int(kind[i]));
+        } else {
+          ++acc.bad;
+        }
+      }
+    }
+    return acc;
+  };
+  const Scan sc = opt.parallel && n >= kParallelNode
+                      ? par::reduce(std::size_t(0), n, 4096, Scan{}, scan,
+                                    [](Scan a, const Scan& b) {
+                                      a.bad += b.bad;
+                                      a.kmin = std::min(a.kmin, b.kmin);
+                                      a.kmax = std::max(a.kmax, b.kmax);
+                                      return a;
+                                    })
+                      : scan(0, n, Scan{});
+  std::size_t m = n;
+  if (sc.bad) {  // rare: the usable references moved to the front, in order
+    m = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      if (usable(rs[i])) rs[m++] = rs[i];
   }
-  if (idx.empty()) {
+  if (m == 0) {
     out.stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return out;
   }
-  // Every reference is written by the fill below: not initialised first (a serial pass that also
-  // took the pages' faults on one thread).
-  uninit_array<PrimRef> refs_a(idx.size());
-  const std::span<PrimRef> refs(refs_a.data(), idx.size());
-  auto fill = [&](std::size_t b, std::size_t e) {
-    for (std::size_t j = b; j < e; ++j) {
-      const std::size_t i = idx[j];
-      refs[j].box.lo = _mm_castsi128_ps(_mm_insert_epi32(_mm_castps_si128(_mm_setr_ps(lo[3 * i], lo[3 * i + 1], lo[3 * i + 2], 0.f)), int(i), 3));
-      refs[j].box.hi = _mm_setr_ps(hi[3 * i], hi[3 * i + 1], hi[3 * i + 2], 0.f);
-    }
-  };
-  if (opt.parallel && idx.size() >= kParallelNode)
-    par::for_range(0, idx.size(), 4096, fill);
-  else
-    fill(0, idx.size());
+  const bool mixed = sc.kmin != sc.kmax;  // more than one kind among the kept primitives
+  const std::span<PrimRef> refs(rs, m);
   // A binary tree over n leaves has 2 n - 1 nodes. The pool is not initialised as a whole: only the
   // pages of the nodes the build claims are touched, and the claimed ones are copied out once.
   uninit_array<BNode> pool(2 * refs.size());
@@ -279,17 +308,26 @@ Bvh2 build_sah(std::span<const float> lo, std::span<const float> hi, const std::
   const auto [box, cbox] = b.bounds(0, refs.size());
   b.build(0, 0, refs.size(), box, cbox, 0, mixed);
   out.nodes.assign(pool.data(), pool.data() + b.next.load());
+  out.order.resize(m);
   auto ids = [&](std::size_t from, std::size_t to) {
-    for (std::size_t j = from; j < to; ++j) idx[j] = refs[j].id();
+    for (std::size_t j = from; j < to; ++j) out.order[j] = refs[j].id();
   };
-  if (opt.parallel && idx.size() >= kParallelNode)
-    par::for_range(0, idx.size(), 4096, ids);
+  if (opt.parallel && m >= kParallelNode)
+    par::for_range(0, m, 4096, ids);
   else
-    ids(0, idx.size());
-  out.order = std::move(idx);
+    ids(0, m);
   out.stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   if (opt.stats) tree_stats(out, opt);
   return out;
+}
+
+Bvh2 build_sah(std::span<const float> lo, std::span<const float> hi, const std::vector<std::uint8_t>& kind,
+               const BuildOptions& opt) {
+  const BoxFill copy = [&](std::size_t b, std::size_t e, float* l, float* h) {
+    std::copy(lo.begin() + std::ptrdiff_t(3 * b), lo.begin() + std::ptrdiff_t(3 * e), l);
+    std::copy(hi.begin() + std::ptrdiff_t(3 * b), hi.begin() + std::ptrdiff_t(3 * e), h);
+  };
+  return build_sah(kind.size(), copy, kind, opt);
 }
 
 void tree_stats(Bvh2& b, const BuildOptions& opt) {

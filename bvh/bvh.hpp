@@ -7,7 +7,9 @@
 // (six arrays of 8 floats: lo_x hi_x lo_y hi_y lo_z hi_z, then 8 child references).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -88,8 +90,14 @@ struct Bvh2 {
   BuildStats stats;
 };
 
-// Binned SAH over primitive boxes. lo/hi: 3 floats per primitive; kind: per primitive (leaves
-// hold one kind only: a small mixed range is split by kind).
+// Binned SAH over the boxes of n primitives; kind: per primitive (leaves hold one kind only: a
+// small mixed range is split by kind). The boxes come from `boxes(b, e, lo, hi)`, which writes
+// primitive i's box (b <= i < e) to lo[3 (i - b) + axis] and hi[3 (i - b) + axis]; it is called
+// once for each primitive, on ranges of at most kBoxChunk, from several threads at once.
+inline constexpr std::size_t kBoxChunk = 256;
+using BoxFill = std::function<void(std::size_t b, std::size_t e, float* lo, float* hi)>;
+Bvh2 build_sah(std::size_t n, const BoxFill& boxes, const std::vector<std::uint8_t>& kind, const BuildOptions& opt = {});
+// The same over boxes given as arrays, 3 floats per primitive.
 Bvh2 build_sah(std::span<const float> lo, std::span<const float> hi, const std::vector<std::uint8_t>& kind,
                const BuildOptions& opt = {});
 

@@ -383,6 +383,57 @@ TEST(Bvh, LeafGroupsHoldTheSamePrimitivesAsArrays) {
   EXPECT_THROW(g.allocate(12), std::invalid_argument);
 }
 
+// Unusable boxes (NaN, infinite, lo > hi) among usable ones: the builder leaves them out and
+// builds the tree it builds over the usable boxes alone (the same nodes and statistics, the
+// order naming the same primitives), also when the boxes are scanned in parallel (n above the
+// parallel threshold) and the unusable ones are removed after the scan.
+TEST(Bvh, UnusableBoxesAreLeftOutOfTheSameTree) {
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  std::vector<float> lo, hi, ulo, uhi;
+  std::vector<std::uint8_t> kind, ukind;
+  std::vector<std::uint32_t> usable;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(0.f, 100.f);
+  for (std::uint32_t i = 0; i < 40000; ++i) {
+    const float x = u(rng), y = u(rng), z = u(rng), e = 0.01f + u(rng) * 0.01f;
+    float l[3] = {x - e, y - e, z - e}, h[3] = {x + e, y + e, z + e};
+    const bool bad = i % 7 == 3;
+    if (bad) {
+      switch (i % 4) {
+        case 0: l[1] = nan; break;
+        case 1: h[2] = inf; break;
+        case 2: std::swap(l[0], h[0]); break;
+        default: l[2] = -inf; break;
+      }
+    }
+    lo.insert(lo.end(), l, l + 3);
+    hi.insert(hi.end(), h, h + 3);
+    kind.push_back(bad ? 1 : 0);  // the usable ones are of one kind
+    if (!bad) {
+      ulo.insert(ulo.end(), l, l + 3);
+      uhi.insert(uhi.end(), h, h + 3);
+      ukind.push_back(0);
+      usable.push_back(i);
+    }
+  }
+  bvh::BuildOptions serial;
+  serial.parallel = false;
+  const bvh::Bvh2 want = bvh::build_sah(ulo, uhi, ukind, serial);
+  for (const bool parallel : {false, true}) {
+    bvh::BuildOptions o;
+    o.parallel = parallel;
+    const bvh::Bvh2 got = bvh::build_sah(lo, hi, kind, o);
+    ASSERT_EQ(got.order.size(), usable.size()) << parallel;
+    for (std::size_t j = 0; j < got.order.size(); ++j) ASSERT_EQ(got.order[j], usable[want.order[j]]) << j << " " << parallel;
+    EXPECT_EQ(got.nodes.size(), want.nodes.size()) << parallel;
+    EXPECT_EQ(got.stats.leaf_hist, want.stats.leaf_hist) << parallel;
+    EXPECT_NEAR(got.stats.sah_cost, want.stats.sah_cost, 1e-9 * want.stats.sah_cost) << parallel;
+  }
+  // Nothing usable: an empty tree.
+  const std::vector<float> l1{nan, 0, 0}, h1{1, 1, 1};
+  EXPECT_TRUE(bvh::build_sah(l1, h1, {0}).nodes.empty());
+}
+
 TEST(Bvh, HostileInputsGiveDefinedResults) {
   // NaN, infinite and zero-direction rays: a miss.
   const scene::Scene s = icosphere(1);

@@ -2,7 +2,6 @@
 // -> conservative boxes; the leaf sources; surfaces and spawn points.
 #include "tracer/accel.hpp"
 
-#include "core/memory.hpp"
 #include "core/spawn.hpp"
 #include "tracer/traversal.hpp"
 
@@ -115,27 +114,28 @@ SceneAccel SceneAccel::build(const scene::Scene& s, const Plan& plan, const bvh:
   });
   a.scene_prims_ = kind.size();
 
-  // Boxes in the frame (rounded outward to float).
-  // Every coordinate is written below: the arrays are not initialised first (a serial pass over
-  // pages that the parallel one would touch anyway).
-  uninit_array<float> lo_a(3 * kind.size()), hi_a(3 * kind.size());
-  float* const lo = lo_a.data();
-  float* const hi = hi_a.data();
+  // Boxes in the frame (rounded outward to float), made as the builder asks for them; another
+  // builder (Embree's) takes them as arrays.
   const Vec3d origin = plan.origin;
-  auto boxes = [&](std::size_t b, std::size_t e) {
+  const bvh::BoxFill boxes = [&](std::size_t b, std::size_t e, float* lo, float* hi) {
     for (std::size_t i = b; i < e; ++i) {
       const scene::Bounds wb = AllKinds::at<scene::Bounds>(Kind(kind[i]), [&]<class K>() { return K::bounds(s, index[i]); });
-      kinds::frame_box(wb, origin, &lo[3 * i], &hi[3 * i]);
+      kinds::frame_box(wb, origin, &lo[3 * (i - b)], &hi[3 * (i - b)]);
     }
   };
-  if (opt.parallel)
-    par::for_range(0, kind.size(), 4096, [&](std::size_t b, std::size_t e) { boxes(b, e); });
-  else
-    boxes(0, kind.size());
-  const std::span<const float> los(lo, 3 * kind.size()), his(hi, 3 * kind.size());
   bvh::BuildOptions bopt = opt;
   bopt.stats = false;  // made below, beside the batches and the 8-wide tree
-  a.bin = builder ? builder(los, his, kind, bopt) : bvh::build_sah(los, his, kind, bopt);
+  if (builder) {
+    std::vector<float> lo(3 * kind.size()), hi(3 * kind.size());
+    auto fill = [&](std::size_t b, std::size_t e) {
+      for (std::size_t c = b; c < e; c += bvh::kBoxChunk) boxes(c, std::min(e, c + bvh::kBoxChunk), &lo[3 * c], &hi[3 * c]);
+    };
+    if (opt.parallel) par::for_range(0, kind.size(), 4096, fill);
+    else fill(0, kind.size());
+    a.bin = builder(lo, hi, kind, bopt);
+  } else {
+    a.bin = bvh::build_sah(kind.size(), boxes, kind, bopt);
+  }
 
   // Reorder: every leaf becomes one 8-slot group of its kind's batch, groups assigned in node
   // order; ids[kind][slot] is the scene index of each slot.
