@@ -68,7 +68,7 @@ struct Builder {
   const BuildOptions& opt;
   std::span<PrimRef> refs;
   const std::uint8_t* kind;
-  uninit_array<BNode>& nodes;  // a pool of 2 n nodes, each written once when the build claims it
+  BNode* nodes;  // room for 2 n nodes, each written once when the build claims it
   std::atomic<std::uint32_t> next{1};
 
   static float lane(__m128 v, int axis) { alignas(16) float f[4]; _mm_store_ps(f, v); return f[axis]; }
@@ -301,13 +301,14 @@ Bvh2 build_sah(std::size_t n, const BoxFill& boxes, const std::vector<std::uint8
   }
   const bool mixed = sc.kmin != sc.kmax;  // more than one kind among the kept primitives
   const std::span<PrimRef> refs(rs, m);
-  // A binary tree over n leaves has 2 n - 1 nodes. The pool is not initialised as a whole: only the
-  // pages of the nodes the build claims are touched, and the claimed ones are copied out once.
-  uninit_array<BNode> pool(2 * refs.size());
-  Builder b{opt, refs, kind.data(), pool};
+  // A binary tree over n leaves has 2 n - 1 nodes: the node array is sized to that without being
+  // written (Bvh2::nodes), the build writes the nodes it claims, and the array is cut to them
+  // (no copy; the pages past them are never touched).
+  out.nodes.resize(2 * refs.size());
+  Builder b{opt, refs, kind.data(), out.nodes.data()};
   const auto [box, cbox] = b.bounds(0, refs.size());
   b.build(0, 0, refs.size(), box, cbox, 0, mixed);
-  out.nodes.assign(pool.data(), pool.data() + b.next.load());
+  out.nodes.resize(b.next.load());
   out.order.resize(m);
   auto ids = [&](std::size_t from, std::size_t to) {
     for (std::size_t j = from; j < to; ++j) out.order[j] = refs[j].id();

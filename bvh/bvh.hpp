@@ -7,6 +7,8 @@
 // (six arrays of 8 floats: lo_x hi_x lo_y hi_y lo_z hi_z, then 8 child references).
 #pragma once
 
+#include "core/memory.hpp"
+
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -23,7 +25,7 @@ struct BNode {
   std::uint32_t first;
   std::uint16_t count;
   std::uint8_t kind;
-  std::uint8_t pad_ = 0;
+  std::uint8_t pad_;  // not initialised: a node pool is sized before the build writes it
   bool leaf() const { return count != 0; }
 };
 static_assert(sizeof(BNode) == 32);
@@ -85,7 +87,9 @@ struct BuildStats {
 // The builder's output: binary nodes (root 0) and the primitive order (leaves index contiguous
 // ranges of it). Primitives with an empty or non-finite box are left out (they never hit).
 struct Bvh2 {
-  std::vector<BNode> nodes;
+  // Sized to the bound of 2 n - 1 nodes before the build and shrunk after it, without writing
+  // the nodes in between: only the pages of the nodes the build makes are touched.
+  std::vector<BNode, DefaultInitAllocator<BNode>> nodes;
   std::vector<std::uint32_t> order;  // input primitive index per position
   BuildStats stats;
 };

@@ -18,6 +18,7 @@
 #include <memory>
 #include <new>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #if defined(__linux__)
@@ -76,6 +77,25 @@ struct BigAllocator {
 
 template <class T>
 using big_vector = std::vector<T, BigAllocator<T>>;
+
+// A BigAllocator whose vectors default-initialise instead of value-initialising: resize() of a
+// trivially constructible T leaves the new elements unwritten, so a vector can be sized to an
+// upper bound, filled by index (in parallel) and shrunk, touching only the pages it fills.
+template <class T>
+struct DefaultInitAllocator : BigAllocator<T> {
+  template <class U>
+  struct rebind {
+    using other = DefaultInitAllocator<U>;
+  };
+  DefaultInitAllocator() noexcept = default;
+  template <class U>
+  DefaultInitAllocator(const DefaultInitAllocator<U>&) noexcept {}
+  template <class U, class... Args>
+  void construct(U* p, Args&&... args) {
+    if constexpr (sizeof...(Args) == 0) ::new (static_cast<void*>(p)) U;
+    else ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
 
 // `n` uninitialised elements of a trivially copyable T (aligned to Align), for arrays whose every
 // used element is written before it is read.

@@ -588,10 +588,10 @@ TEST(Bvh, TreeDeeperThanTheTraversalServesIsRefused) {
   b.nodes.resize(2 * std::size_t(levels) + 1);
   for (int i = 0; i < levels; ++i) {
     bvh::BNode& n = b.nodes[2 * std::size_t(i)];
-    n = bvh::BNode{{0, 0, 0}, {1, 1, 1}, std::uint32_t(2 * i + 1), 0, 0};
-    b.nodes[2 * std::size_t(i) + 1] = bvh::BNode{{0, 0, 0}, {1, 1, 1}, std::uint32_t(i), 1, 0};
+    n = bvh::BNode{{0, 0, 0}, {1, 1, 1}, std::uint32_t(2 * i + 1), 0, 0, 0};
+    b.nodes[2 * std::size_t(i) + 1] = bvh::BNode{{0, 0, 0}, {1, 1, 1}, std::uint32_t(i), 1, 0, 0};
   }
-  b.nodes[2 * std::size_t(levels)] = bvh::BNode{{0, 0, 0}, {1, 1, 1}, std::uint32_t(levels), 1, 0};
+  b.nodes[2 * std::size_t(levels)] = bvh::BNode{{0, 0, 0}, {1, 1, 1}, std::uint32_t(levels), 1, 0, 0};
   try {
     (void)bvh::collapse8(b);
     ADD_FAILURE() << "a tree deeper than the traversal's bound was collapsed";
