@@ -81,6 +81,10 @@ inline int argmin8(const f8& t, float& best) {
   const unsigned bits = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(v, m, _CMP_EQ_OQ)));
   return bits ? __builtin_ctz(bits) : 0;
 }
+// Lane k of t, read from the register.
+RB_INLINE float lane_value(const f8& t, int k) {
+  return _mm256_cvtss_f32(_mm256_permutevar8x32_ps(t, _mm256_castsi128_si256(_mm_cvtsi32_si128(k))));
+}
 inline float hmin8(const f8& t) {
   float b;
   argmin8(t, b);
@@ -281,12 +285,13 @@ HitRec single_loop(const Bvh8& t, const L& leaves, const Ray<float>& r, TraceCou
       } else {
         if (cnt == 2) {
           const int a = __builtin_ctz(bits), b = __builtin_ctz(bits & (bits - 1));
-          alignas(32) float d[8];
-          tn.store_aligned(d);
-          const bool a_first = d[a] <= d[b];
+          // The two distances taken from the register (a store and two loads of it right away
+          // would wait for the store on every such node).
+          const float da = lane_value(tn, a), db = lane_value(tn, b);
+          const bool a_first = da <= db;
           const int near = a_first ? a : b, far = a_first ? b : a;
           sref[sp] = n.child[far];
-          sd[sp] = d[far];
+          sd[sp] = a_first ? db : da;
           ++sp;
           RB_STACK_CHECK(sp, st.cap);
           ref = n.child[near];

@@ -2,6 +2,7 @@
 // rays, watertightness of the robust traversal, and hostile inputs.
 #include "bench/trace.hpp"
 #include "tracer/accel.hpp"
+#include "tracer/leaves.hpp"
 #include "scene/sources.hpp"
 #include "soa/groups.hpp"
 
@@ -349,6 +350,39 @@ TEST(Bvh, LargeArraysAreAlignedAndInitialised) {
 
 // The leaves' batch layout: each group of 8 slots one block, field after field; the kernels read
 // the same primitives from it as from the structure of arrays.
+// The tracer's branch-free shear set-up gives make_woop_ray's values: the same axes and the same
+// three quotients, bit for bit, on random directions and on ties, signed zeros and extremes.
+TEST(Bvh, WoopShearWithoutBranchesEqualsTheKernelsOwn) {
+  std::vector<float> special{0.0f, -0.0f, 1.0f, -1.0f, 0.5f, -2.0f, 1e-30f, -1e-30f, 3e38f, -3e38f,
+                             std::numeric_limits<float>::denorm_min(), std::numeric_limits<float>::infinity(),
+                             -std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()};
+  std::vector<Vec3f> dirs;
+  for (float x : special)
+    for (float y : special)
+      for (float z : special) dirs.push_back({x, y, z});
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-1.f, 1.f);
+  for (int i = 0; i < 200000; ++i) {
+    Vec3f d{u(rng), u(rng), u(rng)};
+    if (i % 4 == 1) d.y = (i & 8) ? d.x : -d.x;  // |dx| == |dy|
+    if (i % 4 == 2) d.z = (i & 8) ? d.y : -d.y;  // |dy| == |dz|
+    if (i % 4 == 3) d.z = d.x = (i & 8) ? d.y : -d.y;
+    dirs.push_back(d);
+  }
+  auto same = [](float a, float b) { return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b) || (std::isnan(a) && std::isnan(b)); };
+  for (const Vec3f& d : dirs) {
+    Ray<float> r;
+    r.o = {0, 0, 0};
+    r.d = d;
+    const WoopRay<float> w = make_woop_ray(r);
+    const tracer::WoopShear s = tracer::woop_shear(d);
+    ASSERT_EQ(s.k[0], w.kx) << d.x << " " << d.y << " " << d.z;
+    ASSERT_EQ(s.k[1], w.ky) << d.x << " " << d.y << " " << d.z;
+    ASSERT_EQ(s.k[2], w.kz) << d.x << " " << d.y << " " << d.z;
+    ASSERT_TRUE(same(s.S[0], w.Sx) && same(s.S[1], w.Sy) && same(s.S[2], w.Sz)) << d.x << " " << d.y << " " << d.z;
+  }
+}
+
 TEST(Bvh, LeafGroupsHoldTheSamePrimitivesAsArrays) {
   PrimGroups<TriVerts> g;
   PrimSoA<TriVerts> s;

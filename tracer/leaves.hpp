@@ -281,18 +281,46 @@ struct TableLeaves {
 // leaf's 8 triangles loads each vertex coordinate already in the ray's shear order (the batch is
 // stored by coordinate), with the shear computed once per ray in scalar code (when the ray starts:
 // a cheap scalar set-up, no check per leaf).
+// The shear of make_woop_ray<float> without its branches: the axis of the largest |d| (the first
+// of equal ones) is kz, kx and ky follow it cyclically and swap when d[kz] < 0, as selects and
+// indexed loads. Random rays pick kz at random, and the branchy scalar form mispredicted there.
+// The same values as make_woop_ray (test WoopShearWithoutBranchesEqualsTheKernelsOwn).
+struct WoopShear {
+  float S[3];
+  int k[3];  // kx, ky, kz
+};
+RB_INLINE WoopShear woop_shear(const Vec3f& d) {
+  const float v[3] = {d.x, d.y, d.z};
+  const float ax = std::fabs(d.x), ay = std::fabs(d.y), az = std::fabs(d.z);
+  const int z0 = (ax >= ay) & (ax >= az);
+  const int z1 = (1 - z0) & (ay >= az);
+  const int kz = 2 - 2 * z0 - z1;
+  const float dkz = v[kz];
+  const int neg = dkz < 0.0f;
+  const int n1 = kz == 2 ? 0 : kz + 1, n2 = n1 == 2 ? 0 : n1 + 1;
+  WoopShear w;
+  w.k[0] = neg ? n2 : n1;
+  w.k[1] = neg ? n1 : n2;
+  w.k[2] = kz;
+  w.S[0] = v[w.k[0]] / dkz;
+  w.S[1] = v[w.k[1]] / dkz;
+  w.S[2] = 1.0f / dkz;
+  return w;
+}
+
 struct MeshRayCache {
   Ray<f8> rb;
   WoopRay<f8> w;
   f8 o[3];  // the origin's coordinates in the shear order
   int k[3];
   explicit MeshRayCache(const Ray<float>& r) {
-    const WoopRay<float> s = make_woop_ray(r);
-    w.Sx = f8(s.Sx); w.Sy = f8(s.Sy); w.Sz = f8(s.Sz);
+    const WoopShear s = woop_shear(r.d);
+    w.Sx = f8(s.S[0]); w.Sy = f8(s.S[1]); w.Sz = f8(s.S[2]);
     w.uniform = true;
-    k[0] = s.kx; k[1] = s.ky; k[2] = s.kz;
-    for (int a = 0; a < 3; ++a) o[a] = f8(r.o[k[a]]);
-    rb = Ray<f8>::broadcast(r);
+    k[0] = s.k[0]; k[1] = s.k[1]; k[2] = s.k[2];
+    const float oo[3] = {r.o.x, r.o.y, r.o.z};
+    for (int a = 0; a < 3; ++a) o[a] = f8(oo[k[a]]);
+    rb.tmin = f8(r.tmin);
   }
 };
 // Per group of a packet: the shear (made at the group's first leaf) and, for a group whose rays
@@ -390,8 +418,9 @@ struct MeshLeaves {
       const int g = p.list[q];
       unsigned bits = bvh::detail::movemask(p.active[g]);
       if (!bits) continue;
-      alignas(32) float tb[8];
+      alignas(32) float tb[8], tm[8];
       p.tbest[g].store_aligned(tb);
+      p.r[g].tmin.store_aligned(tm);
       while (bits) {
         const int l = __builtin_ctz(bits);
         bits &= bits - 1;
@@ -403,18 +432,18 @@ struct MeshLeaves {
           Ray<float> r1;
           r1.o = {v[0][l], v[1][l], v[2][l]};
           r1.d = {v[3][l], v[4][l], v[5][l]};
-          const WoopRay<float> w = make_woop_ray(r1);
-          one.S[0] = w.Sx; one.S[1] = w.Sy; one.S[2] = w.Sz;
-          one.k[0] = w.kx; one.k[1] = w.ky; one.k[2] = w.kz;
-          for (int a = 0; a < 3; ++a) one.o[a] = r1.o[one.k[a]];
+          const WoopShear w = woop_shear(r1.d);
+          for (int a = 0; a < 3; ++a) {
+            one.S[a] = w.S[a];
+            one.k[a] = w.k[a];
+            one.o[a] = r1.o[one.k[a]];
+          }
           c.ray_ready[g] |= 1u << l;
         }
         WoopRay<f8> w;
         w.Sx = f8(one.S[0]); w.Sy = f8(one.S[1]); w.Sz = f8(one.S[2]);
         w.uniform = true;
         Ray<f8> rr;
-        alignas(32) float tm[8];
-        p.r[g].tmin.store_aligned(tm);
         rr.tmin = f8(tm[l]);
         rr.tmax = f8(tb[l]);
         auto vertex = [&](int v) {
