@@ -316,15 +316,29 @@ HitRec single_loop(const Bvh8& t, const L& leaves, const Ray<float>& r, TraceCou
       c.prims += s;
       c.kind_prims[leaf_kind(ref)] += s;
     }
-    if (leaves.single(ref, r, cache, h) && Any) return h;
-  pop:
-    for (;;) {
-      if (sp == 0) return finished(h);
-      --sp;
-      if constexpr (Any) break;
-      else if (!(sd[sp] > h.t)) break;  // NaN distances are kept
+    if (leaves.single(ref, r, cache, h)) {
+      if constexpr (Any) return h;
+      // The closest hit moved nearer: the entries now beyond it can never be visited and are
+      // dropped at once (8 at a time, with the compaction table; NaN distances are kept), so every
+      // entry on the stack lies within the closest hit and a pop needs no test (children are
+      // pushed only when their box starts before it).
+      const __m256 ht = _mm256_set1_ps(h.t);
+      std::size_t w = 0;
+      for (std::size_t i = 0; i < sp; i += 8) {
+        const __m256 d = _mm256_loadu_ps(sd + i);
+        const unsigned live = (1u << std::min<std::size_t>(8, sp - i)) - 1u;
+        const unsigned keep = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(d, ht, _CMP_NGT_UQ))) & live;
+        const __m256i idx = _mm256_load_si256(reinterpret_cast<const __m256i*>(kCompaction.idx[keep]));
+        const __m256i refs = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(sref + i));
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(sref + w), _mm256_permutevar8x32_epi32(refs, idx));
+        _mm256_storeu_ps(sd + w, _mm256_permutevar8x32_ps(d, idx));
+        w += std::size_t(__builtin_popcount(keep));
+      }
+      sp = w;
     }
-    ref = sref[sp];
+  pop:
+    if (sp == 0) return finished(h);
+    ref = sref[--sp];
   }
 }
 
