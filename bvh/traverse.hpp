@@ -59,11 +59,13 @@ inline constexpr float kGamma3 = 3 * kSlabEps / (1 - 3 * kSlabEps);
 inline constexpr float kRobustScale = 1 + 2 * kGamma3;
 // A zero direction component would make 1/d infinite and o * (1/d) NaN at o = 0; as Embree does,
 // components smaller than this are replaced by it (with their sign) for the slab test.
+// The ray already carries rd = 1/d (the ray contract: make_ray divides in float, as here), so the
+// safe reciprocal is rd itself except on those components: no division per ray or packet.
 inline constexpr float kMinDir = 1e-18f;
 inline float safe_rcp(float d) { return 1.0f / (std::fabs(d) < kMinDir ? std::copysign(kMinDir, d) : d); }
-inline f8 safe_rcp8(const f8& d) {
-  const f8 m = xsimd::select(xsimd::abs(d) < f8(kMinDir), xsimd::copysign(f8(kMinDir), d), d);
-  return f8(1.0f) / m;
+inline float safe_rcp(float d, float rd) { return std::fabs(d) < kMinDir ? std::copysign(1.0f / kMinDir, d) : rd; }
+inline f8 safe_rcp8(const f8& d, const f8& rd) {
+  return xsimd::select(xsimd::abs(d) < f8(kMinDir), xsimd::copysign(f8(1.0f / kMinDir), d), rd);
 }
 
 namespace detail {
@@ -194,7 +196,7 @@ struct SlabRay {
   int nx, ny, nz;  // 1 where 1/d < 0: the near plane is the box's hi
   static SlabRay make(const Ray<float>& r) {
     SlabRay s;
-    const float x = safe_rcp(r.d.x), y = safe_rcp(r.d.y), z = safe_rcp(r.d.z);
+    const float x = safe_rcp(r.d.x, r.rd.x), y = safe_rcp(r.d.y, r.rd.y), z = safe_rcp(r.d.z, r.rd.z);
     s.rdx = f8(x); s.rdy = f8(y); s.rdz = f8(z);
     s.ox = f8(r.o.x); s.oy = f8(r.o.y); s.oz = f8(r.o.z);
     s.orx = f8(r.o.x * x); s.ory = f8(r.o.y * y); s.orz = f8(r.o.z * z);
@@ -529,7 +531,7 @@ void trace_packet(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_
   for (int g = 0; g < G; ++g) {
     r[g] = rays.packet<f8>(i + 8 * std::size_t(g));
     const Vec3<f8>& d = r[g].d;
-    const f8 inv[3] = {safe_rcp8(d.x), safe_rcp8(d.y), safe_rcp8(d.z)};
+    const f8 inv[3] = {safe_rcp8(d.x, r[g].rd.x), safe_rcp8(d.y, r[g].rd.y), safe_rcp8(d.z, r[g].rd.z)};
     const f8 oo[3] = {r[g].o.x, r[g].o.y, r[g].o.z};
     for (int a = 0; a < 3; ++a) {
       rd[g][a] = inv[a];

@@ -350,6 +350,33 @@ TEST(Bvh, LargeArraysAreAlignedAndInitialised) {
 
 // The leaves' batch layout: each group of 8 slots one block, field after field; the kernels read
 // the same primitives from it as from the structure of arrays.
+// The slab test's reciprocal from the ray's stored rd equals the divided one: for every direction
+// component make_ray stores (random unit directions, axis-aligned ones with signed zeros) and on
+// the bit patterns around the smallest component the test keeps (kMinDir) and 2^20 random ones.
+TEST(Bvh, SlabReciprocalFromTheRayEqualsTheDividedOne) {
+  auto same = [](float a, float b) { return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b); };
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-1.f, 1.f);
+  std::vector<Vec3f> dirs{{0.f, 0.f, 1.f}, {-0.f, 0.f, -1.f}, {1.f, -0.f, 0.f}, {0.f, -1.f, -0.f}, {1e-20f, 1.f, 0.f}};
+  for (int i = 0; i < 100000; ++i) dirs.push_back({u(rng), u(rng), u(rng) * (i % 3 == 0 ? 1e-12f : 1.f)});
+  for (const Vec3f& d : dirs) {
+    const Ray<float> r = make_ray(Vec3f{0, 0, 0}, d);
+    if (!(r.tmin <= r.tmax)) continue;
+    for (int a = 0; a < 3; ++a) ASSERT_TRUE(same(bvh::safe_rcp(r.d[a], r.rd[a]), bvh::safe_rcp(r.d[a]))) << r.d[a];
+    const f8 d8(r.d.x), rd8(r.rd.x);
+    ASSERT_TRUE(same(bvh::safe_rcp8(d8, rd8).get(3), bvh::safe_rcp(r.d.x))) << r.d.x;
+  }
+  std::uniform_int_distribution<std::uint32_t> bits;
+  const std::uint32_t m = std::bit_cast<std::uint32_t>(bvh::kMinDir);
+  for (std::uint32_t k = 0; k < (1u << 20) + 64; ++k) {
+    std::uint32_t b = k < 64 ? m - 32 + k : bits(rng);
+    if (k < 64 && (k & 1)) b |= 0x80000000u;
+    const float d = std::bit_cast<float>(b);
+    if (std::isnan(d)) continue;
+    ASSERT_TRUE(same(bvh::safe_rcp(d, 1.0f / d), bvh::safe_rcp(d))) << d;
+  }
+}
+
 // The tracer's branch-free shear set-up gives make_woop_ray's values: the same axes and the same
 // three quotients, bit for bit, on random directions and on ties, signed zeros and extremes.
 TEST(Bvh, WoopShearWithoutBranchesEqualsTheKernelsOwn) {
