@@ -131,7 +131,7 @@ RB_INLINE __m256i sort8_descending(__m256i v) {
 }
 
 // The slots of the set bits of a byte, lowest first (the rest 0): pushes the hit children of an
-// any-hit visit with one permute.
+// any-hit visit, or keeps 8 stack entries, with one permute.
 struct Compaction {
   alignas(32) std::uint32_t idx[256][8];
   constexpr Compaction() : idx{} {
@@ -248,8 +248,9 @@ RB_INLINE HitRec finished(HitRec h) {
 // ---- single ray ----------------------------------------------------------------------------------
 // Closest hit: the hit children in near-to-far order (one child: no ordering; two: one compare;
 // more: the sorting network), the nearest next, the others pushed with their entry distance and
-// skipped when popped beyond the closest hit so far. Any hit: no distances, no order (the hit
-// children pushed in slot order, the last one next), return at the first hit.
+// dropped from the stack when a leaf brings the closest hit nearer than it. Any hit: no
+// distances, no order (the hit children pushed in slot order, the last one next), return at the
+// first hit.
 template <bool Robust, bool Any, bool Count, class L>
 HitRec single_loop(const Bvh8& t, const L& leaves, const Ray<float>& r, TraceCounters& c) {
   using namespace detail;
