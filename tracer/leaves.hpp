@@ -277,10 +277,6 @@ struct TableLeaves {
   }
 };
 
-// A scene of triangles only, Woop in float: the kernel inlined into the loop. One ray against a
-// leaf's 8 triangles loads each vertex coordinate already in the ray's shear order (the batch is
-// stored by coordinate), with the shear computed once per ray in scalar code (when the ray starts:
-// a cheap scalar set-up, no check per leaf).
 // The shear of make_woop_ray<float> without its branches: the axis of the largest |d| (the first
 // of equal ones) is kz, kx and ky follow it cyclically and swap when d[kz] < 0, as selects and
 // indexed loads. Random rays pick kz at random, and the branchy scalar form mispredicted there.
@@ -308,8 +304,12 @@ RB_INLINE WoopShear woop_shear(const Vec3f& d) {
   return w;
 }
 
+// A scene of triangles only, Woop in float: the kernel inlined into the loop. One ray against a
+// leaf's 8 triangles loads each vertex coordinate already in the ray's shear order (the batch is
+// stored by coordinate), with the shear computed once per ray in scalar code (when the ray starts:
+// a cheap scalar set-up, no check per leaf).
 struct MeshRayCache {
-  Ray<f8> rb;
+  Ray<f8> rb;  // the kernel reads only its tmin (set here) and tmax (set per leaf)
   WoopRay<f8> w;
   f8 o[3];  // the origin's coordinates in the shear order
   int k[3];
@@ -318,8 +318,7 @@ struct MeshRayCache {
     w.Sx = f8(s.S[0]); w.Sy = f8(s.S[1]); w.Sz = f8(s.S[2]);
     w.uniform = true;
     k[0] = s.k[0]; k[1] = s.k[1]; k[2] = s.k[2];
-    const float oo[3] = {r.o.x, r.o.y, r.o.z};
-    for (int a = 0; a < 3; ++a) o[a] = f8(oo[k[a]]);
+    for (int a = 0; a < 3; ++a) o[a] = f8(r.o[k[a]]);
     rb.tmin = f8(r.tmin);
   }
 };
