@@ -1,6 +1,7 @@
 // Traversal of the 8-wide BVH: one slab test (fast or robust, a template switch), one loop per
-// ray mode (single rays; coherent packets of 8, 16, 64 or 256 rays in groups of 8 lanes), closest
-// or any hit, counted or not. Templates over a leaf source, so the BVH knows nothing of
+// ray mode (single rays; coherent packets of 8, 16, 64 or 256 rays in groups of 8 lanes;
+// incoherent packets of 8 as single rays, two at a time when they start apart, through the same
+// node and leaf visits as a single ray), closest or any hit, counted or not. Templates over a leaf source, so the BVH knows nothing of
 // primitives: whatever intersects the leaves (tracer/leaves.hpp for a scene) is instantiated into
 // the loop, chosen once per scene, never switched per ray.
 //
@@ -37,6 +38,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -188,6 +190,20 @@ inline bool beyond_bound(const Bvh8& t, const Vec3f& o) {
   return !(std::max({std::fabs(o.x), std::fabs(o.y), std::fabs(o.z)}) <= t.origin_bound);
 }
 
+// The largest side of the scene's box (the union of the root's child boxes; 0 for an empty tree).
+inline float largest_side(const Bvh8& t) {
+  if (t.nodes.empty()) return 0;
+  const WNode& n = t.nodes[0];
+  float side = 0;
+  for (int a = 0; a < 3; ++a) {
+    float lo = kInfF, hi = -kInfF;
+    for (int k = 0; k < 8; ++k)
+      if (n.child[k] != kEmpty) lo = std::min(lo, n.b[2 * a][k]), hi = std::max(hi, n.b[2 * a + 1][k]);
+    side = std::max(side, hi - lo);
+  }
+  return side;
+}
+
 }  // namespace detail
 
 // ---- the slab test of one ray against a node's 8 child boxes ------------------------------------
@@ -246,6 +262,95 @@ RB_INLINE HitRec finished(HitRec h) {
 }
 
 // ---- single ray ----------------------------------------------------------------------------------
+// One node visit of a single ray: ref becomes the next node (or leaf) to visit and the other hit
+// children are pushed; false when no child was hit (the next comes from the stack).
+template <bool Robust, bool Any, bool Count>
+RB_INLINE bool visit_node(const Bvh8& t, const SlabRay& sr, float tmax, std::uint32_t& ref, std::uint32_t* sref, float* sd, std::size_t& sp,
+                          [[maybe_unused]] std::size_t cap, TraceCounters& c) {
+  using namespace detail;
+  const WNode& n = t.nodes[ref];
+  if constexpr (Count) {
+    ++c.nodes;
+    for (int k = 0; k < 8; ++k) c.boxes += n.child[k] != kEmpty;
+  }
+  f8 tn;
+  const unsigned bits = slab8<Robust>(n, sr, tmax, tn);
+  if (bits == 0) return false;
+  if ((bits & (bits - 1)) == 0) {
+    ref = n.child[__builtin_ctz(bits)];
+    return true;
+  }
+  const __m256i child = _mm256_load_si256(reinterpret_cast<const __m256i*>(n.child));
+  const int cnt = __builtin_popcount(bits);
+  if constexpr (Any) {
+    const __m256i refs = _mm256_permutevar8x32_epi32(child, _mm256_load_si256(reinterpret_cast<const __m256i*>(kCompaction.idx[bits])));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(sref + sp), refs);
+    sp += std::size_t(cnt - 1);
+    RB_STACK_CHECK(sp, cap);
+    ref = sref[sp];
+    return true;
+  } else {
+    if (cnt == 2) {
+      const int a = __builtin_ctz(bits), b = __builtin_ctz(bits & (bits - 1));
+      // The two distances taken from the register (a store and two loads of it right away
+      // would wait for the store on every such node).
+      const float da = lane_value(tn, a), db = lane_value(tn, b);
+      const bool a_first = da <= db;
+      const int near = a_first ? a : b, far = a_first ? b : a;
+      sref[sp] = n.child[far];
+      sd[sp] = a_first ? db : da;
+      ++sp;
+      RB_STACK_CHECK(sp, cap);
+      ref = n.child[near];
+      return true;
+    }
+    __m256i key = Robust ? ordered(as_int(tn)) : as_int(tn);
+    key = _mm256_or_si256(_mm256_and_si256(key, _mm256_set1_epi32(~7)), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+    const __m256i hit = _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(bits)), _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128)),
+                                           _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128));
+    key = _mm256_blendv_epi8(_mm256_set1_epi32(std::numeric_limits<int>::min()), key, hit);
+    const __m256i slot = _mm256_and_si256(sort8_descending(key), _mm256_set1_epi32(7));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(sref + sp), _mm256_permutevar8x32_epi32(child, slot));
+    _mm256_storeu_ps(sd + sp, _mm256_permutevar8x32_ps(tn, slot));
+    sp += std::size_t(cnt - 1);
+    RB_STACK_CHECK(sp, cap);
+    ref = sref[sp];
+    return true;
+  }
+}
+
+// One leaf visit of a single ray: true when the leaf improved h. With closest hit, the stack
+// entries now beyond h.t are dropped at once (8 at a time, with the compaction table; NaN
+// distances are kept), so every entry on the stack lies within the closest hit and a pop needs no
+// test (children are pushed only when their box starts before it).
+template <bool Any, bool Count, class L>
+RB_INLINE bool visit_leaf(const L& leaves, std::uint32_t ref, const Ray<float>& r, typename L::RayCache& cache, HitRec& h,
+                          std::uint32_t* sref, float* sd, std::size_t& sp, TraceCounters& c) {
+  using namespace detail;
+  if constexpr (Count) {
+    const std::uint32_t s = leaves.slots(ref);
+    c.prims += s;
+    c.kind_prims[leaf_kind(ref)] += s;
+  }
+  if (!leaves.single(ref, r, cache, h)) return false;
+  if constexpr (!Any) {
+    const __m256 ht = _mm256_set1_ps(h.t);
+    std::size_t w = 0;
+    for (std::size_t i = 0; i < sp; i += 8) {
+      const __m256 d = _mm256_loadu_ps(sd + i);
+      const unsigned live = (1u << std::min<std::size_t>(8, sp - i)) - 1u;
+      const unsigned keep = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(d, ht, _CMP_NGT_UQ))) & live;
+      const __m256i idx = _mm256_load_si256(reinterpret_cast<const __m256i*>(kCompaction.idx[keep]));
+      const __m256i refs = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(sref + i));
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(sref + w), _mm256_permutevar8x32_epi32(refs, idx));
+      _mm256_storeu_ps(sd + w, _mm256_permutevar8x32_ps(d, idx));
+      w += std::size_t(__builtin_popcount(keep));
+    }
+    sp = w;
+  }
+  return true;
+}
+
 // Closest hit: the hit children in near-to-far order (one child: no ordering; two: one compare;
 // more: the sorting network), the nearest next, the others pushed with their entry distance and
 // dropped from the stack when a leaf brings the closest hit nearer than it. Any hit: no
@@ -263,82 +368,9 @@ HitRec single_loop(const Bvh8& t, const L& leaves, const Ray<float>& r, TraceCou
   std::size_t sp = 0;
   std::uint32_t ref = 0;
   for (;;) {
-    while (!is_leaf(ref)) {
-      const WNode& n = t.nodes[ref];
-      if constexpr (Count) {
-        ++c.nodes;
-        for (int k = 0; k < 8; ++k) c.boxes += n.child[k] != kEmpty;
-      }
-      f8 tn;
-      const unsigned bits = slab8<Robust>(n, sr, h.t, tn);
-      if (bits == 0) goto pop;
-      if ((bits & (bits - 1)) == 0) {
-        ref = n.child[__builtin_ctz(bits)];
-        continue;
-      }
-      const __m256i child = _mm256_load_si256(reinterpret_cast<const __m256i*>(n.child));
-      const int cnt = __builtin_popcount(bits);
-      if constexpr (Any) {
-        const __m256i refs = _mm256_permutevar8x32_epi32(child, _mm256_load_si256(reinterpret_cast<const __m256i*>(kCompaction.idx[bits])));
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(sref + sp), refs);
-        sp += std::size_t(cnt - 1);
-        RB_STACK_CHECK(sp, st.cap);
-        ref = sref[sp];
-        continue;
-      } else {
-        if (cnt == 2) {
-          const int a = __builtin_ctz(bits), b = __builtin_ctz(bits & (bits - 1));
-          // The two distances taken from the register (a store and two loads of it right away
-          // would wait for the store on every such node).
-          const float da = lane_value(tn, a), db = lane_value(tn, b);
-          const bool a_first = da <= db;
-          const int near = a_first ? a : b, far = a_first ? b : a;
-          sref[sp] = n.child[far];
-          sd[sp] = a_first ? db : da;
-          ++sp;
-          RB_STACK_CHECK(sp, st.cap);
-          ref = n.child[near];
-          continue;
-        }
-        __m256i key = Robust ? ordered(as_int(tn)) : as_int(tn);
-        key = _mm256_or_si256(_mm256_and_si256(key, _mm256_set1_epi32(~7)), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
-        const __m256i hit = _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(bits)), _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128)),
-                                               _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128));
-        key = _mm256_blendv_epi8(_mm256_set1_epi32(std::numeric_limits<int>::min()), key, hit);
-        const __m256i slot = _mm256_and_si256(sort8_descending(key), _mm256_set1_epi32(7));
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(sref + sp), _mm256_permutevar8x32_epi32(child, slot));
-        _mm256_storeu_ps(sd + sp, _mm256_permutevar8x32_ps(tn, slot));
-        sp += std::size_t(cnt - 1);
-        RB_STACK_CHECK(sp, st.cap);
-        ref = sref[sp];
-        continue;
-      }
-    }
-    if constexpr (Count) {
-      const std::uint32_t s = leaves.slots(ref);
-      c.prims += s;
-      c.kind_prims[leaf_kind(ref)] += s;
-    }
-    if (leaves.single(ref, r, cache, h)) {
-      if constexpr (Any) return h;
-      // The closest hit moved nearer: the entries now beyond it can never be visited and are
-      // dropped at once (8 at a time, with the compaction table; NaN distances are kept), so every
-      // entry on the stack lies within the closest hit and a pop needs no test (children are
-      // pushed only when their box starts before it).
-      const __m256 ht = _mm256_set1_ps(h.t);
-      std::size_t w = 0;
-      for (std::size_t i = 0; i < sp; i += 8) {
-        const __m256 d = _mm256_loadu_ps(sd + i);
-        const unsigned live = (1u << std::min<std::size_t>(8, sp - i)) - 1u;
-        const unsigned keep = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(d, ht, _CMP_NGT_UQ))) & live;
-        const __m256i idx = _mm256_load_si256(reinterpret_cast<const __m256i*>(kCompaction.idx[keep]));
-        const __m256i refs = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(sref + i));
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(sref + w), _mm256_permutevar8x32_epi32(refs, idx));
-        _mm256_storeu_ps(sd + w, _mm256_permutevar8x32_ps(d, idx));
-        w += std::size_t(__builtin_popcount(keep));
-      }
-      sp = w;
-    }
+    while (!is_leaf(ref))
+      if (!visit_node<Robust, Any, Count>(t, sr, h.t, ref, sref, sd, sp, st.cap, c)) goto pop;
+    if (visit_leaf<Any, Count>(leaves, ref, r, cache, h, sref, sd, sp, c) && Any) return h;
   pop:
     if (sp == 0) return finished(h);
     ref = sref[--sp];
@@ -679,7 +711,7 @@ void trace_packet(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_
             smask[sp] = cm[slot[k]];
             ++sp;
           }
-          RB_STACK_CHECK(sp, st.cap);
+          RB_STACK_CHECK(sp, cap);
           ref = n.child[slot[cnt - 1]];
           mask = cm[slot[cnt - 1]];
         }
@@ -734,12 +766,78 @@ done:
   }
 }
 
+// ---- incoherent packets: two rays walked at once -------------------------------------------------
+// Rays that start far apart share no nodes, and one ray's walk waits on each node and leaf it
+// loads. Two rays of the packet walk at once, a node or a leaf each in turn, so that one ray's
+// loads are under way while the other computes; a ray that ends hands its walker to the packet's
+// next ray.
+template <bool Robust, bool Any, bool Count, class L>
+void trace_pairs(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_t i, HitRec* out, TraceCounters& c) {
+  using namespace detail;
+  struct Walker {
+    Ray<float> r;
+    SlabRay sr;
+    std::optional<typename L::RayCache> cache;
+    HitRec h;
+    std::uint32_t ref;
+    std::size_t sp;
+    std::size_t k;  // the ray's index
+  };
+  Walker w[2];
+  Stack st0(t), st1(t);
+  std::size_t next = i;
+  // The packet's next valid ray into walker v (an invalid ray is a miss); false when none is left.
+  auto start = [&](Walker& v) RB_INLINE_LAMBDA {
+    while (next < i + 8) {
+      const std::size_t k = next++;
+      const Ray<float> r = rays.get(k);
+      if (!(r.tmin <= r.tmax) || t.nodes.empty()) {
+        out[k] = {kInfF, kNoPrim};
+        continue;
+      }
+      v.r = r;
+      v.sr = SlabRay::make(r);
+      v.cache.emplace(r);
+      v.h = {r.tmax, kNoPrim};
+      v.ref = 0;
+      v.sp = 0;
+      v.k = k;
+      return true;
+    }
+    return false;
+  };
+  // One node or one leaf of walker v; false when its ray has ended (its hit written out).
+  auto step = [&](Walker& v, Stack& s) RB_INLINE_LAMBDA {
+    if (!is_leaf(v.ref)) {
+      if (visit_node<Robust, Any, Count>(t, v.sr, v.h.t, v.ref, s.ref, s.d, v.sp, s.cap, c)) return true;
+    } else if (visit_leaf<Any, Count>(leaves, v.ref, v.r, *v.cache, v.h, s.ref, s.d, v.sp, c) && Any) {
+      v.sp = 0;  // any hit: the ray ends at its first hit
+    }
+    if (v.sp) {
+      v.ref = s.ref[--v.sp];
+      return true;
+    }
+    out[v.k] = finished(v.h);
+    return false;
+  };
+  bool a = start(w[0]), b = a && start(w[1]);
+  while (a && b) {
+    if (!step(w[0], st0)) a = start(w[0]);
+    if (!step(w[1], st1)) b = start(w[1]);
+  }
+  while (a)
+    if (!step(w[0], st0)) a = start(w[0]);
+  while (b)
+    if (!step(w[1], st1)) b = start(w[1]);
+}
+
 // ---- a range of rays -----------------------------------------------------------------------------
 // Rays [begin, end) (begin a multiple of 8, the SoA padded to 8) into out. packet 1: one ray at a
 // time; 8, 16, 64 or 256: packets of that many consecutive rays when they share a direction
 // octant (coherent: camera tiles, rays towards one light); a packet of more than 8 whose rays do
-// not goes on in packets of 8, and an incoherent packet of 8 one ray at a time (its rays would
-// part ways at the first nodes). A packet takes the robust slab test when one of its rays needs it
+// not goes on in packets of 8, and an incoherent packet of 8 as single rays (its rays would part
+// ways at the first nodes): one at a time when they start near each other, two at a time when
+// they start apart (trace_pairs). A packet takes the robust slab test when one of its rays needs it
 // (trace_single's rule).
 inline bool valid_packet_size(int packet) { return packet == 1 || packet == 8 || packet == 16 || packet == 64 || packet == 256; }
 
@@ -789,11 +887,26 @@ void trace_range(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_t
     if (robust(i, 8 * G)) trace_packet<true, Any, Count, G>(t, leaves, rays, i, out, c);
     else trace_packet<false, Any, Count, G>(t, leaves, rays, i, out, c);
   };
+  // Whether the valid rays of [i, i + 8) start far apart: their origins' box is over 1/16 of the
+  // scene's box along some axis. Such rays share no nodes, so two of them walk at once; rays that
+  // start near each other walk one after another on the nodes the previous one brought in.
+  const float near_side = detail::largest_side(t) * (1.0f / 16);
+  auto apart = [&](std::size_t k) {
+    const f8_mask valid = f8::load_unaligned(&rays.tmin[k]) <= f8::load_unaligned(&rays.tmax[k]);
+    float side = 0;
+    for (const float* o : {&rays.ox[k], &rays.oy[k], &rays.oz[k]}) {
+      const f8 v = f8::load_unaligned(o);
+      side = std::max(side, detail::hmax8(xsimd::select(valid, v, f8(-detail::kInfF))) - detail::hmin8(xsimd::select(valid, v, f8(detail::kInfF))));
+    }
+    return side > near_side;
+  };
   auto eights = [&](std::size_t i, std::size_t e) {
     for (; i < e; i += 8) {
       if (coherent(i, 8)) run.template operator()<1>(i);
-      else
+      else if (!apart(i))
         for (std::size_t k = i; k < i + 8; ++k) out[k] = trace_single<S, Any, Count>(t, leaves, rays.get(k), c);
+      else if (robust(i, 8)) trace_pairs<true, Any, Count>(t, leaves, rays, i, out, c);
+      else trace_pairs<false, Any, Count>(t, leaves, rays, i, out, c);
     }
   };
   const std::size_t P = std::size_t(packet);

@@ -224,6 +224,43 @@ TEST(Bvh, PacketsGiveTheSameHitsAsSingleRays) {
   }
 }
 
+// Packets whose rays start far apart walk two rays at once: the same hits as single rays, bit for
+// bit, closest and any hit, with invalid rays anywhere in the packet (a packet of one valid ray,
+// of none, a valid ray last).
+TEST(Bvh, RaysThatStartApartGiveTheSameHitsAsSingleRays) {
+  const scene::Scene s = mesh_on_floor();
+  const tracer::SceneAccel a = tracer::SceneAccel::build(s);
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<float> U(-4.0f, 4.0f);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  RaySoA rays;
+  for (int i = 0; i < 2048; ++i) {
+    const Vec3f o{U(rng), U(rng) * 0.5f, U(rng)}, d{U(rng), U(rng), U(rng)};
+    const int k = i % 64;
+    if (k >= 8 && k < 16) rays.push(o, d, 2.0f, 1.0f);     // a packet of none
+    else if (k >= 16 && k < 23) rays.push(o, d, nan, 1.0f);  // ... of one, the last
+    else if (k != 23 && i % 5 == 0) rays.push(o, d, 1.0f, 0.5f);
+    else rays.push(o, d);
+  }
+  for (bool any : {false, true})
+    for (int packet : {8, 64}) {
+      std::vector<HitRec> one(rays.size()), p(rays.size());
+      a.trace(rays, 0, rays.size(), one.data(), opts(1, bvh::Slab::conservative, any));
+      a.trace(rays, 0, rays.size(), p.data(), opts(packet, bvh::Slab::conservative, any));
+      std::size_t hits = 0;
+      for (std::size_t i = 0; i < rays.count; ++i) {
+        hits += one[i].prim != kNoPrim;
+        EXPECT_EQ(one[i].prim != kNoPrim, p[i].prim != kNoPrim) << i << " any " << any << " packet " << packet;
+        if (!any) {
+          EXPECT_EQ(one[i].t, p[i].t) << i << " packet " << packet;
+          EXPECT_EQ(one[i].prim, p[i].prim) << i << " packet " << packet;
+        }
+      }
+      EXPECT_GT(hits, rays.count / 8);
+      for (std::size_t i = 8; i < 16; ++i) EXPECT_EQ(p[i].prim, kNoPrim);
+    }
+}
+
 TEST(Bvh, RaySetsAreReproducibleFromTheSeed) {
   const scene::Scene s = icosphere(2);
   const tracer::SceneAccel a = tracer::SceneAccel::build(s);
