@@ -380,7 +380,7 @@ HitRec single_loop(const Bvh8& t, const L& leaves, const Ray<float>& r, TraceCou
 // Negative tmin (the fast form's integer ordering needs tmin >= 0) and, for the conservative slab
 // test, an origin beyond the bound the boxes were widened for take the robust form.
 template <Slab S, bool Any, bool Count, class L>
-HitRec trace_single(const Bvh8& t, const L& leaves, const Ray<float>& r, TraceCounters& c) {
+RB_INLINE HitRec trace_single(const Bvh8& t, const L& leaves, const Ray<float>& r, TraceCounters& c) {
   using namespace detail;
   if (!(r.tmin <= r.tmax) || t.nodes.empty()) return {kInfF, kNoPrim};
   if constexpr (S != Slab::robust) {
