@@ -1,9 +1,10 @@
 // Traversal of the 8-wide BVH: one slab test (fast or robust, a template switch), one loop per
 // ray mode (single rays; coherent packets of 8, 16, 64 or 256 rays in groups of 8 lanes;
 // incoherent packets of 8 as single rays, two at a time when they start apart, through the same
-// node and leaf visits as a single ray), closest or any hit, counted or not. Templates over a leaf source, so the BVH knows nothing of
-// primitives: whatever intersects the leaves (tracer/leaves.hpp for a scene) is instantiated into
-// the loop, chosen once per scene, never switched per ray.
+// node and leaf visits as a single ray), closest or any hit, counted or not. Templates over a
+// leaf source, so the BVH knows nothing of primitives: whatever intersects the leaves
+// (tracer/leaves.hpp for a scene) is instantiated into the loop, chosen once per scene, never
+// switched per ray.
 //
 // A leaf source L provides:
 //   using RayCache;      per single ray (constructed from it): whatever its leaves precompute
@@ -711,7 +712,7 @@ void trace_packet(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_
             smask[sp] = cm[slot[k]];
             ++sp;
           }
-          RB_STACK_CHECK(sp, cap);
+          RB_STACK_CHECK(sp, st.cap);
           ref = n.child[slot[cnt - 1]];
           mask = cm[slot[cnt - 1]];
         }
@@ -837,8 +838,8 @@ void trace_pairs(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_t
 // octant (coherent: camera tiles, rays towards one light); a packet of more than 8 whose rays do
 // not goes on in packets of 8, and an incoherent packet of 8 as single rays (its rays would part
 // ways at the first nodes): one at a time when they start near each other, two at a time when
-// they start apart (trace_pairs). A packet takes the robust slab test when one of its rays needs it
-// (trace_single's rule).
+// they start apart (trace_pairs). A packet takes the robust slab test when one of its rays needs
+// it (trace_single's rule).
 inline bool valid_packet_size(int packet) { return packet == 1 || packet == 8 || packet == 16 || packet == 64 || packet == 256; }
 
 template <Slab S, bool Any, bool Count, class L>
