@@ -225,8 +225,8 @@ TEST(Bvh, PacketsGiveTheSameHitsAsSingleRays) {
 }
 
 // Packets whose rays start far apart walk two rays at once: the same hits as single rays, bit for
-// bit, closest and any hit, with invalid rays anywhere in the packet (a packet of one valid ray,
-// of none, a valid ray last).
+// bit, closest and any hit, with invalid rays among a packet's rays (which the walkers skip), and
+// groups of 8 with no valid ray or with one, the last.
 TEST(Bvh, RaysThatStartApartGiveTheSameHitsAsSingleRays) {
   const scene::Scene s = mesh_on_floor();
   const tracer::SceneAccel a = tracer::SceneAccel::build(s);
@@ -237,7 +237,7 @@ TEST(Bvh, RaysThatStartApartGiveTheSameHitsAsSingleRays) {
   for (int i = 0; i < 2048; ++i) {
     const Vec3f o{U(rng), U(rng) * 0.5f, U(rng)}, d{U(rng), U(rng), U(rng)};
     const int k = i % 64;
-    if (k >= 8 && k < 16) rays.push(o, d, 2.0f, 1.0f);     // a packet of none
+    if (k >= 8 && k < 16) rays.push(o, d, 2.0f, 1.0f);     // a group of none
     else if (k >= 16 && k < 23) rays.push(o, d, nan, 1.0f);  // ... of one, the last
     else if (k != 23 && i % 5 == 0) rays.push(o, d, 1.0f, 0.5f);
     else rays.push(o, d);
