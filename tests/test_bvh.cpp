@@ -385,8 +385,6 @@ TEST(Bvh, LargeArraysAreAlignedAndInitialised) {
   EXPECT_EQ(std::count(z.begin(), z.end(), 0u), std::ptrdiff_t(z.size()));
 }
 
-// The leaves' batch layout: each group of 8 slots one block, field after field; the kernels read
-// the same primitives from it as from the structure of arrays.
 // The slab test's reciprocal from the ray's stored rd equals the divided one: for every direction
 // component make_ray stores (random unit directions, axis-aligned ones with signed zeros) and on
 // the bit patterns around the smallest component the test keeps (kMinDir) and 2^20 random ones.
@@ -447,6 +445,8 @@ TEST(Bvh, WoopShearWithoutBranchesEqualsTheKernelsOwn) {
   }
 }
 
+// The leaves' batch layout: each group of 8 slots one block, field after field; the kernels read
+// the same primitives from it as from the structure of arrays.
 TEST(Bvh, LeafGroupsHoldTheSamePrimitivesAsArrays) {
   PrimGroups<TriVerts> g;
   PrimSoA<TriVerts> s;
