@@ -133,6 +133,23 @@ RB_INLINE __m256i sort8_descending(__m256i v) {
   return v;
 }
 
+// Lanes of a 4-bit or 8-bit set as a mask.
+RB_INLINE f8_mask lanes_of(unsigned bits) {
+  const __m256i lane = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+  return f8_mask(_mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(bits)), lane), lane)));
+}
+
+// The hit children's slots sorted far to near by `tn` (a node's hit children, for single rays and packets).
+template <bool Robust>
+RB_INLINE __m256i order_far_first(const f8& tn, unsigned bits) {
+  __m256i key = Robust ? ordered(as_int(tn)) : as_int(tn);
+  key = _mm256_or_si256(_mm256_and_si256(key, _mm256_set1_epi32(~7)), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+  const __m256i lane = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+  const __m256i hit = _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(bits)), lane), lane);
+  key = _mm256_blendv_epi8(_mm256_set1_epi32(std::numeric_limits<int>::min()), key, hit);
+  return _mm256_and_si256(sort8_descending(key), _mm256_set1_epi32(7));
+}
+
 // The slots of the set bits of a byte, lowest first (the rest 0): pushes the hit children of an
 // any-hit visit, or keeps 8 stack entries, with one permute.
 struct Compaction {
@@ -305,12 +322,7 @@ RB_INLINE bool visit_node(const Bvh8& t, const SlabRay& sr, float tmax, std::uin
       ref = n.child[near];
       return true;
     }
-    __m256i key = Robust ? ordered(as_int(tn)) : as_int(tn);
-    key = _mm256_or_si256(_mm256_and_si256(key, _mm256_set1_epi32(~7)), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
-    const __m256i hit = _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(bits)), _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128)),
-                                           _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128));
-    key = _mm256_blendv_epi8(_mm256_set1_epi32(std::numeric_limits<int>::min()), key, hit);
-    const __m256i slot = _mm256_and_si256(sort8_descending(key), _mm256_set1_epi32(7));
+    const __m256i slot = order_far_first<Robust>(tn, bits);
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(sref + sp), _mm256_permutevar8x32_epi32(child, slot));
     _mm256_storeu_ps(sd + sp, _mm256_permutevar8x32_ps(tn, slot));
     sp += std::size_t(cnt - 1);
@@ -480,12 +492,6 @@ struct RayMask {
   }
 };
 
-// Lanes of a 4-bit or 8-bit set as a mask.
-RB_INLINE f8_mask lanes_of(unsigned bits) {
-  const __m256i lane = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
-  return f8_mask(_mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(bits)), lane), lane)));
-}
-
 // The slab test of one box against 8 rays (the box's near and far planes per axis given by the
 // packet's octant), the fast or the robust form; bit l set when ray l's interval meets it.
 template <bool Robust>
@@ -538,15 +544,6 @@ RB_INLINE unsigned slab_children(const WNode& node, const ChildTest& c, float tm
     const f8 tf = xsimd::min(xsimd::min(xsimd::min(far[0], far[1]), far[2]) * f8(kRobustScale), f8(tmax));
     return unsigned(_mm256_movemask_ps(_mm256_cmp_ps(tn, tf, _CMP_LE_OQ)));
   }
-}
-
-// The hit children's slots sorted far to near by `tn` (the single-ray loop's key sort).
-template <bool Robust>
-RB_INLINE __m256i order_far_first(const f8& tn, unsigned bits) {
-  __m256i key = Robust ? ordered(as_int(tn)) : as_int(tn);
-  key = _mm256_or_si256(_mm256_and_si256(key, _mm256_set1_epi32(~7)), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
-  key = _mm256_blendv_epi8(_mm256_set1_epi32(std::numeric_limits<int>::min()), key, _mm256_castps_si256(lanes_of(bits)));
-  return _mm256_and_si256(sort8_descending(key), _mm256_set1_epi32(7));
 }
 
 }  // namespace detail
