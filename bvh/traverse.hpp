@@ -103,12 +103,13 @@ inline float hmax8(const f8& t) {
   return _mm256_cvtss_f32(m);
 }
 
-// Child order (single rays; packets order by the frustum's distances the same way). A hit child's
-// key is its entry distance's bits with the child's slot in the 3 low bits (distances >= 0, so the
-// integer order is the float order; the 3 bits cost at most 7 ulp of ordering precision, which only changes which of two nearly
-// equidistant children is visited first). Misses get INT_MIN. The 8 keys are sorted descending by
-// a 19-comparator network (Batcher's odd-even merge sort) in one register, so the nearest hit
-// child ends in lane n - 1 and the others lie farthest first below it: one store pushes them.
+// Child order (single rays; packets order by the frustum's distances the same way). A hit
+// child's key is its entry distance's bits with the child's slot in the 3 low bits (distances >=
+// 0, so the integer order is the float order; the 3 bits cost at most 7 ulp of ordering
+// precision, which only changes which of two nearly equidistant children is visited first).
+// Misses get INT_MIN. The 8 keys are sorted descending by a 19-comparator network (Batcher's
+// odd-even merge sort) in one register, so the nearest hit child ends in lane n - 1 and the
+// others lie farthest first below it: one store pushes them.
 RB_INLINE __m256i as_int(const f8& x) { return _mm256_castps_si256(x); }
 RB_INLINE f8 as_float(__m256i x) { return f8(_mm256_castsi256_ps(x)); }
 // Float bits as an integer of the same order (negative floats' magnitude bits flipped).
