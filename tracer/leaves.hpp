@@ -278,13 +278,16 @@ struct TableLeaves {
 };
 
 // The shear of make_woop_ray<float> without its branches: the axis of the largest |d| (the first
-// of equal ones) is kz, kx and ky follow it cyclically and swap when d[kz] < 0, as selects and
-// indexed loads. Random rays pick kz at random, and the branchy scalar form mispredicted there.
+// of equal ones) is kz, kx and ky follow it cyclically and swap when d[kz] < 0. Random rays pick kz
+// at random, so every choice is arithmetic, a table load or an indexed load: a conditional on kz
+// (even a select in the source) let GCC clone the set-up per axis, and those branches mispredicted.
 // The same values as make_woop_ray (test WoopShearWithoutBranchesEqualsTheKernelsOwn).
 struct WoopShear {
   float S[3];
   int k[3];  // kx, ky, kz
 };
+// kx, ky, kz for kz = i / 2, d[kz] < 0 when i is odd.
+alignas(64) inline constexpr int kWoopAxes[6][3] = {{1, 2, 0}, {2, 1, 0}, {2, 0, 1}, {0, 2, 1}, {0, 1, 2}, {1, 0, 2}};
 RB_INLINE WoopShear woop_shear(const Vec3f& d) {
   const float v[3] = {d.x, d.y, d.z};
   const float ax = std::fabs(d.x), ay = std::fabs(d.y), az = std::fabs(d.z);
@@ -292,14 +295,13 @@ RB_INLINE WoopShear woop_shear(const Vec3f& d) {
   const int z1 = (1 - z0) & (ay >= az);
   const int kz = 2 - 2 * z0 - z1;
   const float dkz = v[kz];
-  const int neg = dkz < 0.0f;
-  const int n1 = kz == 2 ? 0 : kz + 1, n2 = n1 == 2 ? 0 : n1 + 1;
+  const int* k = kWoopAxes[2 * kz + (dkz < 0.0f)];
   WoopShear w;
-  w.k[0] = neg ? n2 : n1;
-  w.k[1] = neg ? n1 : n2;
-  w.k[2] = kz;
-  w.S[0] = v[w.k[0]] / dkz;
-  w.S[1] = v[w.k[1]] / dkz;
+  w.k[0] = k[0];
+  w.k[1] = k[1];
+  w.k[2] = k[2];
+  w.S[0] = v[k[0]] / dkz;
+  w.S[1] = v[k[1]] / dkz;
   w.S[2] = 1.0f / dkz;
   return w;
 }
@@ -317,8 +319,9 @@ struct MeshRayCache {
     const WoopShear s = woop_shear(r.d);
     w.Sx = f8(s.S[0]); w.Sy = f8(s.S[1]); w.Sz = f8(s.S[2]);
     w.uniform = true;
+    const float org[3] = {r.o.x, r.o.y, r.o.z};  // indexed loads: Vec3's operator[] branches
     k[0] = s.k[0]; k[1] = s.k[1]; k[2] = s.k[2];
-    for (int a = 0; a < 3; ++a) o[a] = f8(r.o[k[a]]);
+    for (int a = 0; a < 3; ++a) o[a] = f8(org[k[a]]);
     rb.tmin = f8(r.tmin);
   }
 };
@@ -428,14 +431,12 @@ struct MeshLeaves {
           alignas(32) float v[6][8];
           p.r[g].o.x.store_aligned(v[0]); p.r[g].o.y.store_aligned(v[1]); p.r[g].o.z.store_aligned(v[2]);
           p.r[g].d.x.store_aligned(v[3]); p.r[g].d.y.store_aligned(v[4]); p.r[g].d.z.store_aligned(v[5]);
-          Ray<float> r1;
-          r1.o = {v[0][l], v[1][l], v[2][l]};
-          r1.d = {v[3][l], v[4][l], v[5][l]};
-          const WoopShear w = woop_shear(r1.d);
+          const float org[3] = {v[0][l], v[1][l], v[2][l]};
+          const WoopShear w = woop_shear(Vec3f{v[3][l], v[4][l], v[5][l]});
           for (int a = 0; a < 3; ++a) {
             one.S[a] = w.S[a];
             one.k[a] = w.k[a];
-            one.o[a] = r1.o[one.k[a]];
+            one.o[a] = org[one.k[a]];
           }
           c.ray_ready[g] |= 1u << l;
         }
