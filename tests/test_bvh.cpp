@@ -437,11 +437,12 @@ TEST(Bvh, WoopShearWithoutBranchesEqualsTheKernelsOwn) {
     r.o = {0, 0, 0};
     r.d = d;
     const WoopRay<float> w = make_woop_ray(r);
-    const tracer::WoopShear s = tracer::woop_shear(d);
-    ASSERT_EQ(s.k[0], w.kx) << d.x << " " << d.y << " " << d.z;
-    ASSERT_EQ(s.k[1], w.ky) << d.x << " " << d.y << " " << d.z;
-    ASSERT_EQ(s.k[2], w.kz) << d.x << " " << d.y << " " << d.z;
-    ASSERT_TRUE(same(s.S[0], w.Sx) && same(s.S[1], w.Sy) && same(s.S[2], w.Sz)) << d.x << " " << d.y << " " << d.z;
+    for (const tracer::WoopShear& s : {tracer::woop_shear<false>(d), tracer::woop_shear<true>(d)}) {
+      ASSERT_EQ(s.k[0], w.kx) << d.x << " " << d.y << " " << d.z;
+      ASSERT_EQ(s.k[1], w.ky) << d.x << " " << d.y << " " << d.z;
+      ASSERT_EQ(s.k[2], w.kz) << d.x << " " << d.y << " " << d.z;
+      ASSERT_TRUE(same(s.S[0], w.Sx) && same(s.S[1], w.Sy) && same(s.S[2], w.Sz)) << d.x << " " << d.y << " " << d.z;
+    }
   }
 }
 
