@@ -279,7 +279,7 @@ struct TableLeaves {
 
 // The shear of make_woop_ray<float> for one ray: the axis of the largest |d| (the first of equal
 // ones) is kz, kx and ky follow it cyclically and swap when d[kz] < 0. Two forms with the same
-// values (test WoopShearWithoutBranchesEqualsTheKernelsOwn):
+// values (test WoopShearFormsEqualTheKernelsOwn):
 // - Coherent = false, for single rays of any direction: kx and ky are shifted out of one constant,
 //   with no conditional on kz. With one (even a select in the source), GCC cloned the set-up per
 //   axis and those branches mispredicted on random directions: this form traces the bunny's
