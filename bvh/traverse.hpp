@@ -134,20 +134,20 @@ RB_INLINE __m256i sort8_descending(__m256i v) {
   return v;
 }
 
-// Lanes of a 4-bit or 8-bit set as a mask.
-RB_INLINE f8_mask lanes_of(unsigned bits) {
+// Lanes of a 4-bit or 8-bit set as a mask: all ones in lane l when bit l is set (as integers, and
+// as the float mask the kernels take).
+RB_INLINE __m256i lane_bits(unsigned bits) {
   const __m256i lane = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
-  return f8_mask(_mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(bits)), lane), lane)));
+  return _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(bits)), lane), lane);
 }
+RB_INLINE f8_mask lanes_of(unsigned bits) { return f8_mask(_mm256_castsi256_ps(lane_bits(bits))); }
 
 // The hit children's slots sorted far to near by `tn` (a node's hit children, for single rays and packets).
 template <bool Robust>
 RB_INLINE __m256i order_far_first(const f8& tn, unsigned bits) {
   __m256i key = Robust ? ordered(as_int(tn)) : as_int(tn);
   key = _mm256_or_si256(_mm256_and_si256(key, _mm256_set1_epi32(~7)), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
-  const __m256i lane = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
-  const __m256i hit = _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(bits)), lane), lane);
-  key = _mm256_blendv_epi8(_mm256_set1_epi32(std::numeric_limits<int>::min()), key, hit);
+  key = _mm256_blendv_epi8(_mm256_set1_epi32(std::numeric_limits<int>::min()), key, lane_bits(bits));
   return _mm256_and_si256(sort8_descending(key), _mm256_set1_epi32(7));
 }
 
@@ -202,6 +202,9 @@ struct Stack {
     }
   }
 };
+
+// A ray with an empty interval (or a NaN bound), or any ray in an empty tree, misses without a walk.
+RB_INLINE bool cannot_hit(const Bvh8& t, const Ray<float>& r) { return !(r.tmin <= r.tmax) || t.nodes.empty(); }
 
 // Whether a ray with this origin needs the robust slab test (its origin is beyond the bound the
 // boxes were made conservative for).
@@ -396,7 +399,7 @@ HitRec single_loop(const Bvh8& t, const L& leaves, const Ray<float>& r, TraceCou
 template <Slab S, bool Any, bool Count, class L>
 RB_INLINE HitRec trace_single(const Bvh8& t, const L& leaves, const Ray<float>& r, TraceCounters& c) {
   using namespace detail;
-  if (!(r.tmin <= r.tmax) || t.nodes.empty()) return {kInfF, kNoPrim};
+  if (cannot_hit(t, r)) return {kInfF, kNoPrim};
   if constexpr (S != Slab::robust) {
     if (!(r.tmin >= 0) || (S == Slab::conservative && beyond_bound(t, r.o))) return single_loop<true, Any, Count>(t, leaves, r, c);
     return single_loop<false, Any, Count>(t, leaves, r, c);
@@ -790,7 +793,7 @@ void trace_pairs(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_t
     while (next < i + 8) {
       const std::size_t k = next++;
       const Ray<float> r = rays.get(k);
-      if (!(r.tmin <= r.tmax) || t.nodes.empty()) {
+      if (cannot_hit(t, r)) {
         out[k] = {kInfF, kNoPrim};
         continue;
       }

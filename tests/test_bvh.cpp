@@ -412,8 +412,9 @@ TEST(Bvh, SlabReciprocalFromTheRayEqualsTheDividedOne) {
   }
 }
 
-// The tracer's branch-free shear set-up gives make_woop_ray's values: the same axes and the same
-// three quotients, bit for bit, on random directions and on ties, signed zeros and extremes.
+// Both forms of the tracer's shear set-up (branch-free for single rays, conditional for packets)
+// give make_woop_ray's values: the same axes and the same three quotients, bit for bit, on random
+// directions and on ties, signed zeros and extremes.
 TEST(Bvh, WoopShearFormsEqualTheKernelsOwn) {
   std::vector<float> special{0.0f, -0.0f, 1.0f, -1.0f, 0.5f, -2.0f, 1e-30f, -1e-30f, 3e38f, -3e38f,
                              std::numeric_limits<float>::denorm_min(), std::numeric_limits<float>::infinity(),

@@ -36,10 +36,6 @@ namespace detail {
 RB_INLINE d4 lo_d4(const f8& x) { return d4(_mm256_cvtps_pd(_mm256_castps256_ps128(x))); }
 RB_INLINE d4 hi_d4(const f8& x) { return d4(_mm256_cvtps_pd(_mm256_extractf128_ps(x, 1))); }
 RB_INLINE f8 join_f8(const d4& lo, const d4& hi) { return f8(_mm256_set_m128(_mm256_cvtpd_ps(hi), _mm256_cvtpd_ps(lo))); }
-RB_INLINE f8_mask mask_from_bits(unsigned bits) {
-  const __m256i lane = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
-  return f8_mask(_mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(bits)), lane), lane)));
-}
 RB_INLINE unsigned bits4(const d4_mask& m) { return unsigned(_mm256_movemask_pd(m)); }
 template <class D>
 RB_INLINE Vec3<D> half3(const Vec3<f8>& v, bool hi) {
@@ -227,7 +223,7 @@ RB_INLINE void std_packet(const StdBatch<K>& b, std::size_t base, bvh::PacketRay
         const Hit<d4> hl = K::template hit<M>(lo, K::pre(lo), prim), hh = K::template hit<M>(hi, K::pre(hi), prim);
         const unsigned bits = detail::bits4(hl.mask) | detail::bits4(hh.mask) << 4;
         if (!bits) continue;
-        bvh::packet_update<Any>(p, k, detail::mask_from_bits(bits), detail::join_f8(hl.t, hh.t), code);
+        bvh::packet_update<Any>(p, k, bvh::detail::lanes_of(bits), detail::join_f8(hl.t, hh.t), code);
       }
     }
   }
