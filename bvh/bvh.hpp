@@ -111,7 +111,7 @@ void tree_stats(Bvh2& b, const BuildOptions& opt);
 // The 8-wide tree from the binary one: each wide node opens its largest internal children until
 // it has 8. `leaf_ref(node)` gives the reference of a binary leaf.
 struct Bvh8 {
-  std::vector<WNode> nodes;  // root 0 (when the tree is not empty)
+  big_vector<WNode> nodes;  // root 0 (when the tree is not empty); from 2 MiB on huge pages (core/memory.hpp)
   std::uint32_t root = kEmpty;  // a leaf reference when the whole tree is one leaf
   double collapse_ms = 0;
   int depth = 0;  // wide nodes on the longest root-to-leaf path

@@ -25,7 +25,7 @@ namespace {
 // slots before they are made: without that the slot order cost a tenth of the build on a scanned
 // mesh whose vertex order is not the leaves'.
 template <class K>
-void build_std(StdBatch<K>& b, const scene::Scene& s, std::vector<std::uint32_t> ids, const Vec3d& origin, bool store64, bool parallel) {
+void build_std(StdBatch<K>& b, const scene::Scene& s, kinds::SlotIds ids, const Vec3d& origin, bool store64, bool parallel) {
   b.id = std::move(ids);
   const std::size_t n = b.id.size();
   auto fill = [&](auto& soa, auto tag) {
@@ -140,7 +140,7 @@ SceneAccel SceneAccel::build(const scene::Scene& s, const Plan& plan, const bvh:
   // Reorder: every leaf becomes one 8-slot group of its kind's batch, groups assigned in node
   // order; ids[kind][slot] is the scene index of each slot.
   const auto t1 = std::chrono::steady_clock::now();
-  std::array<std::vector<std::uint32_t>, kKinds> ids;
+  std::array<kinds::SlotIds, kKinds> ids;
   std::size_t groups[kKinds] = {};
   for (const bvh::BNode& n : a.bin.nodes) groups[n.kind] += n.leaf();
   for (std::size_t k = 0; k < kKinds; ++k) ids[k].assign(groups[k] * 8, UINT32_MAX);  // sized once

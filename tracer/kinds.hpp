@@ -19,6 +19,7 @@
 #pragma once
 
 #include "bvh/bvh.hpp"
+#include "core/memory.hpp"
 #include "core/ray.hpp"
 #include "core/spawn.hpp"
 #include "scene/scene.hpp"
@@ -34,6 +35,10 @@ namespace rb::kinds {
 
 using scene::Bounds;
 using scene::Scene;
+
+// The scene index of every leaf slot of a kind's batch (UINT32_MAX: padding), in leaf order. Read
+// once per leaf a ray enters: from 2 MiB on, on huge pages like the batches (core/memory.hpp).
+using SlotIds = big_vector<std::uint32_t>;
 
 enum class Kind : std::uint8_t { triangle = 0, sphere = 1, cylinder = 2, cone = 3, polygon = 4, csg = 5, torus = 6 };
 inline constexpr int kKinds = 7;

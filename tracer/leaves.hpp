@@ -127,7 +127,7 @@ template <class K>
 struct StdBatch {
   PrimGroups<K::template Prim, float> f32;   // float storage, a leaf's group in one block
   PrimGroups<K::template Prim, double> f64;  // double storage (when the plan chose it)
-  std::vector<std::uint32_t> id;             // per slot: the scene index (UINT32_MAX: padding)
+  kinds::SlotIds id;                         // per slot: the scene index (UINT32_MAX: padding)
   std::size_t bytes() const { return f32.bytes() + f64.bytes() + id.size() * sizeof(std::uint32_t); }
 };
 template <class K, bool Custom = K::custom>

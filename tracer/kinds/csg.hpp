@@ -51,14 +51,14 @@ struct CsgKind {
 
   struct Batch {
     std::vector<std::shared_ptr<const CsgTree>> trees;  // by scene index, in the frame
-    std::vector<std::uint32_t> id;                      // per leaf slot: the scene index (UINT32_MAX: padding)
+    SlotIds id;                                         // per leaf slot: the scene index (UINT32_MAX: padding)
     std::size_t bytes() const {
       std::size_t n = id.size() * sizeof(std::uint32_t);
       for (const auto& t : trees) n += t ? t->bytes() + sizeof(void*) : 0;
       return n;
     }
   };
-  static void build(Batch& b, const Scene& s, std::vector<std::uint32_t> ids, const Vec3d& origin, int /*method*/, bool /*f64*/,
+  static void build(Batch& b, const Scene& s, SlotIds ids, const Vec3d& origin, int /*method*/, bool /*f64*/,
                     bool /*f64_storage*/) {
     b.id = std::move(ids);
     b.trees.clear();

@@ -65,11 +65,11 @@ struct PolygonKind {
   struct Batch {
     PolygonSoA soa;                  // the polygons in leaf order
     std::vector<std::uint32_t> slot;  // per leaf slot: its slot in soa (UINT32_MAX: padding)
-    std::vector<std::uint32_t> id;    // per leaf slot: the scene index (UINT32_MAX: padding)
+    SlotIds id;                       // per leaf slot: the scene index (UINT32_MAX: padding)
     std::size_t bytes() const { return soa.bytes() + (slot.size() + id.size()) * sizeof(std::uint32_t); }
   };
   // ids: the scene index of every leaf slot (UINT32_MAX for padding), in leaf order.
-  static void build(Batch& b, const Scene& s, std::vector<std::uint32_t> ids, const Vec3d& origin, int /*method*/, bool /*f64*/,
+  static void build(Batch& b, const Scene& s, SlotIds ids, const Vec3d& origin, int /*method*/, bool /*f64*/,
                     bool /*f64_storage*/) {
     std::vector<std::vector<Vec3d>> polys;
     for (std::uint32_t p : ids)
