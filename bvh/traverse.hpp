@@ -185,8 +185,11 @@ inline constexpr bool kCheckedStack = true;
 struct Stack {
   alignas(32) std::uint32_t local_ref[kLocalStack + 8];
   alignas(32) float local_d[kLocalStack + 8];
-  std::unique_ptr<std::uint32_t[]> heap_ref;
-  std::unique_ptr<float[]> heap_d;
+  struct Heap {
+    std::unique_ptr<std::uint32_t[]> ref;
+    std::unique_ptr<float[]> d;
+  };
+  std::unique_ptr<Heap> heap;  // one pointer, so a stack on the local arrays ends with one test
   std::uint32_t* ref;
   float* d;
   std::size_t cap;  // entries below which sp stays (the 8 of headroom above it)
@@ -195,10 +198,9 @@ struct Stack {
       ref = local_ref;
       d = local_d;
     } else {
-      heap_ref.reset(new std::uint32_t[cap + 8]);
-      heap_d.reset(new float[cap + 8]);
-      ref = heap_ref.get();
-      d = heap_d.get();
+      heap.reset(new Heap{std::unique_ptr<std::uint32_t[]>(new std::uint32_t[cap + 8]), std::unique_ptr<float[]>(new float[cap + 8])});
+      ref = heap->ref.get();
+      d = heap->d.get();
     }
   }
 };
