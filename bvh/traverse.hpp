@@ -289,10 +289,10 @@ RB_INLINE HitRec finished(HitRec h) {
 // One node visit of a single ray: ref becomes the next node (or leaf) to visit and the other hit
 // children are pushed; false when no child was hit (the next comes from the stack).
 template <bool Robust, bool Any, bool Count>
-RB_INLINE bool visit_node(const Bvh8& t, const SlabRay& sr, float tmax, std::uint32_t& ref, std::uint32_t* sref, float* sd, std::size_t& sp,
+RB_INLINE bool visit_node(const WNode* nodes, const SlabRay& sr, float tmax, std::uint32_t& ref, std::uint32_t* sref, float* sd, std::size_t& sp,
                           [[maybe_unused]] std::size_t cap, TraceCounters& c) {
   using namespace detail;
-  const WNode& n = t.nodes[ref];
+  const WNode& n = nodes[ref];
   if constexpr (Count) {
     ++c.nodes;
     for (int k = 0; k < 8; ++k) c.boxes += n.child[k] != kEmpty;
@@ -376,19 +376,19 @@ RB_INLINE bool visit_leaf(const L& leaves, std::uint32_t ref, const Ray<float>& 
 // distances, no order (the hit children pushed in slot order, the last one next), return at the
 // first hit.
 template <bool Robust, bool Any, bool Count, class L>
-HitRec single_loop(const Bvh8& t, const L& leaves, const Ray<float>& r, TraceCounters& c) {
+RB_INLINE HitRec single_loop(const Bvh8& t, const L& leaves, const Ray<float>& r, detail::Stack& st, TraceCounters& c) {
   using namespace detail;
   HitRec h{r.tmax, kNoPrim};
   const SlabRay sr = SlabRay::make(r);
   typename L::RayCache cache(r);
-  Stack st(t);
   std::uint32_t* const sref = st.ref;
   float* const sd = st.d;
   std::size_t sp = 0;
   std::uint32_t ref = 0;
+  const WNode* const nodes = t.nodes.data();
   for (;;) {
     while (!is_leaf(ref))
-      if (!visit_node<Robust, Any, Count>(t, sr, h.t, ref, sref, sd, sp, st.cap, c)) goto pop;
+      if (!visit_node<Robust, Any, Count>(nodes, sr, h.t, ref, sref, sd, sp, st.cap, c)) goto pop;
     if (visit_leaf<Any, Count>(leaves, ref, r, cache, h, sref, sd, sp, c) && Any) return h;
   pop:
     if (sp == 0) return finished(h);
@@ -399,15 +399,24 @@ HitRec single_loop(const Bvh8& t, const L& leaves, const Ray<float>& r, TraceCou
 // Negative tmin (the fast form's integer ordering needs tmin >= 0) and, for the conservative slab
 // test, an origin beyond the bound the boxes were widened for take the robust form.
 template <Slab S, bool Any, bool Count, class L>
-RB_INLINE HitRec trace_single(const Bvh8& t, const L& leaves, const Ray<float>& r, TraceCounters& c) {
+RB_INLINE HitRec trace_single(const Bvh8& t, const L& leaves, const Ray<float>& r, detail::Stack& st, TraceCounters& c) {
   using namespace detail;
   if (cannot_hit(t, r)) return {kInfF, kNoPrim};
   if constexpr (S != Slab::robust) {
-    if (!(r.tmin >= 0) || (S == Slab::conservative && beyond_bound(t, r.o))) return single_loop<true, Any, Count>(t, leaves, r, c);
-    return single_loop<false, Any, Count>(t, leaves, r, c);
+    if (!(r.tmin >= 0) || (S == Slab::conservative && beyond_bound(t, r.o))) return single_loop<true, Any, Count>(t, leaves, r, st, c);
+    return single_loop<false, Any, Count>(t, leaves, r, st, c);
   } else {
-    return single_loop<true, Any, Count>(t, leaves, r, c);
+    return single_loop<true, Any, Count>(t, leaves, r, st, c);
   }
+}
+
+// Rays [begin, end) one at a time: one stack for all of them, and each ray's walk inlined into the
+// loop, so that the ray is read from the SoA into registers (a walk called per ray took the ray
+// through memory) and what every ray uses (the node array, the leaf source) stays loaded.
+template <Slab S, bool Any, bool Count, class L>
+void trace_singles(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_t begin, std::size_t end, HitRec* out, TraceCounters& c) {
+  detail::Stack st(t);
+  for (std::size_t i = begin; i < end; ++i) out[i] = trace_single<S, Any, Count>(t, leaves, rays.get(i), st, c);
 }
 
 // ---- packets: G groups of 8 rays in lanes ---------------------------------------------------------
@@ -813,7 +822,7 @@ void trace_pairs(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_t
   // One node or one leaf of walker v; false when its ray has ended (its hit written out).
   auto step = [&](Walker& v, Stack& s) RB_INLINE_LAMBDA {
     if (!is_leaf(v.ref)) {
-      if (visit_node<Robust, Any, Count>(t, v.sr, v.h.t, v.ref, s.ref, s.d, v.sp, s.cap, c)) return true;
+      if (visit_node<Robust, Any, Count>(t.nodes.data(), v.sr, v.h.t, v.ref, s.ref, s.d, v.sp, s.cap, c)) return true;
     } else if (visit_leaf<Any, Count>(leaves, v.ref, v.r, *v.cache, v.h, s.ref, s.d, v.sp, c) && Any) {
       v.sp = 0;  // any hit: the ray ends at its first hit
     }
@@ -850,7 +859,7 @@ void trace_range(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_t
                  TraceCounters& c) {
   if (!valid_packet_size(packet)) throw std::invalid_argument("packet size must be 1, 8, 16, 64 or 256");
   if (packet == 1) {
-    for (std::size_t i = begin; i < end; ++i) out[i] = trace_single<S, Any, Count>(t, leaves, rays.get(i), c);
+    trace_singles<S, Any, Count>(t, leaves, rays, begin, end, out, c);
     return;
   }
   // Whether the valid rays of [i, i + n) share a direction octant, and whether one of them needs
@@ -908,7 +917,7 @@ void trace_range(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_t
     for (; i < e; i += 8) {
       if (coherent(i, 8)) run.template operator()<1>(i);
       else if (!apart(i))
-        for (std::size_t k = i; k < i + 8; ++k) out[k] = trace_single<S, Any, Count>(t, leaves, rays.get(k), c);
+        trace_singles<S, Any, Count>(t, leaves, rays, i, i + 8, out, c);
       else if (robust(i, 8)) trace_pairs<true, Any, Count>(t, leaves, rays, i, out, c);
       else trace_pairs<false, Any, Count>(t, leaves, rays, i, out, c);
     }
