@@ -393,7 +393,10 @@ struct MeshLeaves {
     const std::size_t base = std::size_t(bvh::leaf_group(ref)) * 8;
     int rays = 0, tris = 0;
     for (int q = 0; q < p.n; ++q) rays += count_true<f8>(p.active[p.list[q]]);
-    for (std::size_t j = base; j < base + 8; ++j) tris += tri->id[j] != UINT32_MAX;
+    {  // the group's real slots: one compare of its 8 scene indices with the padding's
+      const __m256i ids = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(tri->id.data() + base));
+      tris = 8 - __builtin_popcount(unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(ids, _mm256_set1_epi32(-1))))));
+    }
     if (rays < tris * p.n) {
       packet_by_ray<Any>(base, p, c);
       return;
