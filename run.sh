@@ -112,7 +112,7 @@ pgo() {
   rm -rf "$PGO_OUT"
   declare -A bins=([normal]=build/release/apps/raybench [pgo]=build/pgo-use/apps/raybench [tuned]=build/pgo-tuned/apps/raybench)
   # Back to back: three rounds of 2 repetitions per build, the build order rotated each round, then
-  # the traces build after build for each scene, ray set and packet size (order rotated per scene).
+  # the traces in rounds the same way (below).
   # The 1-minute load average after each run goes to load.txt: the report says whether the machine
   # was idle while it ran (read before a run, it would still show the build that preceded it).
   local order=(normal pgo tuned) i
@@ -126,15 +126,28 @@ pgo() {
       echo "bench-$round-$b $(cut -d' ' -f1 /proc/loadavg)" >>"$PGO_OUT/load.txt"
     done
   done
-  local s=0
+  # The traces: for each scene, ray set and packet size, five rounds of 2 repetitions per build, the
+  # three builds back to back in each round and their order rotated (a trace's ratio is the median
+  # of its per-round ratios, as for the kernels: a load change between builds moves one round).
+  local s=0 scene rays k round tag
   for scene in "${PGO_TRACE_SCENES[@]}"; do
     echo "[pgo] traces: $scene"
-    for i in 0 1 2; do
-      local b=${order[$(( (i + s) % 3 ))]}
-      pgo_traces "${bins[$b]}" "$PGO_OUT/$b" 1 524288 5 "$scene"
-      echo "trace-$scene-$b $(cut -d' ' -f1 /proc/loadavg)" >>"$PGO_OUT/load.txt"
+    for rays in "${PGO_RAY_SETS[@]}"; do
+      for k in "${PGO_PACKETS[@]}"; do
+        tag=$(echo "$scene-$rays-$k" | tr '/:.' '___')
+        for round in 1 2 3 4 5; do
+          for i in 0 1 2; do
+            local b=${order[$(( (i + s + round) % 3 ))]}
+            mkdir -p "$PGO_OUT/$b"
+            "${bins[$b]}" trace "$scene" --rays "$rays" --packet "$k" --threads 1 --seed 1 --count 524288 -r 2 \
+              --brute 0 --no-embree --json "$PGO_OUT/$b/trace-$tag-r$round.json" >/dev/null 2>&1 ||
+              echo "[pgo] warning: trace $scene $rays K=$k failed with the $b build" >&2
+          done
+        done
+        s=$((s + 1))
+      done
     done
-    s=$((s + 1))
+    echo "trace-$scene $(cut -d' ' -f1 /proc/loadavg)" >>"$PGO_OUT/load.txt"
   done
   /usr/bin/python3 tools/pgo.py "$PGO_OUT" report \
     --honest "bench --seed 7 (other rays and primitives, 1 repetition of 0.01 s); traces of ${PGO_TRAIN_SCENES[*]} with ray seed 7, 131072 rays" \

@@ -68,11 +68,14 @@ def paired_ratio(base, other):
 
 
 def traces(folder):
-    """(scene, ray set, packet) -> the trace JSON."""
+    """(scene, ray set, packet) -> {round: the trace JSON}. `./run.sh pgo` writes one JSON per round
+    (trace-TAG-rN.json); a file without a round number is round 0."""
     out = {}
     for path in sorted(glob.glob(os.path.join(folder, "trace-*.json"))):
         j = load_json(path)
-        out[(j.get("scene", "?"), j.get("ray_set", "?"), int(j.get("packet", 1)))] = j
+        m = re.search(r"-r(\d+)\.json$", path)
+        key = (j.get("scene", "?"), j.get("ray_set", "?"), int(j.get("packet", 1)))
+        out.setdefault(key, {})[int(m.group(1)) if m else 0] = j
     return out
 
 
@@ -125,15 +128,21 @@ def compare(results):
     tr = {b: traces(os.path.join(results, b)) for b in BUILDS}
     trows = []
     for key in sorted(tr["normal"]):
-        base = tr["normal"][key]
-        row = {"scene": key[0], "ray_set": key[1], "packet": key[2], "normal_mrays_per_s": base.get("mrays_per_s")}
+        base = {r: trace_reps(j) for r, j in tr["normal"][key].items()}
+        base = {r: v for r, v in base.items() if v}
+        if not base:
+            continue
+        row = {"scene": key[0], "ray_set": key[1], "packet": key[2], "normal_mrays_per_s": statistics.median(flat(base))}
         for b in ("pgo", "tuned"):
-            other = tr[b].get(key)
-            if not other or not base.get("mrays_per_s"):
+            other = {r: trace_reps(j) for r, j in tr[b].get(key, {}).items()}
+            other = {r: v for r, v in other.items() if v}
+            ratio, per_round = paired_ratio(base, other)
+            if ratio is None:
                 continue
-            row[f"{b}_mrays_per_s"] = other.get("mrays_per_s")
-            row[f"{b}_ratio"] = other["mrays_per_s"] / base["mrays_per_s"]
-            row[f"{b}_p"] = utest(trace_reps(base), trace_reps(other))
+            row[f"{b}_mrays_per_s"] = statistics.median(flat(other))
+            row[f"{b}_ratio"] = ratio
+            row[f"{b}_round_ratios"] = per_round
+            row[f"{b}_p"] = utest(flat(base), flat(other))
         trows.append(row)
     flags = {b: bench[b][1].get("raybench_build_flags", "?") for b in BUILDS}
     return rows, trows, flags
@@ -203,8 +212,9 @@ def markdown(rows, trows, flags, args, load):
               "workload itself: a sensitivity check of how much a profile of the very benchmark flatters). The kernel "
               "benchmarks ran in three rounds of 2 repetitions per build, the three builds back to back in each round and their "
               "order rotated from round to round; a benchmark's ratio is the median over the rounds of that round's ratio of "
-              "medians, so a disturbance of one round moves one term, not the result. The traces ran build after build for "
-              "each scene, ray set and packet size (5 repetitions, 1 thread), the build order rotated per scene. Ratios > 1 "
+              "medians, so a disturbance of one round moves one term, not the result. The traces ran the same way: for each "
+              "scene, ray set and packet size, five rounds of 2 repetitions per build (1 thread), the builds back to back in "
+              "each round and their order rotated, a trace's ratio the median of its per-round ratios. Ratios > 1 "
               "mean the PGO build is faster; p is the two-sided Mann-Whitney U-test over all repetitions (as Google "
               "Benchmark's compare.py computes it).")
     md.append("")
