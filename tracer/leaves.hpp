@@ -243,11 +243,16 @@ struct LeafChoice {
 };
 std::array<LeafFns, kKinds> leaf_table(const std::array<LeafChoice, kKinds>& c);
 
-// The number of real slots of a group (for the counted traversal).
+// The number of real slots of a group (for the counted traversal, and for the mesh packet leaf's
+// choice of loop on every visit): a whole group by one 8-lane compare with the padding's index.
 template <class B>
 inline std::uint32_t real_slots(const B& b, std::size_t base) {
+  if (base + 8 <= b.id.size()) {
+    const __m256i ids = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(b.id.data() + base));
+    return 8u - unsigned(__builtin_popcount(unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(ids, _mm256_set1_epi32(-1)))))));
+  }
   std::uint32_t n = 0;
-  for (std::size_t j = base; j < base + 8 && j < b.id.size(); ++j) n += b.id[j] != UINT32_MAX;
+  for (std::size_t j = base; j < b.id.size(); ++j) n += b.id[j] != UINT32_MAX;
   return n;
 }
 
@@ -391,12 +396,9 @@ struct MeshLeaves {
   template <bool Any>
   RB_INLINE void packet(std::uint32_t ref, bvh::PacketRays& p, PacketCache& c) const {
     const std::size_t base = std::size_t(bvh::leaf_group(ref)) * 8;
-    int rays = 0, tris = 0;
+    int rays = 0;
     for (int q = 0; q < p.n; ++q) rays += count_true<f8>(p.active[p.list[q]]);
-    {  // the group's real slots: one compare of its 8 scene indices with the padding's
-      const __m256i ids = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(tri->id.data() + base));
-      tris = 8 - __builtin_popcount(unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(ids, _mm256_set1_epi32(-1))))));
-    }
+    const int tris = int(real_slots(*tri, base));
     if (rays < tris * p.n) {
       packet_by_ray<Any>(base, p, c);
       return;
