@@ -374,9 +374,10 @@ RB_INLINE bool visit_leaf(const L& leaves, std::uint32_t ref, const Ray<float>& 
 // more: the sorting network), the nearest next, the others pushed with their entry distance and
 // dropped from the stack when a leaf brings the closest hit nearer than it. Any hit: no
 // distances, no order (the hit children pushed in slot order, the last one next), return at the
-// first hit.
+// first hit. The walk starts at node `ref` (the root, or where an any-hit packet left the ray).
 template <bool Robust, bool Any, bool Count, class L>
-RB_INLINE HitRec single_loop(const Bvh8& t, const L& leaves, const Ray<float>& r, detail::Stack& st, TraceCounters& c) {
+RB_INLINE HitRec single_loop(const Bvh8& t, const L& leaves, const Ray<float>& r, detail::Stack& st, TraceCounters& c,
+                             std::uint32_t ref = 0) {
   using namespace detail;
   HitRec h{r.tmax, kNoPrim};
   const SlabRay sr = SlabRay::make(r);
@@ -384,7 +385,6 @@ RB_INLINE HitRec single_loop(const Bvh8& t, const L& leaves, const Ray<float>& r
   std::uint32_t* const sref = st.ref;
   float* const sd = st.d;
   std::size_t sp = 0;
-  std::uint32_t ref = 0;
   const WNode* const nodes = t.nodes.data();
   for (;;) {
     while (!is_leaf(ref))
@@ -434,8 +434,12 @@ void trace_singles(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size
 // Closest hit visits children near to far by the frustum's entry distance (the sorting network of
 // the single-ray loop); any hit in slot order. The stack holds (child, entry distance, ray mask).
 // At a leaf, the leaf source tests the masked rays. Any hit: rays that hit leave the packet; it
-// ends when none remain.
+// ends when none remain; at a node with at most kAnySingleRays active rays, those go on one by one
+// (any_hits_alone). Closest-hit packets stay packets to their last ray (going on alone measured
+// slower on two of three meshes; see the design notes).
 inline constexpr int kMaxGroups = 32;
+// An any-hit packet with at most this many active rays at a node goes on ray by ray from there.
+inline constexpr int kAnySingleRays = 3;
 
 // What a leaf source sees of a packet: the groups with rays to test at this leaf (list[0..n)),
 // each group's rays, current closest distance (tbest, lowered by hits) and the rays to test
@@ -563,6 +567,28 @@ RB_INLINE unsigned slab_children(const WNode& node, const ChildTest& c, float tm
 
 }  // namespace detail
 
+// The few rays `left` of an any-hit packet at node `ref`, each on alone from there (the single-ray
+// walk). The packet's frustum still spans every ray it started with, so it accepts children none
+// of the few remaining rays meets, and each such child costs an 8-lane test with most lanes idle;
+// alone, a ray tests a node's 8 children in one. Out of line: inlined, it changed the packet
+// loop's register allocation and cost the bunny's shadow packets 8 %.
+template <bool Robust, bool Count, int G, class L>
+[[gnu::noinline]] void any_hits_alone(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_t i, std::uint32_t ref,
+                                      detail::RayMask<G> left, f8* tbest, std::uint32_t* prim, detail::RayMask<G>& alive,
+                                      TraceCounters& c) {
+  using namespace detail;
+  Stack st(t);
+  while (!left.empty()) {
+    const int f = left.first(), g = f >> 3, l = f & 7;
+    left.w[f >> 6] &= ~(std::uint64_t(1) << (f & 63));
+    const HitRec h = single_loop<Robust, true, Count>(t, leaves, rays.get(i + std::size_t(f)), st, c, ref);
+    if (h.prim == kNoPrim) continue;
+    prim[f] = h.prim;
+    tbest[g] = xsimd::select(lanes_of(1u << l), f8(h.t), tbest[g]);
+    alive.set(g, alive.group(g) & ~(1u << l));
+  }
+}
+
 template <bool Robust, bool Any, bool Count, int G, class L>
 void trace_packet(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_t i, HitRec* out, TraceCounters& c) {
   using namespace detail;
@@ -653,6 +679,13 @@ void trace_packet(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_
     Mask mask = alive;
     for (;;) {
       while (!is_leaf(ref)) {
+        if constexpr (Any) {
+          if (mask.count() <= kAnySingleRays) [[unlikely]] {
+            any_hits_alone<Robust, Count>(t, leaves, rays, i, ref, mask, tbest, prim, alive, c);
+            if (alive.empty()) goto done;
+            goto pop;
+          }
+        }
         const WNode& n = t.nodes[ref];
         if constexpr (Count) ++c.nodes;
         std::uint64_t real = 0;

@@ -224,6 +224,42 @@ TEST(Bvh, PacketsGiveTheSameHitsAsSingleRays) {
   }
 }
 
+// Any-hit packets whose rays share an octant but spread over the scene (shadow rays towards one
+// light from a grid of points): at nodes where at most a few of a packet's rays remain, they go on
+// one by one. The same hit or miss as brute force, plain and counted, with rays that end before
+// the mesh and invalid rays among them.
+TEST(Bvh, AnyHitPacketsThatGoOnRayByRayGiveTheSameAnswers) {
+  const scene::Scene s = mesh_on_floor();
+  const tracer::SceneAccel a = tracer::SceneAccel::build(s);
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<float> J(-0.02f, 0.02f);
+  RaySoA rays;
+  for (int z = 0; z < 48; ++z)
+    for (int x = 0; x < 48; ++x) {
+      const Vec3f o{-6.0f + 0.25f * float(x), 4.0f, -6.0f + 0.25f * float(z)}, d{0.1f + J(rng), -1.0f, 0.05f + J(rng)};
+      const int k = (48 * z + x) % 37;
+      if (k == 5) rays.push(o, d, 2.0f, 1.0f);  // an empty interval
+      else if (k == 11) rays.push(o, d, 0.0f, 2.5f);  // ends before the mesh
+      else rays.push(o, d);
+    }
+  const auto ref = brute(a, rays, true);
+  std::size_t hits = 0;
+  for (std::size_t i = 0; i < rays.count; ++i) hits += ref[i].prim != kNoPrim;
+  EXPECT_GT(hits, rays.count / 4);
+  EXPECT_LT(hits, rays.count * 3 / 4);
+  for (int packet : {8, 16, 64, 256})
+    for (bvh::Slab slab : {bvh::Slab::conservative, bvh::Slab::robust}) {
+      const tracer::TraceOptions o = opts(packet, slab, true);
+      std::vector<HitRec> h(rays.size()), hc(rays.size());
+      a.trace(rays, 0, rays.size(), h.data(), o);
+      const std::string what = "packet " + std::to_string(packet) + " " + bvh::slab_name(slab);
+      expect_same(h, ref, rays.count, true, what);
+      bvh::TraceCounters c;
+      a.trace_counted(rays, 0, rays.size(), hc.data(), o, c);
+      expect_same(hc, ref, rays.count, true, what + " counted");
+    }
+}
+
 // Packets whose rays start far apart walk two rays at once: the same hits as single rays, bit for
 // bit, closest and any hit, with invalid rays among a packet's rays (which the walkers skip), and
 // groups of 8 with no valid ray or with one, the last.
