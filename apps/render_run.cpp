@@ -70,9 +70,24 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
   if (o.spd) ro = render::spd_options(s, w, h, o.depth);
   else ro.width = w, ro.height = h, ro.depth = o.depth;
   ro.count_tests = o.count_tests;
-  ro.secondary_packet = o.secondary_packet;
-  ro.eye_packet = o.eye_packet;
-  render::Renderer r(s, accel, ro);
+  // Packet sizes: given, or (0: auto) the fastest in this run. Then trial renders after the
+  // warm-up ones try the candidates (eye rays in packets of 64, 16 and 8; the other rays one by one
+  // and in octant-ordered packets of 8), a candidate per render in turn, and each generation takes
+  // the size whose trace time was least (summed over threads; under MPI each rank chooses from its
+  // own tiles).
+  const std::vector<int> eye_sizes = o.eye_packet == 0 ? std::vector<int>{64, 16, 8} : std::vector<int>{o.eye_packet};
+  const std::vector<int> sec_sizes = o.secondary_packet == 0 ? std::vector<int>{1, 8} : std::vector<int>{o.secondary_packet};
+  const int trials = o.eye_packet == 0 || o.secondary_packet == 0 ? int(std::max(eye_sizes.size(), sec_sizes.size())) : 0;
+  std::vector<double> eye_s(eye_sizes.size(), -1), sec_s(sec_sizes.size(), -1);  // least seconds per candidate
+  json trial_rows = json::array();
+  auto fastest = [](const std::vector<int>& sizes, const std::vector<double>& secs) {
+    std::size_t b = 0;
+    for (std::size_t k = 1; k < sizes.size(); ++k)
+      if (secs[k] >= 0 && (secs[b] < 0 || secs[k] < secs[b])) b = k;
+    return sizes[b];
+  };
+  ro.eye_packet = eye_sizes[0];
+  ro.secondary_packet = sec_sizes[0];
 
   int rank = 0, ranks = 1;
 #ifdef RB_HAVE_MPI
@@ -81,9 +96,10 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
 #endif
   const bool show = o.progress && rank == 0;
   ProgressBar bar(fmt::format("render {}", o.scene), show ? ProgressBar::Mode::automatic : ProgressBar::Mode::off);
-  // Warm-up renders first (not in the median), then the timed ones; the image and the counts are
-  // those of the last render (every render computes the same).
-  const int runs = std::max(0, o.warmup) + std::max(1, o.repetitions);
+  // The warm-up renders and the trial renders first (not in the median), then the timed ones; the
+  // image and the counts are those of the last render (every render computes the same image).
+  const int warmup = std::max(0, o.warmup), untimed = warmup + trials;
+  const int runs = untimed + std::max(1, o.repetitions);
   int run = 0;
   auto progress = [&](std::size_t done, std::size_t total) {
     bar.update((double(run) + double(done) / double(std::max<std::size_t>(1, total))) / double(runs));
@@ -92,6 +108,11 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
   std::vector<double> trace_seconds;
   render::RenderStats st;
   for (run = 0; run < runs; ++run) {
+    const bool trial = run >= warmup && run < untimed;
+    const std::size_t e = std::size_t(run - warmup) % eye_sizes.size(), k = std::size_t(run - warmup) % sec_sizes.size();
+    if (trial) ro.eye_packet = eye_sizes[e], ro.secondary_packet = sec_sizes[k];
+    if (run == untimed && trials > 0) ro.eye_packet = fastest(eye_sizes, eye_s), ro.secondary_packet = fastest(sec_sizes, sec_s);
+    const render::Renderer r(s, accel, ro);
     const auto t1 = std::chrono::steady_clock::now();
 #ifdef RB_HAVE_MPI
     if (mpi) st = render::render_tiles_mpi(*mpi, r, samples, o.threads, progress);
@@ -100,8 +121,15 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
     (void)mpi;
     st = render::render_tiles(r, samples, o.threads, 0, 1, progress);
 #endif
-    if (run >= o.warmup) trace_seconds.push_back(ms_since(t1) / 1e3);
+    if (run >= untimed) trace_seconds.push_back(ms_since(t1) / 1e3);
+    if (trial) {
+      if (eye_s[e] < 0 || st.eye_trace_s < eye_s[e]) eye_s[e] = st.eye_trace_s;
+      if (sec_s[k] < 0 || st.secondary_trace_s < sec_s[k]) sec_s[k] = st.secondary_trace_s;
+      trial_rows.push_back({{"eye_packet", ro.eye_packet}, {"secondary_packet", ro.secondary_packet},
+                            {"eye_trace_ms", 1e3 * st.eye_trace_s}, {"secondary_trace_ms", 1e3 * st.secondary_trace_s}});
+    }
   }
+  const render::Renderer r(s, accel, ro);
   const stats::Summary spread = stats::summarize(trace_seconds);
   const double trace_ms = 1e3 * spread.median;
   bar.done();
@@ -113,7 +141,8 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
   json prim = json::object();
   for (int k = 0; k < kinds::kKinds; ++k) prim[kinds::kind_name(kinds::Kind(k))] = st.cost.kind_prims[k];
   const double rays = double(st.rays());
-  // The image's float samples in one FNV-1a digest: the same for any thread or rank count.
+  // The image's float samples in one FNV-1a digest: the same for any thread or rank count (and, but
+  // for rays through an edge two faces share at the same distance, for any packet sizes).
   std::uint64_t digest = 1469598103934665603ull;
   for (const float v : img) {
     std::uint32_t bits;
@@ -140,6 +169,9 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
          {"tests_counted", ro.count_tests},
          {"secondary_packet", ro.secondary_packet},
          {"eye_packet", ro.eye_packet},
+         {"packet_choice", {{"eye", o.eye_packet == 0 ? "fastest in the trial renders" : "given"},
+                            {"secondary", o.secondary_packet == 0 ? "fastest in the trial renders" : "given"},
+                            {"trials", trial_rows}}},
          {"node_visits", st.cost.nodes},
          {"box_tests", st.cost.boxes},
          {"prim_tests", prim},
@@ -152,6 +184,7 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
          {"trace_ms", trace_ms},
          {"mrays_per_s", trace_ms > 0 ? rays / (trace_ms * 1e3) : 0.0},
          {"warmup", std::max(0, o.warmup)},
+         {"trial_renders", trials},
          {"repetitions", trace_seconds.size()},
          {"trace_seconds", trace_seconds},
          {"trace_ms_min", 1e3 * spread.min},
@@ -207,12 +240,22 @@ std::string render_text(const json& j) {
   }
   t += fmt::format("model: {} (frame {}; `raybench plan` explains the choices)\n", j["model"].get<std::string>(),
                    j["plan"]["frame"]["kind"].get<std::string>());
+  if (j.contains("packet_choice")) {
+    const json& pc = j["packet_choice"];
+    t += fmt::format("packets: eye rays {} ({}), reflection, refraction and shadow rays {} ({})\n", j["eye_packet"].get<int>(),
+                     pc["eye"].get<std::string>(), j["secondary_packet"].get<int>(), pc["secondary"].get<std::string>());
+    for (const auto& tr : pc["trials"])
+      t += fmt::format("  trial render: eye {:>2} -> {:.1f} ms, others {} -> {:.1f} ms in the BVH\n", tr["eye_packet"].get<int>(),
+                       tr["eye_trace_ms"].get<double>(), tr["secondary_packet"].get<int>(), tr["secondary_trace_ms"].get<double>());
+  }
   t += fmt::format("time: preprocess {:.1f} ms (load {:.1f}, plan {:.1f}, BVH {:.1f}), trace {:.1f} ms, {:.2f} Mrays/s\n",
                    j["preprocess_ms"].get<double>(), j["load_ms"].get<double>(), j["plan_ms"].get<double>(), j["build_ms"].get<double>(),
                    j["trace_ms"].get<double>(), j["mrays_per_s"].get<double>());
   if (j.contains("trace_seconds") && j["trace_seconds"].size() > 1)
-    t += fmt::format("      trace: median of {} renders after {} warm-up, range {:.1f}-{:.1f} ms{}\n", j["trace_seconds"].size(),
-                     j["warmup"].get<int>(), j["trace_ms_min"].get<double>(), j["trace_ms_max"].get<double>(),
+    t += fmt::format("      trace: median of {} renders after {} warm-up{}, range {:.1f}-{:.1f} ms{}\n", j["trace_seconds"].size(),
+                     j["warmup"].get<int>(),
+                     j.value("trial_renders", 0) > 0 ? fmt::format(" and {} trial renders", j["trial_renders"].get<int>()) : "",
+                     j["trace_ms_min"].get<double>(), j["trace_ms_max"].get<double>(),
                      j["cv"].is_null() ? "" : fmt::format(", CV {:.1f} %", 100 * j["cv"].get<double>()));
   if (j.contains("image")) t += fmt::format("wrote {}\n", j["image"].get<std::string>());
   return t;

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -21,14 +22,14 @@ namespace {
 constexpr int kMaxCrossings = 16;  // transmitting occluders followed per shadow ray
 
 // Writes rays into a RaySoA in one go (RaySoA::push appends one at a time), padded to 8 lanes with
-// invalid rays.
-void fill(RaySoA& soa, const std::vector<Ray<float>>& rays) {
+// invalid rays; with `order`, ray order[i] goes to slot i.
+void fill(RaySoA& soa, const std::vector<Ray<float>>& rays, const std::uint32_t* order = nullptr) {
   const std::size_t n = rays.size(), padded = round_up(std::max<std::size_t>(n, 1), kPadLanes);
   for (auto* a : {&soa.ox, &soa.oy, &soa.oz, &soa.dx, &soa.dy, &soa.dz, &soa.rx, &soa.ry, &soa.rz, &soa.tmin, &soa.tmax})
     a->resize(padded);
   const Ray<float> invalid = make_ray(Vec3f{0, 0, 0}, Vec3f{0, 0, 0});
   for (std::size_t i = 0; i < padded; ++i) {
-    const Ray<float>& r = i < n ? rays[i] : invalid;
+    const Ray<float>& r = i < n ? rays[order ? order[i] : i] : invalid;
     soa.ox[i] = r.o.x; soa.oy[i] = r.o.y; soa.oz[i] = r.o.z;
     soa.dx[i] = r.d.x; soa.dy[i] = r.d.y; soa.dz[i] = r.d.z;
     soa.rx[i] = r.rd.x; soa.ry[i] = r.rd.y; soa.rz[i] = r.rd.z;
@@ -51,25 +52,18 @@ struct ShadowRay {
 
 Vec3f mul(const Vec3f& a, const Vec3f& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
 
-// Reorders rays (and their payload, in step) by direction octant, stably: the BVH traces 8
-// consecutive rays as one packet only when they share an octant, and a generation interleaves
-// reflection with refraction rays and each hit's shadow rays towards different lights.
-template <class P>
-void sort_by_octant(std::vector<Ray<float>>& rays, std::vector<P>& payload, std::vector<Ray<float>>& tmp_r, std::vector<P>& tmp_p) {
+// The rays' indices ordered by direction octant, stably: the BVH traces 8 consecutive rays as one
+// packet only when they share an octant, and a generation interleaves reflection with refraction
+// rays and each hit's shadow rays towards different lights. Empty when all share one octant.
+void octant_order(const std::vector<Ray<float>>& rays, std::vector<std::uint32_t>& order) {
   std::size_t count[9] = {};
   auto oct = [](const Ray<float>& r) { return std::size_t((r.d.x < 0) | (r.d.y < 0) << 1 | (r.d.z < 0) << 2); };
   for (const auto& r : rays) ++count[oct(r) + 1];
-  if (std::count(count + 1, count + 9, rays.size()) == 1) return;  // one octant: nothing to do
+  order.clear();
+  if (std::count(count + 1, count + 9, rays.size()) == 1) return;
   for (int k = 1; k < 9; ++k) count[k] += count[k - 1];
-  tmp_r.resize(rays.size());
-  tmp_p.resize(rays.size());
-  for (std::size_t i = 0; i < rays.size(); ++i) {
-    const std::size_t at = count[oct(rays[i])]++;
-    tmp_r[at] = rays[i];
-    tmp_p[at] = payload[i];
-  }
-  rays.swap(tmp_r);
-  payload.swap(tmp_p);
+  order.resize(rays.size());
+  for (std::size_t i = 0; i < rays.size(); ++i) order[count[oct(rays[i])]++] = std::uint32_t(i);
 }
 
 void add_to(float* samples, std::uint32_t sample, const Vec3f& c) {
@@ -82,10 +76,11 @@ void add_to(float* samples, std::uint32_t sample, const Vec3f& c) {
 // A tile's rays in flight, reused from tile to tile on each thread (allocation churn cost more
 // than shading).
 struct Renderer::Work {
-  std::vector<Ray<float>> rays, next_rays, srays, more, tmp_r;
-  std::vector<PathRay> path, next_path, tmp_path;
-  std::vector<ShadowRay> shadow, tmp_shadow;
-  std::vector<bvh::HitRec> hits;
+  std::vector<Ray<float>> rays, next_rays, srays, more;
+  std::vector<PathRay> path, next_path;
+  std::vector<ShadowRay> shadow;
+  std::vector<bvh::HitRec> hits, sorted_hits;
+  std::vector<std::uint32_t> order;  // the octant order of a batch traced in packets
   std::vector<float> pass;
   std::vector<std::uint32_t> live, more_live;
   RaySoA soa;
@@ -160,14 +155,28 @@ void Renderer::eye_rays(int x0, int y0, int x1, int y1, Work& w) const {
 }
 
 // RT_trace for a batch: the closest (or any) hit of every ray.
+// Secondary rays in packets are traced in octant order and their hits put back in the batch's
+// order, so that shading (and the sum of each sample's terms) runs in the same order in every
+// mode: the image does not depend on the packet sizes.
 void Renderer::trace(Work& w, const std::vector<Ray<float>>& rays, bool any, bool secondary, RenderStats& st) const {
-  fill(w.soa, rays);
-  w.hits.resize(w.soa.size());
+  const auto t0 = std::chrono::steady_clock::now();
   tracer::TraceOptions to;
   to.packet = secondary ? (o_.secondary_packet == 8 ? 8 : 1) : o_.eye_packet;
   to.any = any;
-  if (o_.count_tests) a_.trace_counted(w.soa, 0, w.soa.size(), w.hits.data(), to, st.cost);
-  else a_.trace(w.soa, 0, w.soa.size(), w.hits.data(), to);
+  w.order.clear();
+  if (secondary && to.packet == 8) octant_order(rays, w.order);
+  const bool sorted = !w.order.empty();
+  fill(w.soa, rays, sorted ? w.order.data() : nullptr);
+  std::vector<bvh::HitRec>& out = sorted ? w.sorted_hits : w.hits;
+  out.resize(w.soa.size());
+  if (o_.count_tests) a_.trace_counted(w.soa, 0, w.soa.size(), out.data(), to, st.cost);
+  else a_.trace(w.soa, 0, w.soa.size(), out.data(), to);
+  if (sorted) {
+    w.hits.resize(w.soa.size());
+    for (std::size_t i = 0; i < rays.size(); ++i) w.hits[w.order[i]] = out[i];
+  }
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  (secondary ? st.secondary_trace_s : st.eye_trace_s) += s;
 }
 
 // RT_shade for every ray of the generation: background on a miss; else the ambient term, one
@@ -251,7 +260,6 @@ void Renderer::shade(float* samples, Work& w, RenderStats& st) const {
 // goes on from beyond it.
 void Renderer::shadows(float* samples, Work& w, RenderStats& st) const {
   st.shadow += w.srays.size();
-  if (o_.secondary_packet == 8) sort_by_octant(w.srays, w.shadow, w.tmp_r, w.tmp_shadow);
   auto& cur = w.srays;
   w.pass.assign(w.srays.size(), 1.0f);
   w.live.resize(w.srays.size());
@@ -296,7 +304,6 @@ void Renderer::render_tile(std::size_t t, float* samples, RenderStats& st) const
     shadows(samples, w, st);
     w.rays.swap(w.next_rays);
     w.path.swap(w.next_path);
-    if (o_.secondary_packet == 8) sort_by_octant(w.rays, w.path, w.tmp_r, w.tmp_path);
   }
 }
 

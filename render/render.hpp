@@ -46,8 +46,9 @@ struct RenderOptions {
   // Count box and primitive tests (the counting traversal; off: the plain one, which is what
   // `raybench trace` times). Ray counts are always kept.
   bool count_tests = true;
-  // Reflection, refraction and shadow rays: 1 traces them one by one; 8 sorts each batch by
-  // direction octant and traces 8 rays of one octant as a packet.
+  // Reflection, refraction and shadow rays: 1 traces them one by one; 8 traces each batch in
+  // direction-octant order, 8 rays of one octant as a packet (the hits go back to the batch's
+  // order, so the image is the same bit for bit in every mode).
   int secondary_packet = 1;
   // Eye rays: rays per packet (1, 8, 16 or 64; a tile's rows of neighbouring pixels, so a
   // 64-ray packet is a 16x4 block of the image traced with a frustum test of the node's children).
@@ -56,13 +57,17 @@ struct RenderOptions {
 
 // Ray and test counts. Box and primitive tests are those of every traversal (eye, reflection,
 // refraction, shadow and its continuations through transmitting occluders).
+// The seconds spent in the BVH (summed over threads; under MPI, this rank's own) for eye rays and
+// for the other rays, by which a run can choose each generation's packet size.
 struct RenderStats {
   std::uint64_t eye = 0, eye_hit = 0, reflect = 0, refract = 0, shadow = 0;
   bvh::TraceCounters cost;
+  double eye_trace_s = 0, secondary_trace_s = 0;
   std::uint64_t rays() const { return eye + reflect + refract + shadow; }
   void add(const RenderStats& o) {
     eye += o.eye; eye_hit += o.eye_hit; reflect += o.reflect; refract += o.refract; shadow += o.shadow;
     cost.add(o.cost);
+    eye_trace_s += o.eye_trace_s; secondary_trace_s += o.secondary_trace_s;
   }
 };
 

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -400,8 +401,45 @@ TEST(Cli, RenderGivesMedianRangeAndCvAndTooManyThreadsWarn) {
   EXPECT_EQ(j["warmup"], 1);
   EXPECT_EQ(j["trace_seconds"].size(), 3u);
   EXPECT_LE(j["trace_ms_min"].get<double>(), j["trace_ms"].get<double>());
-  EXPECT_TRUE(has(r.out, "median of 3 renders after 1 warm-up")) << r.out;
+  EXPECT_TRUE(has(r.out, "median of 3 renders after 1 warm-up and 3 trial renders")) << r.out;
   EXPECT_TRUE(has(r.err, "warning: " + std::to_string(more) + " threads asked for")) << r.err;
+}
+
+// Packet sizes by default: trial renders try eye packets of 64, 16 and 8 and the other rays one by
+// one and in packets of 8, in turn, and the timed renders use the size with the least trace time
+// for each; given sizes are used as given, without trials.
+TEST(Cli, RenderChoosesTheFastestPacketSizesInTrialRenders) {
+  Scratch s("render-packets");
+  Outcome r = run_in(s.dir, "render spd:balls:1 --width 16 -r 1 --warmup 0 -o b.png --json -");
+  ASSERT_EQ(r.status, 0) << r.err;
+  nlohmann::json j = r.json();
+  EXPECT_EQ(j["trial_renders"], 3);
+  const auto& trials = j["packet_choice"]["trials"];
+  ASSERT_EQ(trials.size(), 3u);
+  std::map<int, double> eye, other;
+  for (const auto& t : trials) {
+    const int e = t["eye_packet"], o = t["secondary_packet"];
+    eye[e] = eye.count(e) ? std::min(eye[e], t["eye_trace_ms"].get<double>()) : t["eye_trace_ms"].get<double>();
+    other[o] = other.count(o) ? std::min(other[o], t["secondary_trace_ms"].get<double>()) : t["secondary_trace_ms"].get<double>();
+  }
+  EXPECT_EQ(eye.size(), 3u);
+  EXPECT_EQ(other.size(), 2u);
+  auto least = [](const std::map<int, double>& m) {
+    return std::min_element(m.begin(), m.end(), [](const auto& a, const auto& b) { return a.second < b.second; })->first;
+  };
+  EXPECT_EQ(j["eye_packet"].get<int>(), least(eye));
+  EXPECT_EQ(j["secondary_packet"].get<int>(), least(other));
+  EXPECT_GT(other.at(1) + other.at(8), 0.0);  // shadow rays were traced and timed
+
+  r = run_in(s.dir, "render spd:balls:1 --width 16 -r 1 --warmup 0 --eye-packet 8 --secondary-packet 8 -o b.png --json -");
+  ASSERT_EQ(r.status, 0) << r.err;
+  j = r.json();
+  EXPECT_EQ(j["trial_renders"], 0);
+  EXPECT_EQ(j["eye_packet"], 8);
+  EXPECT_EQ(j["secondary_packet"], 8);
+  EXPECT_EQ(j["packet_choice"]["eye"], "given");
+  EXPECT_TRUE(j["packet_choice"]["trials"].empty());
+  EXPECT_NE(run_in(s.dir, "render spd:balls:1 --eye-packet 32 -o b.png").status, 0);
 }
 
 TEST(Cli, HelpAndTablesFitEightyColumns) {
