@@ -105,9 +105,9 @@ void remove_unwritten_outputs() {
 }
 
 bool is_generated_scene(const std::string& source) {
-  for (const char* p : {"spd:", "lecture:", "csg:", "precision:"})
+  for (const char* p : {"spd:", "lecture:", "csg:", "precision:", "heightfield:"})
     if (source.rfind(p, 0) == 0) return true;
-  return false;
+  return source == "heightfield";
 }
 
 std::string check_input_file(const std::string& path) {

@@ -41,7 +41,8 @@ std::string check_output_file(const std::string& path);
 std::string check_output_dir(const std::string& path);
 void remove_unwritten_outputs();
 
-// Scene sources that are not files: spd:NAME[:SIZE], lecture:NAME, csg:NAME, precision:NAME.
+// Scene sources that are not files: spd:NAME[:SIZE], lecture:NAME, csg:NAME, precision:NAME,
+// heightfield[:NXxNY].
 bool is_generated_scene(const std::string& source);
 // An input file: "" when it is a readable regular file, else the system's reason.
 std::string check_input_file(const std::string& path);

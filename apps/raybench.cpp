@@ -160,7 +160,8 @@ int main(int argc, char** argv) {
       "csg:NAME (spheres_minus lens die torus_box ellipsoid_minus_cylinder), or\n"
       "precision:NAME (scenes that test a tracer's precision: ball_ground,\n"
       "ball_ground_far, planet, mesh_spheres[_1e3|_1e5|_1e7], far_spheres,\n"
-      "thin_torus, far_cylinders, mixed_scales).\n"
+      "thin_torus, far_cylinders, mixed_scales), or heightfield[:NXxNY] (a wavy\n"
+      "height field of NX x NY quads; default 708x707, about a million triangles).\n"
       "Shows primitive counts per kind, bounds, camera, lights, materials, the\n"
       "memory of the input form and of each SoA kernel batch, and the tracer's plan.");
 

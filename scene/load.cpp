@@ -120,12 +120,25 @@ Scene load_unchecked(const std::string& source) {
   if (source.rfind("lecture:", 0) == 0) return lecture_scene(source.substr(8));
   if (source.rfind("csg:", 0) == 0) return csg_scene(source.substr(4));
   if (source.rfind("precision:", 0) == 0) return precision_scene(source.substr(10));
+  if (source == "heightfield") return height_field(708, 707);
+  if (source.rfind("heightfield:", 0) == 0) {
+    const std::string s = source.substr(12);
+    int nx = 0, ny = 0;
+    const char* const end = s.data() + s.size();
+    const auto a = std::from_chars(s.data(), end, nx);
+    const bool ok = a.ec == std::errc() && a.ptr != end && *a.ptr == 'x' && [&] {
+      const auto b = std::from_chars(a.ptr + 1, end, ny);
+      return b.ec == std::errc() && b.ptr == end;
+    }();
+    if (!ok) throw SceneError(fmt::format("{}: expected heightfield:NXxNY with NX and NY whole numbers of quads, got {}", source, detail::quote(s)));
+    return height_field(nx, ny);
+  }
   const std::string ext = lower_ext(source);
   if (ext == "obj") return load_obj(source);
   if (ext == "ply") return load_ply(source);
   if (ext == "nff") return load_nff(source);
   if (ext == "json") return load_json_scene(source);
-  throw SceneError(fmt::format("{}: unknown scene source: expected a .obj, .ply or .nff file, a .json scene, spd:NAME[:SIZE], lecture:NAME, csg:NAME or precision:NAME",
+  throw SceneError(fmt::format("{}: unknown scene source: expected a .obj, .ply or .nff file, a .json scene, spd:NAME[:SIZE], lecture:NAME, csg:NAME, precision:NAME or heightfield[:NXxNY]",
                                source));
 }
 }  // namespace

@@ -5,6 +5,7 @@
 //   path/to/scene.json                    the JSON scene format: CSG trees and analytic primitives (scene/csg.hpp)
 //   csg:NAME                              embedded CSG scenes (scene/csg.hpp)
 //   precision:NAME                        scenes that test a tracer's precision (scene/precision_scenes.cpp)
+//   heightfield[:NXxNY]                   a wavy height field of NX x NY quads (default 708x707: 1,001,112 triangles)
 // Errors (unknown name, unreadable or malformed file) throw rb::scene::SceneError whose
 // message names the file, the line (or byte offset) and what was expected.
 #pragma once
@@ -42,5 +43,10 @@ std::vector<std::string> lecture_scene_names();
 Scene lecture_scene(const std::string& name);
 std::vector<std::string> precision_scene_names();
 Scene precision_scene(const std::string& name);
+// A wavy height field over [-1, 1]^2 (y up: 0.15 sin 7u cos 5v + 0.05 sin 31uv) of nx x ny quads,
+// two triangles each: a generated mesh the size of a large scan (scene/heightfield.cpp). Throws
+// SceneError on a side outside 1 .. kMaxHeightFieldSide.
+inline constexpr int kMaxHeightFieldSide = 2048;
+Scene height_field(int nx, int ny);
 
 }  // namespace rb::scene

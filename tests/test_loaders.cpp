@@ -364,6 +364,27 @@ TEST(LoadScene, DispatchByExtensionAndPrefix) {
   EXPECT_THROW(load_scene("lecture:nosuchscene"), SceneError);
 }
 
+// The generated height field: NX x NY quads of two triangles over [-1, 1]^2 sharing their
+// vertices, the default the size the report traces; malformed and absurd sizes are refused.
+TEST(LoadScene, HeightField) {
+  const Scene h = load_scene("heightfield:12x7");
+  EXPECT_EQ(h.triangles.size(), 2u * 12 * 7);
+  EXPECT_EQ(h.verts.size(), 13u * 8);
+  const Bounds b = h.bounds();
+  EXPECT_DOUBLE_EQ(b.lo.x, -1.0);
+  EXPECT_DOUBLE_EQ(b.hi.z, 1.0);
+  EXPECT_LT(b.hi.y - b.lo.y, 0.41);
+  for (const auto& t : h.triangles)
+    for (auto v : t.v) EXPECT_LT(v, h.verts.size());
+  EXPECT_EQ(load_scene("heightfield").triangles.size(), 1001112u);
+  for (const char* bad : {"heightfield:", "heightfield:12", "heightfield:12x", "heightfield:x7", "heightfield:12x7x",
+                          "heightfield:12 x7"})
+    expect_error([&] { load_scene(bad); }, "expected heightfield:NXxNY");
+  expect_error([] { load_scene("heightfield:0x7"); }, "^heightfield:0x7: each side must be 1 \\.\\. 2048 quads");
+  expect_error([] { load_scene("heightfield:5000x5000"); }, "^heightfield:5000x5000: each side must be 1");
+  expect_error([] { load_scene("heightfield:-3x7"); }, "^heightfield:-3x7: each side must be 1");
+}
+
 TEST(LoadScene, EmbeddedMeshes) {
   const Scene bunny = load_scene(std::string(RB_SOURCE_DIR) + "/data/meshes/stanford-bunny.obj");
   EXPECT_EQ(bunny.triangles.size(), 69451u);
