@@ -571,7 +571,7 @@ RB_INLINE unsigned slab_children(const WNode& node, const ChildTest& c, float tm
 // walk). The packet's frustum still spans every ray it started with, so it accepts children none
 // of the few remaining rays meets, and each such child costs an 8-lane test with most lanes idle;
 // alone, a ray tests a node's 8 children in one. Out of line: inlined, it changed the packet
-// loop's register allocation and cost the bunny's shadow packets 8 %.
+// loop's register allocation and cost the bunny's shadow packets 7-8 %.
 template <bool Robust, bool Count, int G, class L>
 [[gnu::noinline]] void any_hits_alone(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_t i, std::uint32_t ref,
                                       detail::RayMask<G> left, f8* tbest, std::uint32_t* prim, detail::RayMask<G>& alive,
