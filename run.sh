@@ -67,6 +67,16 @@ PGO_TRAIN_SCENES=(spd:tetra:7 spd:mount:4 spd:teapot:4 lecture:five_glass_balls)
 PGO_RAY_SETS=(primary shadow diffuse random)
 PGO_PACKETS=(1 8)
 
+pgo_tag() {  # scene, ray set, packet -> a file name part
+  echo "$1-$2-$3" | tr '/:.' '___'
+}
+
+pgo_trace() {  # binary, JSON file, seed, count, repetitions, scene, ray set, packet
+  "$1" trace "$6" --rays "$7" --packet "$8" --threads 1 --seed "$3" --count "$4" \
+    -r "$5" --brute 0 --no-embree --json "$2" >/dev/null 2>&1 ||
+    echo "[pgo] warning: trace $6 $7 K=$8 failed with $1" >&2
+}
+
 pgo_traces() {  # binary, out dir, seed, count, repetitions, scenes...
   local bin=$1 dir=$2 seed=$3 count=$4 reps=$5
   shift 5
@@ -74,11 +84,7 @@ pgo_traces() {  # binary, out dir, seed, count, repetitions, scenes...
   for scene in "$@"; do
     for rays in "${PGO_RAY_SETS[@]}"; do
       for k in "${PGO_PACKETS[@]}"; do
-        local tag
-        tag=$(echo "$scene-$rays-$k" | tr '/:.' '___')
-        "$bin" trace "$scene" --rays "$rays" --packet "$k" --threads 1 --seed "$seed" --count "$count" \
-          -r "$reps" --brute 0 --no-embree --json "$dir/trace-$tag.json" >/dev/null 2>&1 ||
-          echo "[pgo] warning: trace $scene $rays K=$k failed with $bin" >&2
+        pgo_trace "$bin" "$dir/trace-$(pgo_tag "$scene" "$rays" "$k").json" "$seed" "$count" "$reps" "$scene" "$rays" "$k"
       done
     done
   done
@@ -134,14 +140,12 @@ pgo() {
     echo "[pgo] traces: $scene"
     for rays in "${PGO_RAY_SETS[@]}"; do
       for k in "${PGO_PACKETS[@]}"; do
-        tag=$(echo "$scene-$rays-$k" | tr '/:.' '___')
+        tag=$(pgo_tag "$scene" "$rays" "$k")
         for round in 1 2 3 4 5; do
           for i in 0 1 2; do
             local b=${order[$(( (i + s + round) % 3 ))]}
             mkdir -p "$PGO_OUT/$b"
-            "${bins[$b]}" trace "$scene" --rays "$rays" --packet "$k" --threads 1 --seed 1 --count 524288 -r 2 \
-              --brute 0 --no-embree --json "$PGO_OUT/$b/trace-$tag-r$round.json" >/dev/null 2>&1 ||
-              echo "[pgo] warning: trace $scene $rays K=$k failed with the $b build" >&2
+            pgo_trace "${bins[$b]}" "$PGO_OUT/$b/trace-$tag-r$round.json" 1 524288 2 "$scene" "$rays" "$k"
           done
         done
         s=$((s + 1))

@@ -11,10 +11,12 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 
 namespace rb::app {
 
@@ -78,13 +80,11 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
   const std::vector<int> eye_sizes = o.eye_packet == 0 ? std::vector<int>{64, 16, 8} : std::vector<int>{o.eye_packet};
   const std::vector<int> sec_sizes = o.secondary_packet == 0 ? std::vector<int>{1, 8} : std::vector<int>{o.secondary_packet};
   const int trials = o.eye_packet == 0 || o.secondary_packet == 0 ? int(std::max(eye_sizes.size(), sec_sizes.size())) : 0;
-  std::vector<double> eye_s(eye_sizes.size(), -1), sec_s(sec_sizes.size(), -1);  // least seconds per candidate
+  const double never = std::numeric_limits<double>::infinity();
+  std::vector<double> eye_s(eye_sizes.size(), never), sec_s(sec_sizes.size(), never);  // least seconds per candidate
   json trial_rows = json::array();
   auto fastest = [](const std::vector<int>& sizes, const std::vector<double>& secs) {
-    std::size_t b = 0;
-    for (std::size_t k = 1; k < sizes.size(); ++k)
-      if (secs[k] >= 0 && (secs[b] < 0 || secs[k] < secs[b])) b = k;
-    return sizes[b];
+    return sizes[std::size_t(std::min_element(secs.begin(), secs.end()) - secs.begin())];
   };
   ro.eye_packet = eye_sizes[0];
   ro.secondary_packet = sec_sizes[0];
@@ -123,8 +123,8 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
 #endif
     if (run >= untimed) trace_seconds.push_back(ms_since(t1) / 1e3);
     if (trial) {
-      if (eye_s[e] < 0 || st.eye_trace_s < eye_s[e]) eye_s[e] = st.eye_trace_s;
-      if (sec_s[k] < 0 || st.secondary_trace_s < sec_s[k]) sec_s[k] = st.secondary_trace_s;
+      eye_s[e] = std::min(eye_s[e], st.eye_trace_s);
+      sec_s[k] = std::min(sec_s[k], st.secondary_trace_s);
       trial_rows.push_back({{"eye_packet", ro.eye_packet}, {"secondary_packet", ro.secondary_packet},
                             {"eye_trace_ms", 1e3 * st.eye_trace_s}, {"secondary_trace_ms", 1e3 * st.secondary_trace_s}});
     }

@@ -580,7 +580,7 @@ template <bool Robust, bool Count, int G, class L>
   Stack st(t);
   while (!left.empty()) {
     const int f = left.first(), g = f >> 3, l = f & 7;
-    left.w[f >> 6] &= ~(std::uint64_t(1) << (f & 63));
+    left.set(g, left.group(g) & ~(1u << l));
     const HitRec h = single_loop<Robust, true, Count>(t, leaves, rays.get(i + std::size_t(f)), st, c, ref);
     if (h.prim == kNoPrim) continue;
     prim[f] = h.prim;
