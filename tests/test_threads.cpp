@@ -79,6 +79,49 @@ TEST(Threads, ParallelBuildEqualsTheSerialOne) {
   }
 }
 
+TEST(Threads, LeavesAreGroupedInNodeOrderForEveryThreadCount) {
+  // Triangles and spheres in one tree, with more binary nodes than one chunk of the parallel
+  // numbering (8192): each kind's groups are numbered in node order, and every usable primitive
+  // sits in exactly one slot.
+  scene::Scene s = scene::load_scene("heightfield:128x128");
+  const scene::Scene balls = scene::generate_spd("balls", 3);
+  if (s.materials.empty()) s.materials.push_back(balls.materials.at(0));
+  for (scene::SphereIn sp : balls.spheres) {
+    sp.mat = 0;
+    s.spheres.push_back(sp);
+  }
+  for (int threads : {1, 2, 7}) {
+    for (bool parallel : {false, true}) {
+      tracer::ThreadScope ts(threads);
+      tracer::SceneAccel a;
+      bvh::BuildOptions o;
+      o.parallel = parallel;
+      ts.run([&] { a = tracer::SceneAccel::build(s, o); });
+      ASSERT_GT(a.bin.nodes.size(), 8192u);
+      std::vector<std::uint32_t> next(kinds::kKinds, 0);
+      std::vector<std::set<std::uint32_t>> seen(kinds::kKinds);
+      std::size_t slots = 0;
+      for (const bvh::BNode& n : a.bin.nodes) {
+        if (!n.leaf()) continue;
+        ASSERT_EQ(n.first, next[n.kind]) << threads << " threads, parallel " << parallel;
+        ++next[n.kind];
+        for (std::uint32_t j = 0; j < 8; ++j) {
+          const std::uint32_t id = a.slot_id(kinds::Kind(n.kind), std::size_t(n.first) * 8 + j);
+          if (j >= n.count) {
+            EXPECT_EQ(id, UINT32_MAX);
+            continue;
+          }
+          EXPECT_TRUE(seen[n.kind].insert(id).second) << "scene index " << id << " in two slots";
+          ++slots;
+        }
+      }
+      EXPECT_EQ(slots, s.triangles.size() + s.spheres.size()) << threads << " threads, parallel " << parallel;
+      EXPECT_EQ(seen[std::size_t(kinds::Kind::triangle)].size(), s.triangles.size());
+      EXPECT_EQ(seen[std::size_t(kinds::Kind::sphere)].size(), s.spheres.size());
+    }
+  }
+}
+
 TEST(Threads, TraceIsBitIdenticalForEveryThreadCountRaySetAndPacket) {
   for (const std::string& name : scene_names()) {
     const scene::Scene s = scene::generate_spd(name, 1);

@@ -124,7 +124,7 @@ SceneAccel SceneAccel::build(const scene::Scene& s, const Plan& plan, const bvh:
     }
   };
   bvh::BuildOptions bopt = opt;
-  bopt.stats = false;  // made below, beside the batches and the 8-wide tree
+  bopt.stats = false;  // made below, once the build is timed
   if (builder) {
     std::vector<float> lo(3 * kind.size()), hi(3 * kind.size());
     auto fill = [&](std::size_t b, std::size_t e) {
@@ -137,25 +137,43 @@ SceneAccel SceneAccel::build(const scene::Scene& s, const Plan& plan, const bvh:
     a.bin = bvh::build_sah(kind.size(), boxes, kind, bopt);
   }
 
-  // Reorder: every leaf becomes one 8-slot group of its kind's batch, groups assigned in node
-  // order; ids[kind][slot] is the scene index of each slot.
+  // Reorder: every leaf becomes one 8-slot group of its kind's batch, groups numbered in node
+  // order; ids[kind][slot] is the scene index of each slot. In parallel: each chunk of nodes
+  // counts its leaves per kind, a prefix over the chunks gives each chunk its first group per
+  // kind, and the chunks then number their leaves (the same numbers as one pass in node order).
   const auto t1 = std::chrono::steady_clock::now();
+  constexpr std::size_t kNodeChunk = 8192;
+  const std::size_t nn = a.bin.nodes.size(), chunks = (nn + kNodeChunk - 1) / kNodeChunk;
+  using Counts = std::array<std::uint32_t, kKinds>;
+  std::vector<Counts> first(chunks + 1, Counts{});  // first[c][k]: groups of kind k before chunk c
+  auto by_chunk = [&](auto&& f) {
+    auto body = [&](std::size_t c0, std::size_t c1) {
+      for (std::size_t c = c0; c < c1; ++c) f(c, c * kNodeChunk, std::min(nn, (c + 1) * kNodeChunk));
+    };
+    if (opt.parallel) par::for_range(0, chunks, 1, body);
+    else body(0, chunks);
+  };
+  by_chunk([&](std::size_t c, std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) first[c + 1][a.bin.nodes[i].kind] += a.bin.nodes[i].leaf();
+  });
+  for (std::size_t c = 0; c < chunks; ++c)
+    for (std::size_t k = 0; k < kKinds; ++k) first[c + 1][k] += first[c][k];
   std::array<kinds::SlotIds, kKinds> ids;
-  std::size_t groups[kKinds] = {};
-  for (const bvh::BNode& n : a.bin.nodes) groups[n.kind] += n.leaf();
-  for (std::size_t k = 0; k < kKinds; ++k) ids[k].assign(groups[k] * 8, UINT32_MAX);  // sized once
-  std::fill(std::begin(groups), std::end(groups), 0);
-  for (bvh::BNode& n : a.bin.nodes) {
-    if (!n.leaf()) continue;
-    const std::uint32_t first = n.first;
-    const std::size_t g = groups[n.kind]++;
-    n.first = std::uint32_t(g);
-    n.pad_ = 0;
-    std::uint32_t* v = ids[n.kind].data() + g * 8;
-    for (std::uint32_t j = 0; j < n.count; ++j) v[j] = index[a.bin.order[first + j]];
-  }
-  // The batches, and the 8-wide tree with its conservative boxes and the binary tree's statistics:
-  // independent (both read the renumbered binary tree), side by side.
+  for (std::size_t k = 0; k < kKinds; ++k) ids[k].assign(std::size_t(first[chunks][k]) * 8, UINT32_MAX);  // sized once
+  by_chunk([&](std::size_t c, std::size_t b, std::size_t e) {
+    Counts g = first[c];
+    for (std::size_t i = b; i < e; ++i) {
+      bvh::BNode& n = a.bin.nodes[i];
+      if (!n.leaf()) continue;
+      const std::uint32_t from = n.first;
+      n.first = g[n.kind]++;
+      n.pad_ = 0;
+      std::uint32_t* v = ids[n.kind].data() + std::size_t(n.first) * 8;
+      for (std::uint32_t j = 0; j < n.count; ++j) v[j] = index[a.bin.order[from + j]];
+    }
+  });
+  // The batches, and the 8-wide tree with its conservative boxes: independent (both read the
+  // renumbered binary tree), side by side.
   std::array<LeafChoice, kKinds> choice{};
   auto batches = [&] {
     AllKinds::each([&]<class K>() {
@@ -171,7 +189,6 @@ SceneAccel SceneAccel::build(const scene::Scene& s, const Plan& plan, const bvh:
   auto wide = [&] {
     a.wide = bvh::collapse8(a.bin);
     bvh::make_conservative(a.wide, plan.origin_bound);
-    if (opt.stats) bvh::tree_stats(a.bin, opt);
   };
   if (opt.parallel) {
     par::invoke(batches, wide);
@@ -185,6 +202,9 @@ SceneAccel SceneAccel::build(const scene::Scene& s, const Plan& plan, const bvh:
   a.mesh_only_ = present == 1 && kinds::TriangleKind::count(s) > 0 && choice[0].method == 0 && !choice[0].f64 && !choice[0].f64_storage;
   a.wire();
   a.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  // The binary tree's statistics (SAH cost, depth, leaf sizes) describe the build and are not part
+  // of it: made after the clock stops, as for Embree's tree (bench/embree_build.cpp).
+  if (opt.stats) bvh::tree_stats(a.bin, opt);
   return a;
 }
 
