@@ -211,6 +211,10 @@ int main(int argc, char** argv) {
   trace->add_option("--brute", to.brute_rays, "Rays checked against the brute-force loop\n(-1: a budget by scene size, 0: none)")
       ->capture_default_str();
   trace->add_flag("!--no-embree", to.embree, "Skip Embree");
+  trace->add_option("--builds", to.builds,
+                    "Builds per engine to time: above 1, the build\ntimes quoted are the medians of this many\n"
+                    "builds after an untimed one (as the report)")
+      ->check(CLI::Range(1, 100))->capture_default_str();
   trace->add_option("--builder", to.builder,
                     "The tree raybench traces: sah (its own) or\nEmbree's builder (embree: medium quality,\n"
                     "embree-high: high, with spatial splits of\ntriangles); with Embree's the SAH tree is\ntimed beside it")

@@ -88,24 +88,18 @@ std::string report_section_tracing(const ReportOptions& o, const fs::path& out, 
     json bj = json::object();
     json times = json::object();
     for (int th : {1, 2}) {
-      std::vector<double> ours, theirs;
-      if (!o.quick) TraceSession warm(s, m.label, th, true);
-      for (int r = 0; r < (o.quick ? 1 : kBuildReps); ++r) {
-        TraceSession b(s, m.label, th, true);
-        const json j = b.build_json();
-        ours.push_back(j["build_ms"].get<double>());
-        if (!j["embree_build_ms"].is_null()) theirs.push_back(j["embree_build_ms"].get<double>());
-        if (r == 0 && th == 1) bj = j;
-      }
-      times[fmt::format("build_ms_{}t", th)] = trace::median(ours);
-      times[fmt::format("embree_build_ms_{}t", th)] = theirs.empty() ? json(nullptr) : json(trace::median(theirs));
+      const json t = time_builds(s, m.label, th, o.quick ? 1 : kBuildReps, !o.quick, true);
+      if (th == 1) bj = t["first"];
+      times[fmt::format("build_ms_{}t", th)] = t["build_ms"];
+      times[fmt::format("embree_build_ms_{}t", th)] = t["embree_build_ms"];
     }
     bj.update(times);
     const std::size_t prims = s.triangles.size();
     TraceSession sess(std::move(s), m.label, 2, true);
     md += fmt::format("#### {} ({} triangles)\n\n", m.label, prims);
     md += fmt::format("Build, median of {} after one untimed build: raybench {:.1f} ms at one thread, {:.1f} ms at two; Embree {} ms and {} ms "
-                      "(raybench / Embree {} and {}). Memory: raybench {:.1f} bytes per triangle, Embree {}.\n\n",
+                      "(raybench / Embree {} and {}; `raybench trace SCENE --threads 1 --builds 5` reproduces the one-thread figure). Memory: raybench "
+                      "{:.1f} bytes per triangle, Embree {}.\n\n",
                       o.quick ? 1 : kBuildReps, bj["build_ms_1t"].get<double>(), bj["build_ms_2t"].get<double>(), f2(bj["embree_build_ms_1t"]),
                       f2(bj["embree_build_ms_2t"]), ratio(bj["build_ms_1t"], bj["embree_build_ms_1t"]),
                       ratio(bj["build_ms_2t"], bj["embree_build_ms_2t"]), bj["bytes_per_prim"].get<double>(),

@@ -21,6 +21,7 @@ struct TraceRunOptions {
   int warmup = 1;             // untimed runs of each engine before the timed ones
   long long brute_rays = -1;  // -1: a budget by scene size; 0: none
   bool embree = true;
+  int builds = 1;  // > 1: the build times quoted are medians of this many builds after an untimed one
   // The tree raybench traces: "sah" (its binned SAH) or Embree's builder ("embree": medium
   // quality, "embree-high": high quality with spatial splits of triangles), a diagnostic that
   // separates the tree's share of the gap to Embree from the kernel's (the SAH tree is then

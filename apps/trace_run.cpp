@@ -273,14 +273,58 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   return j;
 }
 
+json time_builds(const rb::scene::Scene& s, const std::string& source, int threads, int builds, bool warm, bool embree,
+                 const std::string& model, const std::string& builder, const std::function<void(double)>& done) {
+  const int total = std::max(1, builds) + (warm ? 1 : 0);
+  auto tell = [&](int n) {
+    if (done) done(double(n) / total);
+  };
+  if (warm) {
+    TraceSession untimed(s, source, threads, embree, model, builder);
+    tell(1);
+  }
+  json ours = json::array(), theirs = json::array(), first;
+  std::vector<double> a, b;
+  for (int r = 0; r < std::max(1, builds); ++r) {
+    TraceSession one(s, source, threads, embree, model, builder);
+    const json j = one.build_json();
+    if (r == 0) first = j;
+    a.push_back(j["build_ms"].get<double>());
+    ours.push_back(a.back());
+    if (!j["embree_build_ms"].is_null()) {
+      b.push_back(j["embree_build_ms"].get<double>());
+      theirs.push_back(b.back());
+    }
+    tell(r + 1 + (warm ? 1 : 0));
+  }
+  return {{"build_ms", trace::median(a)},
+          {"embree_build_ms", b.empty() ? json(nullptr) : json(trace::median(b))},
+          {"builds", int(a.size())},
+          {"build_ms_runs", ours},
+          {"embree_build_ms_runs", theirs},
+          {"first", first}};
+}
+
 json run_trace(const TraceRunOptions& o, bool progress) {
   const auto t0 = std::chrono::steady_clock::now();
   rb::scene::Scene s = rb::scene::load_scene(o.scene);
   if (s.primitive_count() == 0) throw NothingToDo("the scene has no primitives: nothing to trace");
   const double load_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  json builds;
+  if (o.builds > 1) {
+    ProgressBar bar(fmt::format("trace {} builds", o.scene), progress ? ProgressBar::Mode::automatic : ProgressBar::Mode::off);
+    builds = time_builds(s, o.scene, o.threads, o.builds, true, o.embree, o.model, o.builder, [&](double f) { bar.update(f); });
+    bar.done();
+  }
   TraceSession session(std::move(s), o.scene, o.threads, o.embree, o.model, o.builder);
   json j = session.run(o, progress);
   j["load_ms"] = load_ms;
+  j["builds"] = 1;
+  if (!builds.is_null()) {
+    // The medians replace the traced session's own build times (its parts, SAH, reorder and
+    // collapse, stay those of that one build).
+    for (const char* k : {"build_ms", "embree_build_ms", "builds", "build_ms_runs", "embree_build_ms_runs"}) j[k] = builds[k];
+  }
   return j;
 }
 
@@ -297,9 +341,15 @@ std::string trace_text(const json& j) {
                    100 * j["hit_fraction"].get<double>());
   std::string hist;
   for (const auto& h : j["leaf_size_histogram"]) hist += fmt::format("{}{}", hist.empty() ? "" : " ", h.get<std::size_t>());
-  o += fmt::format("build      raybench {:.1f} ms (SAH {:.1f}, reorder {:.1f}, collapse {:.1f}); Embree {} ms\n", j["build_ms"].get<double>(),
-                   j["sah_build_ms"].get<double>(), j["reorder_ms"].get<double>(), j["collapse_ms"].get<double>(),
-                   num_or_dash(j["embree_build_ms"], "{:.1f}"));
+  if (j.value("builds", 1) > 1)
+    o += fmt::format("build      raybench {:.1f} ms, Embree {} ms: medians of {} builds after an untimed one (the traced build: SAH {:.1f}, "
+                     "reorder {:.1f}, collapse {:.1f})\n",
+                     j["build_ms"].get<double>(), num_or_dash(j["embree_build_ms"], "{:.1f}"), j["builds"].get<int>(),
+                     j["sah_build_ms"].get<double>(), j["reorder_ms"].get<double>(), j["collapse_ms"].get<double>());
+  else
+    o += fmt::format("build      raybench {:.1f} ms (SAH {:.1f}, reorder {:.1f}, collapse {:.1f}); Embree {} ms\n", j["build_ms"].get<double>(),
+                     j["sah_build_ms"].get<double>(), j["reorder_ms"].get<double>(), j["collapse_ms"].get<double>(),
+                     num_or_dash(j["embree_build_ms"], "{:.1f}"));
   o += fmt::format("bvh        {} tree: {} binary nodes, {} wide nodes, {} leaves (sizes 1..8: {}), depth {}, SAH cost {:.2f}\n",
                    j["builder"].get<std::string>(), j["nodes_binary"].get<std::size_t>(), j["nodes_wide"].get<std::size_t>(),
                    j["leaves"].get<std::size_t>(), hist,

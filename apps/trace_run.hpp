@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -40,6 +41,15 @@ class TraceSession {
   std::map<std::string, std::pair<RaySoA, trace::RaySetInfo>> rays_;
   const RaySoA& rays(trace::RaySet set, std::size_t count, std::uint64_t seed, trace::RaySetInfo& info);
 };
+
+// Build times of both engines on scene `s` at `threads`: the medians of `builds` builds, each a
+// fresh TraceSession, after one untimed build when `warm` (the first build at a thread count also
+// starts its threads and maps fresh memory). Keys: build_ms, embree_build_ms (null without
+// Embree), builds, build_ms_runs, embree_build_ms_runs, and `first`: the first timed build's
+// build_json(). `done(fraction)` is told after each build.
+nlohmann::json time_builds(const rb::scene::Scene& s, const std::string& source, int threads, int builds, bool warm, bool embree,
+                           const std::string& model = "auto", const std::string& builder = "sah",
+                           const std::function<void(double)>& done = {});
 
 nlohmann::json run_trace(const TraceRunOptions& o, bool progress);
 std::string trace_text(const nlohmann::json& j);

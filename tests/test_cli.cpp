@@ -367,6 +367,32 @@ TEST(Cli, TraceGivesMedianRangeAndCvAfterWarmupBesideEmbree) {
   EXPECT_LE(widest(r.out), 80u) << r.out;
 }
 
+TEST(Cli, TraceTimesManyBuildsAsTheReportDoes) {
+  Scratch s("trace-builds");
+  std::ofstream(s / "oct.obj") << kOctahedron;
+  const Outcome r = run_in(s.dir, "trace oct.obj --count 256 -r 1 --warmup 0 --builds 3 --json t.json");
+  EXPECT_EQ(r.status, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(slurp(s / "t.json"));
+  EXPECT_EQ(j["builds"], 3);
+  for (const char* engine : {"", "embree_"}) {
+    const nlohmann::json& runs = j[std::string(engine) + "build_ms_runs"];
+    ASSERT_EQ(runs.size(), 3u) << engine;
+    std::vector<double> v;
+    for (const auto& x : runs) v.push_back(x.get<double>());
+    std::sort(v.begin(), v.end());
+    EXPECT_DOUBLE_EQ(j[std::string(engine) + "build_ms"].get<double>(), v[1]) << engine;  // the median
+  }
+  EXPECT_TRUE(has(r.out, "medians of 3 builds")) << r.out;
+  EXPECT_LE(widest(r.out), 80u) << r.out;
+  // One build (the default): the traced session's own, no runs listed.
+  const Outcome one = run_in(s.dir, "trace oct.obj --count 256 -r 1 --warmup 0 --json one.json");
+  EXPECT_EQ(one.status, 0) << one.err;
+  const nlohmann::json k = nlohmann::json::parse(slurp(s / "one.json"));
+  EXPECT_EQ(k["builds"], 1);
+  EXPECT_FALSE(k.contains("build_ms_runs"));
+  EXPECT_EQ(run_in(s.dir, "trace oct.obj --builds 0").status, 1);
+}
+
 TEST(Cli, TraceComparesWithEmbreesBestModeAndEmbreesTree) {
   Scratch s("trace-embree");
   std::ofstream(s / "oct.obj") << kOctahedron;
