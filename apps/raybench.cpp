@@ -56,6 +56,20 @@ CLI::Validator count_up_to(std::size_t max, const std::string& what) {
       "1.." + std::to_string(max));
 }
 
+// A packet size given as one of `allowed` ("auto" or a number), passed on as the number (auto: 0);
+// anything else is refused with the allowed sizes named.
+CLI::Validator packet_size_choice(std::vector<std::string> allowed) {
+  std::string list;
+  for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+  return CLI::Validator(
+      [allowed, list](std::string& s) -> std::string {
+        if (std::find(allowed.begin(), allowed.end(), s) == allowed.end()) return "'" + s + "' is not a packet size here; choose " + list;
+        if (s == "auto") s = "0";
+        return "";
+      },
+      "");
+}
+
 // The command line as typed, for the results history.
 std::string command_line(int argc, char** argv) {
   std::string s;
@@ -252,13 +266,13 @@ int main(int argc, char** argv) {
   render->add_option("--eye-packet", rdo.eye_packet,
                      "Eye rays per packet: 1, 8, 16 or 64 (a 16x4\nblock of the image), or auto: the fastest of\n64, 16 and 8 "
                      "in trial renders before\nthe timed ones")
-      ->transform(CLI::CheckedTransformer(std::map<std::string, int>{{"auto", 0}, {"1", 1}, {"8", 8}, {"16", 16}, {"64", 64}}).description(""))
+      ->transform(packet_size_choice({"auto", "1", "8", "16", "64"}))
       ->type_name("auto|1|8|16|64")
       ->default_str("auto");
   render->add_option("--secondary-packet", rdo.secondary_packet,
                      "Reflection, refraction and shadow rays: 1 one\nby one, 8 sorted by octant into packets, or\nauto: the "
                      "faster in trial renders")
-      ->transform(CLI::CheckedTransformer(std::map<std::string, int>{{"auto", 0}, {"1", 1}, {"8", 8}}).description(""))
+      ->transform(packet_size_choice({"auto", "1", "8"}))
       ->type_name("auto|1|8")
       ->default_str("auto");
   render->add_option("--model", rdo.model, "How the scene is modelled: auto (what it\nneeds: `raybench plan`), fast or exact")

@@ -465,7 +465,12 @@ TEST(Cli, RenderChoosesTheFastestPacketSizesInTrialRenders) {
   EXPECT_EQ(j["secondary_packet"], 8);
   EXPECT_EQ(j["packet_choice"]["eye"], "given");
   EXPECT_TRUE(j["packet_choice"]["trials"].empty());
-  EXPECT_NE(run_in(s.dir, "render spd:balls:1 --eye-packet 32 -o b.png").status, 0);
+  const Outcome wrong = run_in(s.dir, "render spd:balls:1 --eye-packet 32 -o b.png");
+  EXPECT_EQ(wrong.status, 1);
+  EXPECT_TRUE(has(wrong.err, "'32' is not a packet size here; choose auto, 1, 8, 16, 64")) << wrong.err;
+  const Outcome wrong2 = run_in(s.dir, "render spd:balls:1 --secondary-packet 16 -o b.png");
+  EXPECT_EQ(wrong2.status, 1);
+  EXPECT_TRUE(has(wrong2.err, "choose auto, 1, 8")) << wrong2.err;
 }
 
 TEST(Cli, HelpAndTablesFitEightyColumns) {
