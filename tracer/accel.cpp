@@ -153,7 +153,7 @@ SceneAccel SceneAccel::build(const scene::Scene& s, const Plan& plan, const bvh:
     if (opt.parallel) par::for_range(0, chunks, 1, body);
     else body(0, chunks);
   };
-  by_chunk([&](std::size_t c, std::size_t b, std::size_t e) {
+  by_chunk([&](std::size_t c, std::size_t b, std::size_t e) {  // (internal nodes have kind 0 and add 0)
     for (std::size_t i = b; i < e; ++i) first[c + 1][a.bin.nodes[i].kind] += a.bin.nodes[i].leaf();
   });
   for (std::size_t c = 0; c < chunks; ++c)
