@@ -23,6 +23,11 @@ using nlohmann::json;
 namespace {
 
 constexpr int kLargePacket = 64;  // the large coherent packet of the matrix
+
+// The generated third mesh: its scene source (so that `raybench trace` reproduces its rows) and
+// its label in the tables.
+std::string height_field_source() { return fmt::format("heightfield:{}x{}", rb::scene::kHeightFieldNx, rb::scene::kHeightFieldNy); }
+std::string height_field_label() { return fmt::format("height field {}x{} (generated)", rb::scene::kHeightFieldNx, rb::scene::kHeightFieldNy); }
 constexpr int kBuildReps = 5;
 
 json ratio_value(const json& a, const json& b) {
@@ -70,15 +75,15 @@ std::string report_section_tracing(const ReportOptions& o, const fs::path& out, 
   meshes.push_back({"stanford-bunny.obj", [data] { return rb::scene::load_scene(data + "stanford-bunny.obj"); }});
   if (!o.quick && fs::exists(data + "dragon_vrip_res2_bin.ply"))
     meshes.push_back({"dragon_vrip_res2_bin.ply", [data] { return rb::scene::load_scene(data + "dragon_vrip_res2_bin.ply"); }});
-  if (!o.quick) meshes.push_back({"height field 708x707 (generated)", [] { return rb::scene::load_scene("heightfield:708x707"); }});
+  if (!o.quick) meshes.push_back({height_field_label(), [] { return rb::scene::load_scene(height_field_source()); }});
   const std::vector<int> packets{1, 8, 16, kLargePacket};
   md += fmt::format("### The matrix: every ray set, packet size and thread count\n\nPacket sizes: 1 (single rays), 8 and 16 "
                     "(one packet traverses the tree under an active mask), {} (a large coherent packet: an 8x8 block of the "
                     "image, with a frustum test of the node's children before any per-ray test). Embree answers each row in its best "
                     "mode for that packet size (its 1-, 8- and 16-ray calls, `rtcIntersect1M` streams for the large packets; "
                     "native ISA or AVX2, whichever is faster), named in the row. The third mesh is generated: the scene source "
-                    "`heightfield:708x707` (a wavy height field, the size of a large scan), so `raybench trace heightfield:708x707 "
-                    "...` reproduces its rows.\n\n", kLargePacket);
+                    "`{}` (a wavy height field, the size of a large scan), so `raybench trace {} ...` reproduces its rows.\n\n",
+                    kLargePacket, height_field_source(), height_field_source());
   json goal_rows = json::array();
   for (const auto& m : meshes) {
     std::cerr << "[report] tracing: " << m.label << "\n";
@@ -261,7 +266,7 @@ std::string report_section_tracing(const ReportOptions& o, const fs::path& out, 
   for (const char* d : {"dragon_vrip_res4_bin.ply", "dragon_vrip_res3_bin.ply", "dragon_vrip_res2_bin.ply"})
     if (!o.quick && fs::exists(data + d)) srcs.push_back({d, [data, d] { return rb::scene::load_scene(data + d); }});
   srcs.push_back({"stanford-bunny.obj", [data] { return rb::scene::load_scene(data + "stanford-bunny.obj"); }});
-  if (!o.quick) srcs.push_back({"height field 708x707 (generated)", [] { return rb::scene::load_scene("heightfield:708x707"); }});
+  if (!o.quick) srcs.push_back({height_field_label(), [] { return rb::scene::load_scene(height_field_source()); }});
   md += "### Scenes by size: primary rays, 8-wide, single rays, one thread\n\n"
         "| scene | primitives | raybench ns/ray | Embree ns/ray | raybench build ms | Embree build ms | raybench B/prim | Embree B/prim | "
         "mismatch vs Embree |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";

@@ -120,7 +120,7 @@ Scene load_unchecked(const std::string& source) {
   if (source.rfind("lecture:", 0) == 0) return lecture_scene(source.substr(8));
   if (source.rfind("csg:", 0) == 0) return csg_scene(source.substr(4));
   if (source.rfind("precision:", 0) == 0) return precision_scene(source.substr(10));
-  if (source == "heightfield") return height_field(708, 707);
+  if (source == "heightfield") return height_field(kHeightFieldNx, kHeightFieldNy);
   if (source.rfind("heightfield:", 0) == 0) {
     const std::string s = source.substr(12);
     int nx = 0, ny = 0;

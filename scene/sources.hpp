@@ -47,6 +47,7 @@ Scene precision_scene(const std::string& name);
 // two triangles each: a generated mesh the size of a large scan (scene/heightfield.cpp). Throws
 // SceneError on a side outside 1 .. kMaxHeightFieldSide.
 inline constexpr int kMaxHeightFieldSide = 2048;
+inline constexpr int kHeightFieldNx = 708, kHeightFieldNy = 707;  // `heightfield` alone
 Scene height_field(int nx, int ny);
 
 }  // namespace rb::scene
