@@ -178,14 +178,18 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   std::size_t hits = 0;
   for (std::size_t i = 0; i < n; ++i) hits += ours[i].prim != bvh::kNoPrim;
   j["hit_fraction"] = double(hits) / double(std::max<std::size_t>(1, n));
-  // Every ray's answer (primitive and the bits of t) in one FNV-1a digest: the same for any thread
-  // count, packet size and schedule (docs/DESIGN.md section 19).
+  // Every ray's answer in one FNV-1a digest: the same for any thread count, packet size and
+  // schedule (docs/DESIGN.md sections 12 and 19). A closest hit's answer is its primitive and the
+  // bits of its t; an any-hit (shadow) ray's is whether it is blocked, since which blocker it meets
+  // first depends on the order of the walk.
   {
     std::uint64_t d = 1469598103934665603ull;
     for (std::size_t i = 0; i < n; ++i) {
       std::uint32_t tb;
       std::memcpy(&tb, &ours[i].t, sizeof tb);
-      for (const std::uint32_t v : {ours[i].prim, tb})
+      const std::uint32_t prim = any ? std::uint32_t(ours[i].prim != bvh::kNoPrim) : ours[i].prim;
+      if (any) tb = 0;
+      for (const std::uint32_t v : {prim, tb})
         for (int k = 0; k < 4; ++k) d = (d ^ ((v >> (8 * k)) & 0xFFu)) * 1099511628211ull;
     }
     j["hits_fnv1a"] = fmt::format("{:016x}", d);

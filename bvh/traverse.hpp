@@ -76,15 +76,19 @@ namespace detail {
 inline constexpr float kInfF = std::numeric_limits<float>::infinity();
 
 inline unsigned movemask(const f8_mask& m) { return unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_castps_si256(m)))); }
-// Smallest lane and its index.
-inline int argmin8(const f8& t, float& best) {
+// Smallest lane and its index; `ties` gets every lane holding that value (bit l for lane l).
+inline int argmin8(const f8& t, float& best, unsigned& ties) {
   const __m256 v = t;
   __m256 m = _mm256_min_ps(v, _mm256_permute_ps(v, 0xB1));
   m = _mm256_min_ps(m, _mm256_permute_ps(m, 0x4E));
   m = _mm256_min_ps(m, _mm256_permute2f128_ps(m, m, 1));
   best = _mm256_cvtss_f32(m);
-  const unsigned bits = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(v, m, _CMP_EQ_OQ)));
-  return bits ? __builtin_ctz(bits) : 0;
+  ties = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(v, m, _CMP_EQ_OQ)));
+  return ties ? __builtin_ctz(ties) : 0;
+}
+inline int argmin8(const f8& t, float& best) {
+  unsigned ties;
+  return argmin8(t, best, ties);
 }
 // Lane k of t, read from the register.
 RB_INLINE float lane_value(const f8& t, int k) {
@@ -285,6 +289,30 @@ RB_INLINE HitRec finished(HitRec h) {
   return h;
 }
 
+// The closest hit is canonical: the least t, and at an equal t the least hit code (the kind, then
+// the scene index). So which of two faces meeting the ray at the same distance (a shared edge or
+// vertex) is reported does not depend on the order in which the leaves and their lanes are
+// tested: single rays, packets of every size and the brute-force loop give the same hits. Node
+// tests and the stack keep boxes whose entry equals the closest t (the tests are inclusive), so
+// the other face's leaf is still visited.
+RB_INLINE bool nearer(float t, std::uint32_t code, const HitRec& h) { return t < h.t || (t == h.t && code < h.prim); }
+
+// A leaf's hit lanes (t = +inf on the others, at least one hit) against h: the least t, at an
+// equal t the least code among the lanes and h. code_of(lane) gives a lane's code; it is read for
+// the nearest lane and, only when several lanes share its t, for each of them. True, with h
+// updated, when the leaf gives a nearer hit by `nearer`.
+template <class CodeOf>
+RB_INLINE bool take_nearest(const f8& t8, HitRec& h, CodeOf&& code_of) {
+  float t;
+  unsigned ties;
+  const int lane = detail::argmin8(t8, t, ties);
+  std::uint32_t code = code_of(lane);
+  for (ties &= ties - 1; ties; ties &= ties - 1) code = std::min(code, std::uint32_t(code_of(__builtin_ctz(ties))));
+  if (!nearer(t, code, h)) return false;
+  h = {t, code};
+  return true;
+}
+
 // ---- single ray ----------------------------------------------------------------------------------
 // One node visit of a single ray: ref becomes the next node (or leaf) to visit and the other hit
 // children are pushed; false when no child was hit (the next comes from the stack).
@@ -454,14 +482,25 @@ struct PacketRays {
   bool improved = false;  // set by packet_update when a ray's tbest fell
 };
 
-// Records a leaf's hits for the 8 rays of group k: lanes of `hit` that are active take t (already
-// below their tbest: the kernel ran with tmax = tbest) and the primitive `code`; with Any, the rays
-// that hit leave the packet.
+// Records a leaf's hits for the 8 rays of group k: lanes of `hit` that are active take t (at most
+// their tbest: the kernel ran with tmax = tbest; at an equal t only a lesser code, as `nearer`) and
+// the primitive `code`; with Any, the rays that hit leave the packet.
 template <bool Any>
 RB_INLINE void packet_update(PacketRays& p, int k, const f8_mask& hit, const f8& t, std::uint32_t code) {
-  const f8_mask m = hit & p.active[k];
+  f8_mask m = hit & p.active[k];
   unsigned bits = detail::movemask(m);
   if (!bits) return;
+  if constexpr (!Any) {
+    // A hit at a ray's closest t so far replaces it only with a lesser code (`nearer`).
+    if (unsigned ties = bits & detail::movemask(t == p.tbest[k])) {
+      for (; ties; ties &= ties - 1) {
+        const int l = __builtin_ctz(ties);
+        if (code >= p.prim[8 * k + l]) bits &= ~(1u << l);
+      }
+      if (!bits) return;
+      m = m & detail::lanes_of(bits);
+    }
+  }
   p.tbest[k] = xsimd::select(m, t, p.tbest[k]);
   p.improved = true;
   while (bits) {
@@ -824,10 +863,10 @@ void trace_pairs(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_t
     Ray<float> r;
     SlabRay sr;
     std::optional<typename L::RayCache> cache;
-    HitRec h;
+    HitRec h{kInfF, kNoPrim};  // set by start(); initialised so that no path reads an indeterminate value
     std::uint32_t ref;
     std::size_t sp;
-    std::size_t k;  // the ray's index
+    std::size_t k = 0;  // the ray's index
   };
   Walker w[2];
   Stack st0(t), st1(t);

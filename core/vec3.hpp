@@ -27,6 +27,12 @@ template <class F> RB_INLINE Vec3<F> operator-(const Vec3<F>& a) { return {-a.x,
 template <class F> RB_INLINE Vec3<F> operator*(const Vec3<F>& a, const F& s) { return {a.x * s, a.y * s, a.z * s}; }
 template <class F> RB_INLINE Vec3<F> operator*(const F& s, const Vec3<F>& a) { return {s * a.x, s * a.y, s * a.z}; }
 template <class F> RB_INLINE F dot(const Vec3<F>& a, const Vec3<F>& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+// The dot product with each product rounded on its own (vrounded): no FMA contraction, so the
+// scalar and every SIMD instantiation give the same bits under any -ffp-contract. The same
+// operation count as dot.
+template <class F> RB_INLINE F dot_rounded(const Vec3<F>& a, const Vec3<F>& b) {
+  return vrounded(a.x * b.x) + vrounded(a.y * b.y) + vrounded(a.z * b.z);
+}
 template <class F> RB_INLINE Vec3<F> cross(const Vec3<F>& a, const Vec3<F>& b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }

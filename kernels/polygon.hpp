@@ -155,17 +155,20 @@ struct PolygonSoA : AxisGrouped<Plane> {
 
 // The plane part: t and the two kept coordinates of [x,y,z] (lecture 8+- 9* 1/ for t and all
 // three coordinates). Returns false when every lane has missed the plane (early exit).
+// Every product is rounded on its own (dot_rounded, vrounded), so that no FMA contraction makes
+// the scalar instantiation (single rays) differ from the 8-lane one (packets): a ray gets the same
+// t and the same inside/outside answer in either.
 template <class F>
 RB_INLINE bool polygon_plane_point(const Ray<F>& r, const PolygonRef<F>& p, mask_t<F>& m, F& t, F& pa, F& pb) {
-  const F den = dot(p.pl.n, r.d);                   // 2+- 3*
+  const F den = dot_rounded(p.pl.n, r.d);           // 2+- 3*
   m = den != F(0);                                  // 1 cmp
   if (none_of<F>(m)) return false;
-  t = -(dot(p.pl.n, r.o) + p.pl.D) / den;           // 3+- 3* 1/
+  t = -(dot_rounded(p.pl.n, r.o) + p.pl.D) / den;   // 3+- 3* 1/
   m = m & (t >= r.tmin) & (t <= r.tmax);            // 2 cmp
   if (none_of<F>(m)) return false;
   const int a = (p.axis + 1) % 3, b = (p.axis + 2) % 3;
-  pa = r.o[a] + r.d[a] * t;                         // 2+- 2*
-  pb = r.o[b] + r.d[b] * t;
+  pa = r.o[a] + vrounded(r.d[a] * t);               // 2+- 2*
+  pb = r.o[b] + vrounded(r.d[b] * t);
   return true;
 }
 
@@ -179,7 +182,7 @@ RB_INLINE mask_t<F> polygon_contains(const PolygonRef<F>& p, const F& pa, const 
   for (std::uint32_t i = 1; i <= p.edges; ++i) {
     const F x1 = p.vx(i) - pa, y1 = p.vy(i) - pb;   // 2+-
     const mask_t<F> c1 = y1 >= z;                   // 1 cmp
-    const mask_t<F> cross = y1 * (x0 - x1) >= x1 * (y0 - y1);  // 2+- 2* 1 cmp
+    const mask_t<F> cross = vrounded(y1 * (x0 - x1)) >= vrounded(x1 * (y0 - y1));  // 2+- 2* 1 cmp
     const mask_t<F> flip = mask_xor<F>(c0, c1) & mask_not<F>(mask_xor<F>(cross, c1));
     inside = mask_xor<F>(inside, flip);
     x0 = x1; y0 = y1; c0 = c1;

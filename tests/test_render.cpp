@@ -197,10 +197,10 @@ TEST(RenderDepth, DepthLimitStopsTheRayTree) {
 }
 
 // Eye rays traced one by one, in packets of 8 or 16, or as 64-ray blocks with the frustum test:
-// the same closest hits, so the same image bit for bit (scenes without ties: no ray meets two
-// primitives at the same distance).
+// the same closest hits, so the same image bit for bit. The gears are polygons (a scalar kernel for
+// single rays, an 8-lane one for packets) with shared edges (faces at one distance).
 TEST(RenderPackets, EyePacketSizesGiveTheSameImage) {
-  for (const char* name : {"lecture:nine_red_balls", "spd:tetra:3"}) {
+  for (const char* name : {"lecture:nine_red_balls", "spd:tetra:3", "spd:gears:1"}) {
     const scene::Scene s = scene::load_scene(name);
     const tracer::SceneAccel a = tracer::SceneAccel::build(s);
     std::vector<float> first;

@@ -13,6 +13,7 @@
 #pragma once
 
 #include "bvh/traverse.hpp"
+#include "core/spawn.hpp"
 #include "soa/groups.hpp"
 #include "tracer/kinds.hpp"
 
@@ -40,6 +41,14 @@ RB_INLINE unsigned bits4(const d4_mask& m) { return unsigned(_mm256_movemask_pd(
 template <class D>
 RB_INLINE Vec3<D> half3(const Vec3<f8>& v, bool hi) {
   return hi ? Vec3<D>{hi_d4(v.x), hi_d4(v.y), hi_d4(v.z)} : Vec3<D>{lo_d4(v.x), lo_d4(v.y), lo_d4(v.z)};
+}
+// The double kernels' tmax for a closest t so far of `t` (float): the next float up, so that every
+// double t that rounds to `t` reaches the float comparison (`bvh::nearer`) and a tie is decided
+// by the code, whichever primitive came first. The largest float stays the largest float (a ray's
+// tmax is finite).
+inline double tmax64(float t) { return double(std::min(spawn::step_floats(t, 1), std::numeric_limits<float>::max())); }
+inline f8 tmax64(const f8& t) {
+  return xsimd::min(f8(spawn::step_floats8(t, _mm256_set1_epi32(1))), f8(std::numeric_limits<float>::max()));
 }
 RB_INLINE Ray<d4> half_ray(const Ray<f8>& r, const f8& tmax, bool hi) {
   return {half3<d4>(r.o, hi), half3<d4>(r.d, hi), half3<d4>(r.rd, hi), hi ? hi_d4(r.tmin) : lo_d4(r.tmin), hi ? hi_d4(tmax) : lo_d4(tmax)};
@@ -166,13 +175,10 @@ RB_INLINE bool std_single(const StdBatch<K>& b, std::size_t base, const Ray<floa
     rb.tmax = f8(h.t);
     const Hit<f8> hit = K::template hit<M>(rb, c.template pre8<K>(rb), b.f32.template load<f8>(base));
     if (none_of<f8>(hit.mask)) return false;
-    float t;
-    const int lane = bvh::detail::argmin8(hit.t, t);
-    h = {t, kinds::code(K::id, b.id[base + std::size_t(lane)])};
-    return true;
+    return bvh::take_nearest(hit.t, h, [&](int lane) { return kinds::code(K::id, b.id[base + std::size_t(lane)]); });
   } else {
     Ray<d4> rd = Ray<d4>::broadcast(r);
-    rd.tmax = d4(double(h.t));
+    rd.tmax = d4(detail::tmax64(h.t));
     const auto pre = K::pre(rd);
     bool any = false;
     for (std::size_t half = 0; half < 2; ++half) {
@@ -185,12 +191,14 @@ RB_INLINE bool std_single(const StdBatch<K>& b, std::size_t base, const Ray<floa
       if (!bits) continue;
       alignas(32) double t[4];
       hit.t.store_aligned(t);
-      for (int l = 0; l < 4; ++l)
-        if ((bits >> l & 1u) && float(t[l]) <= h.t) {
-          h = {float(t[l]), kinds::code(K::id, b.id[s + std::size_t(l)])};
-          rd.tmax = d4(t[l]);
+      for (int l = 0; l < 4; ++l) {
+        const std::uint32_t code = kinds::code(K::id, b.id[s + std::size_t(l)]);
+        if ((bits >> l & 1u) && bvh::nearer(float(t[l]), code, h)) {
+          h = {float(t[l]), code};
+          rd.tmax = d4(detail::tmax64(h.t));
           any = true;
         }
+      }
     }
     return any;
   }
@@ -219,7 +227,8 @@ RB_INLINE void std_packet(const StdBatch<K>& b, std::size_t base, bvh::PacketRay
       for (int q = 0; q < p.n; ++q) {
         const int k = p.list[q];
         if (none_of<f8>(p.active[k])) continue;
-        const Ray<d4> lo = detail::half_ray(p.r[k], p.tbest[k], false), hi = detail::half_ray(p.r[k], p.tbest[k], true);
+        const f8 tmax = detail::tmax64(p.tbest[k]);
+        const Ray<d4> lo = detail::half_ray(p.r[k], tmax, false), hi = detail::half_ray(p.r[k], tmax, true);
         const Hit<d4> hl = K::template hit<M>(lo, K::pre(lo), prim), hh = K::template hit<M>(hi, K::pre(hi), prim);
         const unsigned bits = detail::bits4(hl.mask) | detail::bits4(hh.mask) << 4;
         if (!bits) continue;
@@ -383,10 +392,7 @@ struct MeshLeaves {
     };
     const Hit<f8> hit = intersect_triangle_woop_permuted(c.w, c.rb, vertex(0), vertex(1), vertex(2));
     if (none_of<f8>(hit.mask)) return false;
-    float t;
-    const int lane = bvh::detail::argmin8(hit.t, t);
-    h = {t, kinds::code(kinds::TriangleKind::id, tri->id[base + std::size_t(lane)])};
-    return true;
+    return bvh::take_nearest(hit.t, h, [&](int lane) { return kinds::code(kinds::TriangleKind::id, tri->id[base + std::size_t(lane)]); });
   }
   // Whichever needs fewer 8-lane kernel calls: fewer rays than triangle x group pairs, one ray at
   // a time against the 8 triangles in lanes (the single-ray kernel); otherwise rays in lanes, one
@@ -470,11 +476,12 @@ struct MeshLeaves {
         };
         const Hit<f8> hit = intersect_triangle_woop_permuted(w, rr, vertex(0), vertex(1), vertex(2));
         if (none_of<f8>(hit.mask)) continue;
-        float t;
-        const int lane = bvh::detail::argmin8(hit.t, t);
+        bvh::HitRec h{tb[l], p.prim[8 * g + l]};
+        if (!bvh::take_nearest(hit.t, h, [&](int lane) { return kinds::code(kinds::TriangleKind::id, tri->id[base + std::size_t(lane)]); }))
+          continue;
         const f8_mask one_lane = bvh::detail::lanes_of(1u << l);
-        tb[l] = t;
-        p.prim[8 * g + l] = kinds::code(kinds::TriangleKind::id, tri->id[base + std::size_t(lane)]);
+        tb[l] = h.t;
+        p.prim[8 * g + l] = h.prim;
         p.improved = true;
         if constexpr (Any) p.active[g] = p.active[g] & ~one_lane;
       }

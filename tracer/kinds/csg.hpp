@@ -74,7 +74,7 @@ struct CsgKind {
       if (sid == UINT32_MAX) continue;
       float tag;
       const Hit<float> hc = csg_hit(*b.trees[sid], rr, tag);
-      if (hc.mask && hc.t <= rr.tmax) {
+      if (hc.mask && bvh::nearer(hc.t, code(id, sid), h)) {
         rr.tmax = hc.t;
         h = {hc.t, code(id, sid)};
         any = true;

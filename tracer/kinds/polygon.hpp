@@ -85,7 +85,9 @@ struct PolygonKind {
     for (std::size_t j = 0; j < b.id.size(); ++j)
       if (b.id[j] != UINT32_MAX) b.slot[j] = slot_of[p++];
   }
-  // One ray against the 8 slots from `base`: one polygon at a time (scalar), closest below h.t.
+  // One ray against the 8 slots from `base`: one polygon at a time (scalar), the closest within h.t
+  // (a tie by `bvh::nearer`). The kernel rounds every product on its own, so the scalar
+  // instantiation gives the bits of the 8-lane one that packets run.
   static bool single(const Batch& b, std::size_t base, const Ray<float>& r, bvh::HitRec& h) {
     bool any = false;
     Ray<float> rr = r;
@@ -94,7 +96,7 @@ struct PolygonKind {
       const std::uint32_t slot = b.slot[j];
       if (slot == UINT32_MAX) continue;
       const Hit<float> hp = intersect_polygon(rr, b.soa.broadcast<float>(slot));
-      if (hp.mask && hp.t <= rr.tmax) {
+      if (hp.mask && bvh::nearer(hp.t, code(id, b.id[j]), h)) {
         rr.tmax = hp.t;
         h = {hp.t, code(id, b.id[j])};
         any = true;
