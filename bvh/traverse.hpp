@@ -10,8 +10,9 @@
 //   using RayCache;      per single ray (constructed from it): whatever its leaves precompute
 //   using PacketCache;   the same per group of a packet
 //   bool single(ref, const Ray<float>& r, RayCache&, HitRec& h) const;
-//       the ray against leaf `ref`'s primitives with tmax = h.t; true when h was improved (h.t,
-//       h.prim updated); never called with an empty leaf
+//       the ray against leaf `ref`'s primitives with tmax = h.t (inclusive); true when h was
+//       improved by the canonical order (`nearer`: a lesser t, or a lesser code at an equal t);
+//       never called with an empty leaf
 //   template <bool Any> void packet(ref, PacketRays& p, PacketCache&) const;
 //       the listed groups' active rays against the leaf: improves p.tbest and p.prim per lane
 //       (packet_update); with Any, clears p.active of rays that hit
