@@ -192,8 +192,9 @@ RB_INLINE bool std_single(const StdBatch<K>& b, std::size_t base, const Ray<floa
       alignas(32) double t[4];
       hit.t.store_aligned(t);
       for (int l = 0; l < 4; ++l) {
+        if (!(bits >> l & 1u)) continue;
         const std::uint32_t code = kinds::code(K::id, b.id[s + std::size_t(l)]);
-        if ((bits >> l & 1u) && bvh::nearer(float(t[l]), code, h)) {
+        if (bvh::nearer(float(t[l]), code, h)) {
           h = {float(t[l]), code};
           rd.tmax = d4(detail::tmax64(h.t));
           any = true;
@@ -230,9 +231,13 @@ RB_INLINE void std_packet(const StdBatch<K>& b, std::size_t base, bvh::PacketRay
         const f8 tmax = detail::tmax64(p.tbest[k]);
         const Ray<d4> lo = detail::half_ray(p.r[k], tmax, false), hi = detail::half_ray(p.r[k], tmax, true);
         const Hit<d4> hl = K::template hit<M>(lo, K::pre(lo), prim), hh = K::template hit<M>(hi, K::pre(hi), prim);
-        const unsigned bits = detail::bits4(hl.mask) | detail::bits4(hh.mask) << 4;
+        unsigned bits = detail::bits4(hl.mask) | detail::bits4(hh.mask) << 4;
         if (!bits) continue;
-        bvh::packet_update<Any>(p, k, bvh::detail::lanes_of(bits), detail::join_f8(hl.t, hh.t), code);
+        // The kernel ran up to the next float above tbest: keep the hits whose float t is within it.
+        const f8 t = detail::join_f8(hl.t, hh.t);
+        bits &= bvh::detail::movemask(t <= p.tbest[k]);
+        if (!bits) continue;
+        bvh::packet_update<Any>(p, k, bvh::detail::lanes_of(bits), t, code);
       }
     }
   }
