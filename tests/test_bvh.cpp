@@ -247,8 +247,8 @@ TEST(Bvh, ClosestHitIsTheSameForEveryPacketSizeAndTheOracle) {
     const tracer::SceneAccel a = tracer::SceneAccel::build(c.s, tracer::make_plan(c.s, c.model));
     RaySoA rays;
     if (c.name == "icosphere vertices") {
-      // From points around the sphere through every vertex and edge midpoint, in runs of 64 from
-      // one eye (so that packets of every size are coherent).
+      // From three points around the sphere through every vertex and edge midpoint, the rays of
+      // one eye side by side (so that a packet's rays share their origin).
       const std::vector<Vec3d>& v = c.s.verts;
       std::vector<Vec3d> targets(v.begin(), v.end());
       for (const auto& t : c.s.triangles)
