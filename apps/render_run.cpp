@@ -142,8 +142,7 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
   for (int k = 0; k < kinds::kKinds; ++k) prim[kinds::kind_name(kinds::Kind(k))] = st.cost.kind_prims[k];
   const double rays = double(st.rays());
   // The image's float samples in one FNV-1a digest: the same for any thread or rank count and any
-  // packet sizes (but on a CSG solid with a torus leaf, whose scalar and 8-ray queries can differ
-  // in the last bits).
+  // packet sizes.
   std::uint64_t digest = 1469598103934665603ull;
   for (const float v : img) {
     std::uint32_t bits;

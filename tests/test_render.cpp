@@ -197,10 +197,11 @@ TEST(RenderDepth, DepthLimitStopsTheRayTree) {
 }
 
 // Eye rays traced one by one, in packets of 8 or 16, or as 64-ray blocks with the frustum test:
-// the same closest hits, so the same image bit for bit. The gears are polygons (a scalar kernel for
-// single rays, an 8-lane one for packets) with shared edges (faces at one distance).
+// the same closest hits, so the same image bit for bit. The gears are polygons and the torus box a
+// CSG solid (a scalar query for single rays, an 8-lane one for packets); the gears' faces share
+// edges (faces at one distance).
 TEST(RenderPackets, EyePacketSizesGiveTheSameImage) {
-  for (const char* name : {"lecture:nine_red_balls", "spd:tetra:3", "spd:gears:1"}) {
+  for (const char* name : {"lecture:nine_red_balls", "spd:tetra:3", "spd:gears:1", "csg:torus_box"}) {
     const scene::Scene s = scene::load_scene(name);
     const tracer::SceneAccel a = tracer::SceneAccel::build(s);
     std::vector<float> first;
