@@ -87,17 +87,14 @@ inline int argmin8(const f8& t, float& best, unsigned& ties) {
   ties = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(v, m, _CMP_EQ_OQ)));
   return ties ? __builtin_ctz(ties) : 0;
 }
-inline int argmin8(const f8& t, float& best) {
-  unsigned ties;
-  return argmin8(t, best, ties);
-}
 // Lane k of t, read from the register.
 RB_INLINE float lane_value(const f8& t, int k) {
   return _mm256_cvtss_f32(_mm256_permutevar8x32_ps(t, _mm256_castsi128_si256(_mm_cvtsi32_si128(k))));
 }
 inline float hmin8(const f8& t) {
   float b;
-  argmin8(t, b);
+  unsigned ties;
+  argmin8(t, b, ties);
   return b;
 }
 inline float hmax8(const f8& t) {
