@@ -1,12 +1,13 @@
 // Runs the registered kernel benchmarks in this process (`raybench bench`, `raybench report`):
-// Google Benchmark writes every figure to its JSON file, while the terminal shows one progress bar
-// on stderr instead of Google Benchmark's console table (`raybench bench` prints its own table from
-// the JSON afterwards, apps/cmd_bench.cpp).
-#include "core/atomic_file.hpp"
+// Google Benchmark's JSON reporter writes every figure into memory, while the terminal shows one
+// progress bar on stderr instead of Google Benchmark's console table (`raybench bench` prints its
+// own table from the JSON afterwards, apps/cmd_bench.cpp). The caller writes the JSON where the
+// user asked, by the one output rule (core/output_file.hpp).
 #include "apps/cli.hpp"
 #include "apps/machine.hpp"
 #include "apps/progress.hpp"
 #include "apps/report.hpp"
+#include "apps/results.hpp"
 #include "bench/register.hpp"
 
 #include <benchmark/benchmark.h>
@@ -17,6 +18,7 @@
 #include <iostream>
 #include <regex>
 #include <set>
+#include <sstream>
 
 namespace rb::app {
 namespace {
@@ -29,18 +31,22 @@ void ensure_registered() {
   }
 }
 
-// Collects nothing (the JSON file reporter keeps the figures); draws the one progress bar
-// (apps/progress.hpp) with the benchmark under way.
+// Hands every figure to Google Benchmark's JSON reporter, writing into a string, and draws the one
+// progress bar (apps/progress.hpp) with the benchmark under way.
 class ProgressReporter : public benchmark::BenchmarkReporter {
  public:
-  ProgressReporter(std::size_t total, const std::string& what) : total_(total), what_(what), bar_(what) {}
-  bool ReportContext(const Context&) override {
+  ProgressReporter(std::size_t total, const std::string& what) : total_(total), what_(what), bar_(what) {
+    json_.SetOutputStream(&text_);
+    json_.SetErrorStream(&text_);
+  }
+  bool ReportContext(const Context& c) override {
     bar_.update(0);
-    return true;
+    return json_.ReportContext(c);
   }
   void ReportRuns(const std::vector<Run>& runs) override {
     // Called once for a benchmark's repetitions and once for their aggregates: count names.
     if (runs.empty()) return;
+    json_.ReportRuns(runs);
     if (!seen_.insert(runs.front().run_name.str()).second) return;
     ++done_;
     for (const auto& r : runs)
@@ -48,12 +54,14 @@ class ProgressReporter : public benchmark::BenchmarkReporter {
     bar_.update(double(done_) / double(std::max(total_, done_)), fmt::format("{}/{} {}", done_, std::max(total_, done_), runs.front().run_name.str()));
   }
   void Finalize() override {
+    json_.Finalize();
     bar_.done();
     std::cerr << fmt::format("{}: {} benchmarks in {}\n", what_, done_, format_duration(bar_.seconds()));
     for (const auto& e : errors_) std::cerr << "  error: " << e << "\n";
   }
   std::size_t done() const { return done_; }
   std::size_t errors() const { return errors_.size(); }
+  std::string json_text() const { return text_.str(); }
 
  private:
   std::size_t total_, done_ = 0;
@@ -61,6 +69,8 @@ class ProgressReporter : public benchmark::BenchmarkReporter {
   ProgressBar bar_;
   std::vector<std::string> errors_;
   std::set<std::string> seen_;
+  std::ostringstream text_;
+  benchmark::JSONReporter json_;
 };
 
 }  // namespace
@@ -78,7 +88,7 @@ std::vector<std::string> benchmark_names(const std::string& filter) {
   return out;
 }
 
-int run_benchmarks(const BenchOptions& o) {
+int run_benchmarks(const BenchOptions& o, nlohmann::json& doc) {
   ensure_registered();
   rb::bench::bench_data_seed() = o.seed ? o.seed : rb::bench::kBenchSeed;
   const std::size_t total = benchmark_names(o.filter).size();  // throws on a bad regex
@@ -87,10 +97,6 @@ int run_benchmarks(const BenchOptions& o) {
                                                        "--list shows them)", o.filter))
               << "\n";
     return kExitNothing;
-  }
-  if (const std::string why = check_output_file(o.json_out); !why.empty()) {  // Google Benchmark would exit()
-    std::cerr << error_line(o.command, o.json_out, why) << "\n";
-    return kExitError;
   }
   const Machine m = machine();
   benchmark::AddCustomContext("raybench_cpu", m.cpu);
@@ -101,13 +107,7 @@ int run_benchmarks(const BenchOptions& o) {
   benchmark::AddCustomContext("raybench_simd", "xsimd 8.1 fma3<avx2> 8 x float");
   benchmark::AddCustomContext("raybench_seed", std::to_string(rb::bench::bench_data_seed()));
   benchmark::AddCustomContext("raybench_repetitions", std::to_string(o.repetitions));
-  // Google Benchmark streams its JSON: into a hidden temporary, renamed over the file once
-  // complete (an interrupt removes it: apps/interrupt.hpp).
-  const std::string tmp_out = temp_path_for(o.json_out);
-  const int tmp_slot = temp_files().add(tmp_out);
   std::vector<std::string> args = {"raybench",
-                                   "--benchmark_out=" + tmp_out,
-                                   "--benchmark_out_format=json",
                                    fmt::format("--benchmark_repetitions={}", o.repetitions),
                                    fmt::format("--benchmark_report_aggregates_only={}", o.every_repetition ? "false" : "true"),
                                    fmt::format("--benchmark_min_time={}", o.min_time),
@@ -119,16 +119,15 @@ int run_benchmarks(const BenchOptions& o) {
   ProgressReporter progress(total, o.what);
   const std::size_t n = benchmark::RunSpecifiedBenchmarks(&progress);
   benchmark::Shutdown();
-  const bool renamed = n != 0 && std::rename(tmp_out.c_str(), o.json_out.c_str()) == 0;
-  if (!renamed) std::remove(tmp_out.c_str());
-  temp_files().remove(tmp_slot);
-  if (n != 0 && !renamed) {
-    std::cerr << error_line(o.command, o.json_out, "cannot write") << "\n";
-    return kExitError;
-  }
   if (n == 0) {
     std::cerr << error_line(o.command, "", "no benchmark ran (--filter '" + o.filter + "')") << "\n";
     return kExitNothing;
+  }
+  try {
+    doc = parse_json_text(progress.json_text(), "Google Benchmark's JSON");
+  } catch (const std::exception& e) {
+    std::cerr << error_line(o.command, "", e.what()) << "\n";
+    return kExitError;
   }
   return progress.errors() ? kExitError : kExitOk;
 }

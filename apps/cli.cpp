@@ -1,5 +1,6 @@
-#include "apps/interrupt.hpp"
 #include "apps/cli.hpp"
+
+#include "core/output_file.hpp"
 
 #include <fmt/format.h>
 
@@ -50,30 +51,9 @@ std::string error_line(const std::string& command, const std::string& input, con
   return line + r;
 }
 
-namespace {
-std::vector<std::string>& created_outputs() {
-  static std::vector<std::string> v;
-  return v;
-}
-}  // namespace
-
 std::string check_output_file(const std::string& path) {
-  if (path.empty() || path == "-") return "";
-  struct stat st {};
-  if (::stat(path.c_str(), &st) == 0) {
-    if (S_ISDIR(st.st_mode)) return std::strerror(EISDIR);
-    // No O_TRUNC: the old content stays until the new result is written.
-    const int fd = ::open(path.c_str(), O_WRONLY);
-    if (fd < 0) return std::strerror(errno);
-    ::close(fd);
-    return "";
-  }
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0666);
-  if (fd < 0) return std::strerror(errno);
-  ::close(fd);
-  created_outputs().push_back(path);
-  note_placeholder(path);  // an interrupt removes it while still empty
-  return "";
+  if (path.empty()) return "";
+  return output_problem(path);  // the rule of core/output_file.hpp; nothing is created or opened
 }
 
 std::string check_output_dir(const std::string& path) {
@@ -94,14 +74,6 @@ std::string check_output_dir(const std::string& path) {
   }
   if (::access(path.c_str(), W_OK | X_OK) != 0) return std::strerror(errno);
   return "";
-}
-
-void remove_unwritten_outputs() {
-  for (const auto& p : created_outputs()) {
-    struct stat st {};
-    if (::stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode) && st.st_size == 0) ::unlink(p.c_str());
-  }
-  created_outputs().clear();
 }
 
 bool is_generated_scene(const std::string& source) {

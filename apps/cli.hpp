@@ -33,13 +33,12 @@ std::string closest_name(const std::string& word, const std::vector<std::string>
 // (the scene loaders' messages name the file and line themselves). Newlines become "; ".
 std::string error_line(const std::string& command, const std::string& input, const std::string& reason);
 
-// An output file, checked before the work starts: "" when it can be written (or is "" / "-", i.e.
-// stdout), else the system's reason (strerror). A file that did not exist is created empty, and
-// removed again by remove_unwritten_outputs() if the command ends before writing to it.
+// An output, checked before the work starts by the rule of core/output_file.hpp: "" when it can be
+// written ("" and "-" are standard output), else the reason (a directory, a socket, a block
+// device, an unwritable folder, ...). Nothing is created, opened or truncated.
 std::string check_output_file(const std::string& path);
 // An output folder: created if missing; "" or the system's reason.
 std::string check_output_dir(const std::string& path);
-void remove_unwritten_outputs();
 
 // Scene sources that are not files: spd:NAME[:SIZE], lecture:NAME, csg:NAME, precision:NAME,
 // heightfield[:NXxNY].

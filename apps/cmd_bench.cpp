@@ -113,37 +113,9 @@ int run_bench_command(const BenchOptions& o, bool list, const JsonOut& out) {
     for (const auto& n : names) std::cout << n << "\n";
     return kExitOk;
   }
-  // Google Benchmark writes its JSON to a file: the --json file itself, or a temporary one when the
-  // JSON goes to stdout or nowhere.
-  const bool to_file = out.json && !out.file.empty() && out.file != "-";
-  std::string gb = out.file;
-  if (!to_file) {
-    char tmpl[] = "/tmp/raybench-bench-XXXXXX";
-    const int fd = mkstemp(tmpl);
-    if (fd < 0) {
-      std::cerr << error_line("bench", "/tmp", "cannot create a temporary file") << "\n";
-      return kExitError;
-    }
-    ::close(fd);
-    gb = tmpl;
-  }
-  struct Remove {
-    std::string p;
-    ~Remove() {
-      if (!p.empty()) std::remove(p.c_str());
-    }
-  } remove_tmp{to_file ? "" : gb};
-  BenchOptions bo = o;
-  bo.json_out = gb;
-  if (const int rc = run_benchmarks(bo); rc != 0) return rc;
-  const double load = load_average();
   json doc;
-  try {
-    doc = read_json_file(gb);
-  } catch (const std::exception& e) {
-    std::cerr << error_line("bench", "", e.what()) << "\n";
-    return kExitError;
-  }
+  if (const int rc = run_benchmarks(o, doc); rc != 0) return rc;
+  const double load = load_average();
   doc["machine"] = machine().json();  // the block every raybench result carries
   double worst = 0;
   std::size_t noisy = 0;

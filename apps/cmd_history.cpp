@@ -6,6 +6,7 @@
 #include "apps/history.hpp"
 #include "apps/paths.hpp"
 #include "apps/stats.hpp"
+#include "core/output_file.hpp"
 
 #include <fmt/format.h>
 
@@ -79,7 +80,9 @@ struct RunValue {
 
 }  // namespace
 
-int run_history_command(const HistoryOptions& o, const JsonOut& out) {
+int run_history_command(const HistoryOptions& o, const JsonOut& json_out) {
+  JsonOut out = json_out;  // the table moves to stderr when the chart is standard output
+  if (!stdout_for_one_output("history", "--plot", o.plot, out)) return kExitError;
   const std::string path = history_path(o.path, kReportHistory);
   try {
     const History h(path, false);
@@ -130,17 +133,16 @@ int run_history_command(const HistoryOptions& o, const JsonOut& out) {
       if (std::isfinite(p.value)) doc["series"][name_at[p.section + "/" + p.name]]["values"][at[p.run]] = p.value * p.scale;
 
     if (!o.plot.empty()) {
-      // The chart: tools/history_plot.py reads the series as JSON.
-      char tmpl[] = "/tmp/raybench-history-XXXXXX";
-      const int fd = mkstemp(tmpl);
-      if (fd < 0) throw std::runtime_error("cannot create a temporary file in /tmp");
-      ::close(fd);
-      std::ofstream(tmpl) << doc.dump() << "\n";
-      const std::string cmd = "/usr/bin/python3 " + shell_quote(tool_path("history_plot.py")) + " " + shell_quote(tmpl) + " " + shell_quote(o.plot);
-      const int rc = run_command(cmd);
-      std::remove(tmpl);
-      if (rc != 0) throw std::runtime_error(o.plot + ": the chart was not drawn (`" + cmd + "` failed; is python3-matplotlib installed?)");
-      std::cerr << "wrote " << o.plot << " (" << o.metric << " across " << rows.size() << " run(s))\n";
+      // The chart: tools/history_plot.py reads the series as JSON on its standard input and gives
+      // the PNG back on its standard output; the image is then written by the one output rule.
+      const std::string cmd = "/usr/bin/python3 " + shell_quote(tool_path("history_plot.py")) + " - -";
+      const std::string series = doc.dump() + "\n";
+      std::string png;
+      const int rc = run_command(cmd, &series, &png);
+      if (rc != 0 || png.empty())
+        throw std::runtime_error(o.plot + ": the chart was not drawn (`" + cmd + "` failed; is python3-matplotlib installed?)");
+      write_output(o.plot, png);
+      std::cerr << "wrote " << (is_standard_output(o.plot) ? std::string("the chart to standard output") : o.plot) << " (" << o.metric << " across " << rows.size() << " run(s))\n";
     }
     auto text = [&] {
       std::string t = wrap_words(fmt::format("{} ({}, {}){}", o.metric, p0.unit, dir,

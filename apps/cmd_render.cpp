@@ -3,6 +3,7 @@
 #include "apps/commands.hpp"
 #include "apps/machine.hpp"
 #include "apps/render_run.hpp"
+#include "core/output_file.hpp"
 #ifdef RB_HAVE_MPI
 #include "render/mpi.hpp"
 #endif
@@ -24,14 +25,16 @@ std::string default_image_name(const std::string& scene) {
   return (n.empty() ? std::string("render") : n) + ".png";
 }
 
-int run_render_command(const RenderRunOptions& opt, const JsonOut& out) {
+int run_render_command(const RenderRunOptions& opt, const JsonOut& json_out) {
   RenderRunOptions o = opt;
+  JsonOut out = json_out;  // the table moves to stderr when the image is standard output
   int rank = 0;
 #ifdef RB_HAVE_MPI
   render::MpiSession mpi(nullptr, nullptr);
   rank = mpi.rank();
 #endif
   const bool talk = rank == 0;
+  if (!stdout_for_one_output("render", "-o", o.out, out, talk)) return kExitError;
   if (!is_generated_scene(o.scene))
     if (const std::string why = check_input_file(o.scene); !why.empty()) {
       if (talk) std::cerr << error_line("render", o.scene, why) << "\n";

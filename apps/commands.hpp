@@ -12,6 +12,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <iostream>
 #include <string>
 
 namespace rb::acc {
@@ -30,6 +31,7 @@ struct JsonOut {
   bool json = false;
   std::string file;
   std::function<void(const nlohmann::json&)> record;
+  bool table_to_stderr = false;  // standard output carries something else (render -o -: the PNG)
 };
 
 struct CompareOptions;  // apps/compare.hpp
@@ -63,7 +65,10 @@ int run_plan_command(const std::string& scene, const std::string& model, bool ve
 // when `wrote` is not empty) and the table still to stdout. 0, or 1 with one line on stderr naming
 // the file and the system's reason when it cannot be written.
 int write_result(const std::string& command, bool json, const std::string& file, const std::function<std::string()>& text,
-                 const std::function<nlohmann::json()>& to_json, const std::string& wrote = "");
+                 const std::function<nlohmann::json()>& to_json, const std::string& wrote = "", std::ostream& table = std::cout);
+// When `path`, the value of `option`, is standard output ("-", /dev/stdout), the command's table
+// moves to stderr; with --json to standard output as well, one error line (when `talk`) and false.
+bool stdout_for_one_output(const std::string& command, const std::string& option, const std::string& path, JsonOut& out, bool talk = true);
 // The same, then out.record(the document) when it is set and the result was written.
 int write_result(const std::string& command, const JsonOut& out, const std::function<std::string()>& text,
                  const std::function<nlohmann::json()>& to_json, const std::string& wrote = "");

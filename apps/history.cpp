@@ -1,5 +1,7 @@
 #include "apps/history.hpp"
 
+#include "core/output_file.hpp"
+
 #include "apps/cli.hpp"
 #include "apps/stats.hpp"
 
@@ -129,6 +131,11 @@ History::History(const std::string& path, bool create) : path_(path) {
       throw std::runtime_error(p.parent_path().string() + ": " + why);
   }
   if (const std::string why = check_output_file(path); !why.empty()) throw std::runtime_error(path + ": " + why);
+  // SQLite keeps a journal beside the database and rewrites it in place: a FIFO, a device or a
+  // descriptor cannot hold one (a symlink to a file is followed, as for every output).
+  if (const OutputTarget t = output_target(path); t.kind != OutputTarget::kNewFile && t.kind != OutputTarget::kRegular)
+    throw std::runtime_error(path + ": a results history is an SQLite database and must be a regular file, not " +
+                             (t.kind == OutputTarget::kDescriptor ? std::string("a file descriptor") : "a FIFO or a device"));
   if (sqlite3_open_v2(path.c_str(), &db_, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr) != SQLITE_OK) {
     const std::string why = db_ ? sqlite3_errmsg(db_) : "cannot open";
     sqlite3_close(db_);

@@ -1,10 +1,11 @@
 #include "apps/interrupt.hpp"
 
-#include "core/atomic_file.hpp"
+#include "core/output_file.hpp"
 
 #include <signal.h>
 #include <spawn.h>
-#include <sys/stat.h>
+#include <fcntl.h>
+#include <sys/mman.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -21,23 +22,12 @@ char g_msg[2][256];
 std::size_t g_len[2] = {0, 0};
 std::atomic<pid_t> g_child{0};
 
-TempFiles& placeholders() {
-  static TempFiles t;
-  return t;
-}
-
 extern "C" void on_interrupt(int sig) {
   const int k = sig == SIGINT ? 0 : 1;
   if (g_len[k]) (void)!::write(2, g_msg[k], g_len[k]);
   const pid_t c = g_child.load();
   if (c > 0) ::kill(c, SIGTERM);
   temp_files().unlink_all();
-  TempFiles& p = placeholders();
-  for (int i = 0; i < TempFiles::kSlots; ++i) {
-    if (p.used[i].load() != 1) continue;
-    struct stat st {};
-    if (::stat(p.path[i], &st) == 0 && S_ISREG(st.st_mode) && st.st_size == 0) ::unlink(p.path[i]);
-  }
   ::_exit(128 + sig);
 }
 
@@ -64,9 +54,7 @@ void install_interrupt_handlers(const std::string& command) {
   ::sigaction(SIGTERM, &sa, nullptr);
 }
 
-void note_placeholder(const std::string& path) { placeholders().add(path); }
-
-int run_command(const std::string& cmd) {
+int run_command(const std::string& cmd, const std::string* input, std::string* output) {
   const char* argv[] = {"sh", "-c", cmd.c_str(), nullptr};
   pid_t pid = 0;
   // The child starts with default signal dispositions (so an interrupt's SIGTERM ends it).
@@ -78,10 +66,51 @@ int run_command(const std::string& cmd) {
   sigaddset(&def, SIGTERM);
   posix_spawnattr_setsigdefault(&attr, &def);
   posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGDEF);
-  const int rc = posix_spawn(&pid, "/bin/sh", nullptr, &attr, const_cast<char* const*>(argv), environ);
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  // The input in an anonymous memory file (no file on disk, no pipe to fill while the child has
+  // not started reading); the output through a pipe read to its end.
+  int in_fd = -1, out_pipe[2] = {-1, -1};
+  auto close_all = [&] {
+    if (in_fd >= 0) ::close(in_fd);
+    for (int& f : out_pipe)
+      if (f >= 0) ::close(f), f = -1;
+    in_fd = -1;
+  };
+  if (input) {
+    in_fd = ::memfd_create("raybench-input", MFD_CLOEXEC);
+    if (in_fd < 0 || ::write(in_fd, input->data(), input->size()) != ssize_t(input->size()) || ::lseek(in_fd, 0, SEEK_SET) != 0) {
+      close_all();
+      return -1;
+    }
+    posix_spawn_file_actions_adddup2(&fa, in_fd, 0);
+  }
+  if (output) {
+    if (::pipe2(out_pipe, O_CLOEXEC) != 0) {
+      close_all();
+      return -1;
+    }
+    posix_spawn_file_actions_adddup2(&fa, out_pipe[1], 1);
+  }
+  const int rc = posix_spawn(&pid, "/bin/sh", &fa, &attr, const_cast<char* const*>(argv), environ);
+  posix_spawn_file_actions_destroy(&fa);
   posix_spawnattr_destroy(&attr);
-  if (rc != 0) return -1;
+  if (in_fd >= 0) ::close(in_fd), in_fd = -1;
+  if (out_pipe[1] >= 0) ::close(out_pipe[1]), out_pipe[1] = -1;
+  if (rc != 0) {
+    close_all();
+    return -1;
+  }
   g_child.store(pid);
+  if (output) {
+    char buf[65536];
+    for (;;) {
+      const ssize_t n = ::read(out_pipe[0], buf, sizeof buf);
+      if (n > 0) output->append(buf, std::size_t(n));
+      else if (n == 0 || errno != EINTR) break;
+    }
+  }
+  close_all();
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0) {
     if (errno != EINTR) {

@@ -7,7 +7,7 @@
 // and the reason; every output path checked before the work starts; --json [FILE|-] everywhere;
 // --filter a regex everywhere; --threads 0 all hardware threads; help within 80 columns.
 #include <sstream>
-#include "core/atomic_file.hpp"
+#include "core/output_file.hpp"
 #include "apps/interrupt.hpp"
 #include "apps/accuracy_run.hpp"
 #include "apps/build_info.hpp"
@@ -103,7 +103,12 @@ int main(int argc, char** argv) {
       "Conventions: exit status 0 done, 1 a parse or input error, 2 nothing to do;\n"
       "--json [FILE|-] (no FILE or '-': stdout) and --filter REGEX on every command\n"
       "that has results or names; --threads 0 uses every hardware thread;\n"
-      "--history FILE (or RAYBENCH_HISTORY) keeps a run in the results history.");
+      "--history FILE (or RAYBENCH_HISTORY) keeps a run in the results history.\n"
+      "Outputs: a file is replaced whole (a temporary renamed over it), a symlink's\n"
+      "target likewise (the link stays); a FIFO or a device is written as it is\n"
+      "(--json /dev/null discards, /dev/full fails with exit 1); '-', /dev/stdout,\n"
+      "/dev/stderr and /dev/fd/N are this process's own descriptors; a directory,\n"
+      "a socket or a block device is refused before the work.");
 
   // ---- report ----
   ReportOptions ro;
@@ -174,8 +179,9 @@ int main(int argc, char** argv) {
       "csg:NAME (spheres_minus lens die torus_box ellipsoid_minus_cylinder), or\n"
       "precision:NAME (scenes that test a tracer's precision: ball_ground,\n"
       "ball_ground_far, planet, mesh_spheres[_1e3|_1e5|_1e7], far_spheres,\n"
-      "thin_torus, far_cylinders, mixed_scales), or heightfield[:NXxNY] (a wavy\n"
-      "height field of NX x NY quads; default 708x707, about a million triangles).\n"
+      "thin_torus, far_cylinders, mixed_scales, scanned, scanned_double), or\n"
+      "heightfield[:NXxNY] (a wavy height field of NX x NY quads; default 708x707,\n"
+      "about a million triangles).\n"
       "Shows primitive counts per kind, bounds, camera, lights, materials, the\n"
       "memory of the input form and of each SoA kernel batch, and the tracer's plan.");
 
@@ -256,7 +262,7 @@ int main(int argc, char** argv) {
   std::string render_json, render_history;
   auto* render = app.add_subcommand("render", "Render a scene with the recursive ray tracer");
   render->add_option("scene", rdo.scene, "A scene, as `raybench info` takes it")->required();
-  render->add_option("-o,--out", rdo.out, "PNG file to write (default: SCENE.png in the\ncurrent folder)")->type_name("FILE");
+  render->add_option("-o,--out", rdo.out, "PNG file to write (default: SCENE.png in the\ncurrent folder; '-': stdout, the table then to\nstderr)")->type_name("FILE");
   render->add_option("--width", rdo.width, "Image width in pixels (default 512, or the\nNFF file's resolution)")->check(CLI::Range(1, 16384));
   render->add_option("--height", rdo.height, "Image height in pixels (default: the width)")->check(CLI::Range(1, 16384));
   render->add_option("--depth", rdo.depth, "Maximum ray tree depth (the eye ray is 1)")->check(CLI::Range(1, 64))->capture_default_str();
@@ -356,7 +362,7 @@ int main(int argc, char** argv) {
   history->add_option("--history", ho.path, "The history file (default: $RAYBENCH_HISTORY,\nelse results/history.sqlite)")->type_name("FILE");
   history->add_option("--filter", ho.filter, "Only figures whose section/name matches this\nregex");
   history->add_option("--metric", ho.metric, "Follow this metric across the runs (e.g.\ntests_per_s, mrays_per_s)");
-  history->add_option("--plot", ho.plot, "Draw the metric across the runs into this PNG")->type_name("FILE");
+  history->add_option("--plot", ho.plot, "Draw the metric across the runs into this PNG\n('-': stdout, the table then to stderr)")->type_name("FILE");
   add_json(history, history_json, "Write the runs or the series as JSON to FILE\n(no FILE: stdout instead of the table)");
   history->footer(
       "Runs of bench, trace, render, accuracy and report are kept with --history FILE\n"
@@ -435,7 +441,7 @@ int main(int argc, char** argv) {
   std::vector<std::pair<CLI::App*, std::string>> files = {
       {report, ro.json_file}, {ops, ops_json},       {bench, bench_json}, {info, info_json},         {query, query_json},
       {trace, trace_json},    {render, render_json}, {render, rdo.out},   {accuracy, accuracy_json}, {csg, csg_json},
-      {compare, compare_json}, {history, history_json}, {history, ho.plot}, {mach, machine_json}, {plan, plan_json}};
+      {compare, compare_json}, {history, history_json}, {history, ho.plot}, {mach, machine_json}, {plan, plan_json}, {info, info_dump}};
   for (const auto& [sub, path] : files) {
     if (!*sub || path.empty() || path == "-") continue;
     if (const std::string why = check_output_file(path); !why.empty()) {
@@ -502,7 +508,7 @@ int main(int argc, char** argv) {
         std::ostringstream f;
         rc = run_query(std::cin, f, std::cerr, query_double);
         try {
-          rb::write_file_atomic(query_json, f.str());
+          rb::write_output(query_json, f.str());
         } catch (const std::exception& e) {
           std::cerr << error_line("query", query_json, e.what()) << "\n";
           rc = kExitError;
@@ -545,6 +551,11 @@ int main(int argc, char** argv) {
     std::cerr << error_line(sub_name, "", e.what()) << "\n";
     rc = kExitError;
   }
-  if (rc != kExitOk) remove_unwritten_outputs();
+  // The table or JSON printed on standard output must have got there too (a full disk, /dev/full).
+  std::cout.flush();
+  if (!std::cout && rc == kExitOk) {
+    std::cerr << error_line(sub_name, "", "cannot write standard output") << "\n";
+    rc = kExitError;
+  }
   return rc;
 }

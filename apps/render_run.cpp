@@ -1,5 +1,7 @@
 #include "apps/render_run.hpp"
 
+#include "core/output_file.hpp"
+
 #include "apps/cli.hpp"
 #include "apps/progress.hpp"
 #include "apps/stats.hpp"
@@ -257,7 +259,10 @@ std::string render_text(const json& j) {
                      j.value("trial_renders", 0) > 0 ? fmt::format(" and {} trial renders", j["trial_renders"].get<int>()) : "",
                      j["trace_ms_min"].get<double>(), j["trace_ms_max"].get<double>(),
                      j["cv"].is_null() ? "" : fmt::format(", CV {:.1f} %", 100 * j["cv"].get<double>()));
-  if (j.contains("image")) t += fmt::format("wrote {}\n", j["image"].get<std::string>());
+  if (j.contains("image")) {
+    const std::string image = j["image"].get<std::string>();
+    t += is_standard_output(image) ? "wrote the image to standard output\n" : fmt::format("wrote {}\n", image);
+  }
   return t;
 }
 

@@ -1,4 +1,4 @@
-#include "core/atomic_file.hpp"
+#include "core/output_file.hpp"
 #include "apps/interrupt.hpp"
 #include "apps/report.hpp"
 
@@ -32,22 +32,8 @@ struct Clock {
   double s() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); }
 };
 
-// Every report file is written whole or not at all (core/atomic_file.hpp).
-void write_file(const fs::path& p, const std::string& s) { write_file_atomic(p.string(), s); }
-
-// Google Benchmark writes NaN and Infinity as bare tokens (e.g. the coefficient of variation of a
-// counter that is 0 in every repetition), which is not JSON. They become null, and the file is
-// rewritten so that bench.json in the report is valid JSON for any reader.
-json load_benchmark_json(const fs::path& p) {
-  std::ifstream f(p);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  if (!f && !f.eof()) throw std::runtime_error("cannot read " + p.string());
-  const std::string text = std::regex_replace(ss.str(), std::regex(R"(:\s*-?(NaN|nan|Infinity|inf)\b)"), ": null");
-  json j = json::parse(text);
-  write_file(p, j.dump(2));
-  return j;
-}
+// Every report file is written whole or not at all (core/output_file.hpp).
+void write_file(const fs::path& p, const std::string& s) { write_output(p.string(), s); }
 
 // Medians of a Google Benchmark JSON run: name -> counters.
 std::map<std::string, json> medians(const json& j) {
@@ -396,15 +382,14 @@ int run_report(const ReportOptions& o) {
   const std::string bench_label = next_stage(fmt::format("scalar vs SIMD benchmarks ({} repetitions x {} s each)", o.repetitions, o.min_time));
   const fs::path bj = out / "bench.json";
   BenchOptions bo;
-  bo.json_out = bj.string();
   bo.repetitions = o.repetitions;
   bo.min_time = o.min_time;
   bo.filter = o.filter;
   bo.every_repetition = true;  // every repetition kept: `raybench compare` tests two reports' repetitions
   bo.what = bench_label + " benchmarks";
   bo.command = "report";
-  if (const int rc = run_benchmarks(bo); rc != 0) return rc;
-  json bench = load_benchmark_json(bj);
+  json bench;
+  if (const int rc = run_benchmarks(bo, bench); rc != 0) return rc;
   bench["machine"] = summary["machine"];  // bench.json is a result of its own: the block every result carries
   write_file(bj, bench.dump(2));
   md += "## 2. Scalar against SIMD, L1-resident\n\n"
@@ -457,11 +442,10 @@ int run_report(const ReportOptions& o) {
   write_file(out / "index.html", doc::to_html(page));
   for (const auto& b : doc::broken_links(out / "index.html")) std::cerr << "raybench report: warning: index.html: " << b << "\n";
   // The terminal summary goes to stdout, unless --json without a file puts the summary JSON there.
-  const bool json_stdout = o.json && (o.json_file.empty() || o.json_file == "-");
+  const bool json_stdout = o.json && (o.json_file.empty() || is_standard_output(o.json_file));
   (json_stdout ? std::cerr : std::cout) << fit_columns(terminal_summary(summary, goals, rows.size() / 2, clock.s()), 4)
                                         << "report written: " << fs::absolute(out / "index.md").string() << " and index.html\n";
-  if (json_stdout) std::cout << summary.dump(2) << "\n";
-  else if (o.json) write_file(o.json_file, summary.dump(2) + "\n");
+  if (o.json) write_file(json_stdout ? "-" : o.json_file, summary.dump(2) + "\n");
   return 0;
 }
 

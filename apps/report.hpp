@@ -2,6 +2,8 @@
 // report/index.md with JSON and PNG charts beside it.
 #pragma once
 
+#include <nlohmann/json.hpp>
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -25,7 +27,6 @@ int run_report(const ReportOptions& o);
 
 // A run of the registered benchmarks (apps/bench_run.cpp).
 struct BenchOptions {
-  std::string json_out = "bench.json";  // Google Benchmark JSON (compare.py reads it)
   int repetitions = 3;
   double min_time = 0.1;                // seconds per repetition
   std::string filter = ".";             // regex on kernel/method/variant/case
@@ -40,9 +41,9 @@ struct BenchOptions {
 // a bad regex.
 std::vector<std::string> benchmark_names(const std::string& filter);
 
-// Runs the benchmarks in this process with a progress bar on stderr, writing every figure as
-// Google Benchmark JSON to `json_out`. 0 on success, 2 when the filter selects nothing, 1 when the
-// file cannot be written or a benchmark reported an error.
-int run_benchmarks(const BenchOptions& o);
+// Runs the benchmarks in this process with a progress bar on stderr; every figure lands in `doc` as
+// Google Benchmark JSON (its bare NaN and infinities as null). 0 on success, 2 when the filter
+// selects nothing, 1 when a benchmark reported an error.
+int run_benchmarks(const BenchOptions& o, nlohmann::json& doc);
 
 }  // namespace rb::app

@@ -2,7 +2,7 @@
 // per primitive family a chart of speed against accuracy with its Pareto front, the table
 // "where each method fails", the targets checked against this run, and the cost of spawning
 // secondary rays with an offset.
-#include "core/atomic_file.hpp"
+#include "core/output_file.hpp"
 #include "apps/interrupt.hpp"
 #include "apps/accuracy_run.hpp"
 #include "apps/paths.hpp"
@@ -192,7 +192,7 @@ std::string report_section_accuracy(const ReportOptions& o, const fs::path& out,
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<Row> rows = run_accuracy(ao, "[report] accuracy lab");
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  write_file_atomic((out / "accuracy.json").string(), accuracy_json(ao, rows).dump(1) + "\n");
+  write_output((out / "accuracy.json").string(), accuracy_json(ao, rows).dump(1) + "\n");
   std::string md = "## Accuracy and stability\n\n";
   md += fmt::format(
       "Produced by `raybench accuracy --json` (quick mode: {} rays per case, seed {}; {:.0f} s). Every case is a named, seeded set of "

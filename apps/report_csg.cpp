@@ -2,7 +2,7 @@
 // table's csg rows) and CSG queries per second on the embedded CSG scenes, one float ray at a time
 // (csg_hit: linear merges, closest-hit stop) against 8 rays in lanes (csg_hit8: branch-free
 // merges), on the same rays, one thread.
-#include "core/atomic_file.hpp"
+#include "core/output_file.hpp"
 #include "apps/cli.hpp"
 #include "apps/commands.hpp"
 #include "apps/machine.hpp"
@@ -192,7 +192,7 @@ std::string report_section_csg(const ReportOptions& o, const std::filesystem::pa
   ProgressBar bar("  CSG scenes");
   const json speed = measure_csg_speed(o.quick ? 1 : std::max(3, o.repetitions), o.quick ? 1 << 11 : 1 << 15, &bar);
   bar.done();
-  write_file_atomic((out / "csg.json").string(), speed.dump(2) + "\n");
+  write_output((out / "csg.json").string(), speed.dump(2) + "\n");
   summary["csg"] = speed;
   return csg_markdown(speed, rows);
 }

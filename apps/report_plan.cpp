@@ -3,7 +3,7 @@
 // models and the failures of all three against the exact reference (the accuracy lab's whole-scene
 // runner), a chart of speed against failures per model, and a far and scaled copy of a scene
 // rendered beside the original.
-#include "core/atomic_file.hpp"
+#include "core/output_file.hpp"
 #include "accuracy/lab.hpp"
 #include "apps/paths.hpp"
 #include "apps/report.hpp"
@@ -128,7 +128,7 @@ std::string report_section_plan(const ReportOptions& o, const fs::path& out, jso
         "nothing special; on them auto costs what the kinds' chosen methods cost (the table's auto / fast; the lab's "
         "`ns_per_test` compares the methods themselves).\n\n";
   md += "![speed against failures per model](plan_models.png)\n\n";
-  write_file_atomic((out / "plan.json").string(), json{{"scenes", rows}, {"rows", lab_rows}}.dump(2) + "\n");
+  write_output((out / "plan.json").string(), json{{"scenes", rows}, {"rows", lab_rows}}.dump(2) + "\n");
 
   // A far and a scaled copy rendered beside the original.
   std::cerr << "[report plan] far and scaled copies\n";

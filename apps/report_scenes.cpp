@@ -1,6 +1,6 @@
 // Report section: the embedded scenes (data/meshes and the generators), how long each takes to
 // load or generate, its peak memory, and a `raybench info` table per scene.
-#include "core/atomic_file.hpp"
+#include "core/output_file.hpp"
 #include "apps/paths.hpp"
 #include "apps/report.hpp"
 #include "apps/report_sections.hpp"
@@ -142,7 +142,7 @@ std::string report_section_scenes(const ReportOptions&, const fs::path& out, jso
     infos.push_back(t.info);
   }
   const json doc = {{"loads", rows}, {"scenes", infos}, {"pending", pending}};
-  write_file_atomic((out / "scenes.json").string(), doc.dump(2) + "\n");
+  write_output((out / "scenes.json").string(), doc.dump(2) + "\n");
   summary["scenes"] = rows;
 
   std::string md = "## Scenes\n\n"

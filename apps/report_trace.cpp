@@ -1,5 +1,5 @@
 // Report section "Tracing": whole scenes through the BVH beside Embree and the brute-force loop.
-#include "core/atomic_file.hpp"
+#include "core/output_file.hpp"
 #include "apps/paths.hpp"
 #include "apps/report.hpp"
 #include "apps/report_sections.hpp"
@@ -304,7 +304,7 @@ std::string report_section_tracing(const ReportOptions& o, const fs::path& out, 
   md += "![time per ray against primitive count](trace_scaling.png)\n\n";
   summary["tracing"] = {{"matrix", rows},   {"builds", matrix_builds}, {"thread_scaling", scaling},
                         {"by_size", builds}, {"goals", goal_rows}, {"tree_vs_kernel", trees}};
-  write_file_atomic((out / "tracing.json").string(), summary["tracing"].dump(2) + "\n");
+  write_output((out / "tracing.json").string(), summary["tracing"].dump(2) + "\n");
   md += "Raw rows: [tracing.json](tracing.json).\n\n";
   return md;
 }

@@ -27,14 +27,19 @@ json read_json_file(const std::string& path) {
   if (!f) throw std::runtime_error(path + ": " + std::strerror(errno));
   std::stringstream ss;
   ss << f.rdbuf();
-  const std::string text = std::regex_replace(ss.str(), std::regex(R"(:\s*-?(NaN|nan|Infinity|inf)\b)"), ": null");
+  return parse_json_text(ss.str(), path);
+}
+
+json parse_json_text(const std::string& raw, const std::string& name) {
+  // Google Benchmark writes NaN and infinities as bare words, which JSON has not: null instead.
+  const std::string text = std::regex_replace(raw, std::regex(R"(:\s*-?(NaN|nan|Infinity|inf)\b)"), ": null");
   try {
     return json::parse(text);
   } catch (const json::parse_error& e) {
     // nlohmann's message: "[json.exception.parse_error.101] parse error at line 3, column 5: ..."
     std::string what = e.what();
     const auto p = what.find("parse error");
-    throw std::runtime_error(path + ": not JSON (" + (p == std::string::npos ? what : what.substr(p)) + ")");
+    throw std::runtime_error(name + ": not JSON (" + (p == std::string::npos ? what : what.substr(p)) + ")");
   }
 }
 

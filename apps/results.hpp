@@ -37,6 +37,8 @@ struct ResultSet {
 // Reads a JSON file; Google Benchmark's bare NaN / Infinity tokens become null. Throws
 // std::runtime_error("PATH: reason"), with the system's reason when it cannot be read.
 nlohmann::json read_json_file(const std::string& path);
+// The same for text in memory (`name` labels it in the error).
+nlohmann::json parse_json_text(const std::string& text, const std::string& name);
 
 // The kind of a raybench JSON document: bench, trace, render, accuracy, csg, or "" (not one).
 std::string result_kind(const nlohmann::json& doc);

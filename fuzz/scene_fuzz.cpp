@@ -16,6 +16,7 @@
 //                 [--timeout SECONDS] [--slow SECONDS] [--keep DIR] [--json FILE]
 // An input slower than --slow seconds (default 20) is kept too, as slow-NAME (not a failure).
 #include "apps/commands.hpp"
+#include "core/output_file.hpp"
 #include "apps/render_options.hpp"
 #include "apps/trace_options.hpp"
 
@@ -361,7 +362,14 @@ int main(int argc, char** argv) {
     first_fmt = false;
   }
   json += "}}\n";
-  if (!json_out.empty()) std::ofstream(json_out) << json;
+  if (!json_out.empty()) {
+    try {
+      rb::write_output(json_out, json);  // raybench's one output rule (core/output_file.hpp)
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "raybench_fuzz: %s\n", e.what());
+      return 1;
+    }
+  }
   std::error_code ec;
   fs::remove_all(work, ec);
   return bad_total ? 1 : 0;

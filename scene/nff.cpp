@@ -1,7 +1,7 @@
 // Haines' Neutral File Format: reader (every entity of NFF.TXT) and writer. See loaders.hpp
 // for what each entity becomes.
 #include "scene/loaders.hpp"
-#include "core/atomic_file.hpp"
+#include "core/output_file.hpp"
 #include "scene/parse_util.hpp"
 
 #include <algorithm>
@@ -310,7 +310,7 @@ std::string to_nff(const Scene& s) {
 void save_nff(const Scene& scene, const std::string& path) {
   const std::string text = to_nff(scene);
   try {
-    write_file_atomic(path, text);  // whole or not at all (core/atomic_file.hpp)
+    write_output(path, text);  // a file whole or not at all, a device as it is (core/output_file.hpp)
   } catch (const std::runtime_error& e) {
     throw SceneError(e.what());
   }

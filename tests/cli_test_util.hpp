@@ -83,6 +83,11 @@ inline std::size_t widest(const std::string& text) {
   return std::max(w, n);
 }
 
+// An octahedron: the smallest closed triangle mesh, so that Embree traces it too.
+inline const char* const kOctahedron =
+    "v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\n"
+    "f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n";
+
 inline bool has(const std::string& hay, const std::string& needle) { return hay.find(needle) != std::string::npos; }
 
 }  // namespace rbtest

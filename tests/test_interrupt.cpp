@@ -125,7 +125,7 @@ TEST(Interrupt, SigtermStopsARenderAndKeepsThePreviousOutputs) {
 }
 
 TEST(Interrupt, SigintStopsATraceAndLeavesNoNewFile) {
-  // out.json does not exist yet: the placeholder the command line creates to check it is removed.
+  // out.json does not exist yet, and the interrupted run leaves none behind (no temporary, no empty file).
   check_interrupt("trace", {"trace", "spd:balls:3", "--count", "2000000", "--no-embree", "-r", "50", "--json", "out.json"}, SIGINT,
                   {{"keep.txt", "unrelated\n"}});
 }

@@ -2,6 +2,8 @@
 """The chart of `raybench history --metric NAME --plot OUT.png`: one metric across the stored runs.
 
 Usage: /usr/bin/python3 tools/history_plot.py SERIES.json OUT.png
+       (SERIES.json "-": read from standard input; OUT.png "-": the PNG to standard output, which is
+       how raybench calls it, writing the image itself by its one output rule)
 
 SERIES.json is what `raybench history --metric NAME --json` writes: the runs in the order they
 were stored (id, time, git revision, dirty flag) and one series of values per figure (null where
@@ -26,8 +28,11 @@ import matplotlib.pyplot as plt  # noqa: E402
 def main():
     if len(sys.argv) != 3:
         sys.exit(__doc__)
-    with open(sys.argv[1]) as f:
-        doc = json.load(f)
+    if sys.argv[1] == "-":
+        doc = json.load(sys.stdin)
+    else:
+        with open(sys.argv[1]) as f:
+            doc = json.load(f)
     runs, series = doc["runs"], doc["series"]
     if not runs or not series:
         sys.exit("history_plot.py: nothing to draw")
@@ -62,7 +67,11 @@ def main():
     ax.set_ylabel(f"{doc['metric']} ({doc['unit']}{', ' + direction if direction else ''})")
     ax.grid(True, lw=0.3)
     fig.tight_layout()
-    atomic_save.savefig(fig, sys.argv[2], dpi=100)
+    if sys.argv[2] == "-":
+        fig.savefig(sys.stdout.buffer, format="png", dpi=100)
+        sys.stdout.buffer.flush()
+    else:
+        atomic_save.savefig(fig, sys.argv[2], dpi=100)
     plt.close(fig)
 
 
