@@ -326,7 +326,8 @@ std::vector<doc::Goal> report_goals(const std::vector<Goal>& speed, const json& 
 // the latest one between markers so that `./run.sh pgo` can also refresh an existing index.md.
 std::string pgo_section(const fs::path& out) {
   std::string body;
-  std::ifstream f(out / "pgo.md");
+  std::ifstream f;
+  if (readable_back((out / "pgo.md").string())) f.open(out / "pgo.md");  // never block on a FIFO there
   if (f) {
     std::stringstream ss;
     ss << f.rdbuf();
@@ -429,7 +430,9 @@ int run_report(const ReportOptions& o) {
 
   next_stage("charts and index.md");
   write_file(out / "summary.json", summary.dump(2));
-  if (o.charts) {
+  if (o.charts && !readable_back((out / "summary.json").string())) {
+    md += "_Charts were not drawn: summary.json, which they read, is not a regular file._\n\n";
+  } else if (o.charts) {
     const std::string cmd = "/usr/bin/python3 " + shell_quote(tool_path("charts.py")) + " " + shell_quote(out.string());
     const int rc = run_command(cmd);
     if (rc != 0) md += "_Charts were not drawn: `" + cmd + "` failed (is python3-matplotlib installed?)._\n\n";
@@ -439,8 +442,9 @@ int run_report(const ReportOptions& o) {
   doc::Document page = doc::parse_markdown(md);
   doc::organise(page, report_goals(goals, summary), out);
   write_file(out / "index.md", doc::to_markdown(page));
-  write_file(out / "index.html", doc::to_html(page));
-  for (const auto& b : doc::broken_links(out / "index.html")) std::cerr << "raybench report: warning: index.html: " << b << "\n";
+  const std::string html = doc::to_html(page);
+  write_file(out / "index.html", html);
+  for (const auto& b : doc::broken_links(html, out)) std::cerr << "raybench report: warning: index.html: " << b << "\n";
   // The terminal summary goes to stdout, unless --json without a file puts the summary JSON there.
   const bool json_stdout = o.json && (o.json_file.empty() || is_standard_output(o.json_file));
   (json_stdout ? std::cerr : std::cout) << fit_columns(terminal_summary(summary, goals, rows.size() / 2, clock.s()), 4)

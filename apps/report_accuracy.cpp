@@ -289,7 +289,9 @@ std::string report_section_accuracy(const ReportOptions& o, const fs::path& out,
     }
   }
   summary["accuracy"] = {{"best", best}, {"targets", tj}, {"seconds", secs}, {"rows", rows.size()}};
-  if (o.charts) {
+  if (o.charts && !readable_back((out / "accuracy.json").string())) {
+    md += "_Accuracy charts were not drawn: accuracy.json, which they read, is not a regular file._\n\n";
+  } else if (o.charts) {
     const std::string cmd = "/usr/bin/python3 " + shell_quote(tool_path("accuracy_charts.py")) + " " + shell_quote((out / "accuracy.json").string()) +
                             " " + shell_quote(out.string());
     if (run_command(cmd) != 0) md += "_Accuracy charts were not drawn: `" + cmd + "` failed (is python3-matplotlib installed?)._\n\n";

@@ -575,14 +575,17 @@ std::vector<std::string> broken_links(const fs::path& html) {
   std::ifstream f(html);
   std::stringstream ss;
   ss << f.rdbuf();
-  const std::string page = ss.str();
+  if (ss.str().empty()) return {html.string() + ": empty or unreadable"};
+  return broken_links(ss.str(), html.parent_path());
+}
+
+std::vector<std::string> broken_links(const std::string& page, const fs::path& dir) {
   std::vector<std::string> bad;
-  if (page.empty()) return {html.string() + ": empty or unreadable"};
+  if (page.empty()) return {"the page is empty"};
   std::set<std::string> ids;
   static const std::regex id_re(R"re(\sid="([^"]+)")re");
   for (std::sregex_iterator it(page.begin(), page.end(), id_re), e; it != e; ++it) ids.insert((*it)[1]);
   static const std::regex ref_re(R"re(\s(src|href)="([^"]*)")re");
-  const fs::path dir = html.parent_path();
   for (std::sregex_iterator it(page.begin(), page.end(), ref_re), e; it != e; ++it) {
     std::string target = (*it)[2];
     for (const auto& [from, to] : {std::pair<std::string, std::string>{"&amp;", "&"}, {"&quot;", "\""}}) {

@@ -69,5 +69,8 @@ bool make_thumbnail(const std::filesystem::path& png, const std::filesystem::pat
 // beside the page, an anchor with no element of that id, or a network address (the page must
 // stand alone). One line per problem; empty when the page is whole.
 std::vector<std::string> broken_links(const std::filesystem::path& html);
+// The same for a page in memory whose relative links resolve in `dir` (the page just written: its
+// path may be a FIFO or a device, which cannot be read back).
+std::vector<std::string> broken_links(const std::string& page, const std::filesystem::path& dir);
 
 }  // namespace rb::app::doc

@@ -290,6 +290,10 @@ inline void write_output(const std::string& path, std::string_view data) {
   throw std::runtime_error("cannot write " + path + ": " + t.why);
 }
 
+// Whether an output just written to `path` can be read back (a regular file, or a link to one; a
+// FIFO or a device cannot): the report's chart scripts read the JSON it wrote.
+inline bool readable_back(const std::string& path) { return output_target(path).kind == OutputTarget::kRegular; }
+
 // Whether `path` can take an output, checked before a long run: "" if so, else the reason. A FIFO
 // is not opened (its reader would see the end of the data); a new file's folder must be writable.
 inline std::string output_problem(const std::string& path) {

@@ -352,6 +352,38 @@ TEST(Outputs, WhatCannotBeWrittenIsRefusedBeforeTheWork) {
   }
 }
 
+// The report writes a folder of files: one run, with a file of the folder a symlink, one a FIFO
+// with a reader, one a character device (as root), and the summary JSON to /dev/full, written last:
+// the report fails with the device's error and exit 1 after writing everything else where it
+// pointed. (A quick report without charts and with one benchmark: still minutes under the
+// sanitizers, so one run for every kind, in a ctest entry of its own: tests/CMakeLists.txt.)
+TEST(Outputs, AReportFollowsTheRuleForEveryFileItWrites) {
+  Scratch s("outputs-report");
+  fs::create_directory(s.dir / "rep");
+  std::ofstream(s / "kept.md") << "old";
+  fs::create_symlink("../kept.md", s.dir / "rep/index.md");
+  ASSERT_EQ(::mkfifo((s / "rep/index.html").c_str(), 0600), 0);
+  const std::string dev = make_null_device(s, "rep/ops.json");
+  const Node link = node(s / "rep/index.md"), fifo = node(s / "rep/index.html"), device = dev.empty() ? Node{} : node(dev);
+  auto html = read_fifo(s / "rep/index.html");
+  const bool full = fs::exists("/dev/full");
+  const Outcome r = run_in(s.dir, std::string("report --quick --no-charts --no-history --filter '^sphere/geometric/scalar/hit$' -o rep --json ") + (full ? "/dev/full" : "summary.json"));
+  const std::string page = html.get();
+  if (full) {
+    EXPECT_EQ(r.status, 1) << r.err;
+    EXPECT_TRUE(has(r.err, "/dev/full") && has(r.err, std::strerror(ENOSPC))) << r.err;
+  } else {
+    EXPECT_EQ(r.status, 0) << r.err;
+  }
+  EXPECT_EQ(node(s / "rep/index.md"), link);
+  EXPECT_TRUE(has(slurp(s / "kept.md"), "# ")) << "the link's target holds the report";
+  EXPECT_EQ(node(s / "rep/index.html"), fifo);
+  EXPECT_TRUE(has(page, "<html") && has(page, "</html>")) << page.substr(0, 200);
+  if (!dev.empty()) EXPECT_EQ(node(dev), device);
+  EXPECT_TRUE(is_json(slurp(s / "rep/tracing.json")));
+  EXPECT_TRUE(temporaries(s.dir / "rep").empty() && temporaries(s.dir).empty());
+}
+
 // A folder the user may not write to: as root the check is made as another user (root may write
 // anywhere), where the system lets this process become one.
 TEST(Outputs, AReadOnlyFolderIsRefusedBeforeTheWork) {
