@@ -107,6 +107,8 @@ std::vector<CaseInfo> scene_cases() {
       {"thin_torus", "two tori with tubes 100 times thinner than their rings, seen from 500 sizes"},
       {"far_cylinders", "NFF cylinders and cone frusta seen from 1e4 radii"},
       {"mixed_scales", "a planet, a moon 3.8e8 away, a mesh, spheres and a cylinder on the planet"},
+      {"scanned", "a scanned-like mesh (20,480 triangles, float coordinates) with 3 % slivers and 100 collapsed triangles"},
+      {"scanned_double", "the same mesh with its coordinates in double"},
   };
   for (const auto& [n, w] : cs) v.push_back({"scene", n, w});
   return v;

@@ -1,9 +1,11 @@
 // `raybench info SCENE`: what a scene holds and what it costs in memory.
 #include "apps/cli.hpp"
+#include "core/output_file.hpp"
 #include "apps/commands.hpp"
 #include "apps/scene_info.hpp"
 #include "kernels/csg.hpp"
 #include "tracer/plan.hpp"
+#include "tracer/profile.hpp"
 #include "scene/csg.hpp"
 #include "scene/sources.hpp"
 
@@ -55,7 +57,9 @@ json scene_info(const rb::scene::Scene& s) {
   j["primitives"] = s.primitive_count();
   // Every kind of the table (tracer/kinds.hpp), with the kernel batch the tracer stores for it:
   // the bytes of its primitives in float (and in double where the plan stores the kind in double).
-  const tracer::Plan plan = tracer::make_plan(s, tracer::Model::automatic);
+  const tracer::Profile profile = tracer::make_profile(s);
+  const tracer::Plan plan = tracer::make_plan(s, profile, tracer::Model::automatic);
+  j["input_precision"] = profile.input.summary();
   json kinds = json::array();
   kinds::AllKinds::each([&]<class K>() {
     const std::size_t n = K::count(s);
@@ -83,6 +87,7 @@ json scene_info(const rb::scene::Scene& s) {
     k["batches"] = json::array({{{"batch", what}, {"bytes", batch}}});
     k["plan"] = fmt::format("{} in {}{}", K::methods[std::size_t(kp.method)].name, kp.f64 ? "double" : "float",
                             kp.f64_storage ? " (stored in double)" : "");
+    k["classes"] = kp.classes_text;
     kinds.push_back(k);
   });
   j["kinds"] = kinds;
@@ -107,12 +112,15 @@ std::string scene_info_text(const json& j) {
   o += fmt::format("camera      from {} at {} up {}, angle {} deg, hither {}, {}x{}\n", v3(c["from"]), v3(c["at"]), v3(c["up"]),
                    c["angle"].get<double>(), c["hither"].get<double>(), c["width"].get<int>(), c["height"].get<int>());
   o += fmt::format("lights      {}\nmaterials   {}\n", j["lights"].get<std::size_t>(), j["materials"].get<std::size_t>());
+  if (j.contains("input_precision")) o += wrap_words("input       " + j["input_precision"].get<std::string>(), 80, "            ");
   // Within 80 columns: a row per kind (input form), then its kernel batches indented below it.
   o += fmt::format("{:<10} {:>10} {:>10} {:>12}\n", "kind", "count", "vertices", "input form");
   o += "  kernel batch (SoA, padded to 8 lanes)                           memory\n";
   for (const auto& k : j["kinds"]) {
     o += fmt::format("{:<10} {:>10} {:>10} {:>12}\n", k["kind"].get<std::string>(), k["count"].get<std::size_t>(),
                      k.contains("vertices") ? std::to_string(k["vertices"].get<std::size_t>()) : "-", mib(k["input_bytes"]));
+    if (k.contains("classes") && !k["classes"].get<std::string>().empty())
+      o += wrap_words("  classes in float: " + k["classes"].get<std::string>(), 80, "    ");
     if (k.contains("note")) {
       o += wrap_words("  " + k["note"].get<std::string>(), 80, "    ");
       continue;
@@ -188,17 +196,13 @@ int run_dump_scene_command(const std::string& scene, const std::string& file) {
     std::cerr << error_line("info", scene, e.what()) << "\n";
     return kExitError;
   }
-  if (file.empty() || file == "-") {
-    std::cout << text;
-    return 0;
-  }
-  std::ofstream f(file);
-  f << text;
-  if (!f) {
-    std::cerr << error_line("info", file, "cannot write the scene") << "\n";
+  try {
+    write_output(file.empty() ? "-" : file, text);  // core/output_file.hpp
+  } catch (const std::exception& e) {
+    std::cerr << error_line("info", "", e.what()) << "\n";
     return kExitError;
   }
-  std::cerr << "raybench info: wrote " << file << "\n";
+  if (!file.empty() && !is_standard_output(file)) std::cerr << "raybench info: wrote " << file << "\n";
   return 0;
 }
 

@@ -26,6 +26,7 @@ std::string profile_text(const tracer::Profile& p) {
   o += fmt::format("camera  ({}, {}, {}){}, {} from the bounds; lights up to {} from the centre; smallest object {}\n", g(p.camera.x),
                    g(p.camera.y), g(p.camera.z), p.stated_camera ? " (stated: the scene has none)" : "", g(p.camera_distance),
                    g(p.light_distance_max), g(p.object_min));
+  o += fmt::format("input   {}\n", p.input.summary());
   o += fmt::format("{:<9}{:>9} {:>21} {:>9} {:>10} {:>10} {:>10}\n", "kind", "count", "size min..max", "aspect", "coord max", "seen from",
                    "step/size");
   for (int k = 0; k < kinds::kKinds; ++k) {
@@ -33,6 +34,9 @@ std::string profile_text(const tracer::Profile& p) {
     if (!q.count) continue;
     o += fmt::format("{:<9}{:>9} {:>21} {:>9} {:>10} {:>10} {:>10}\n", kinds::kind_name(kinds::Kind(k)), q.count,
                      g(q.size_min) + ".." + g(q.size_max), g(q.aspect_max), g(q.coord_max), g(q.far_ratio), g(q.world_step_ratio));
+    if (q.degenerate)
+      o += fmt::format("{:<9}{:>9} of them degenerate (no area, or under one float step where they lie): left out of the figures\n", "",
+                       q.degenerate);
   }
   o += "        (seen from: the farthest ray origin over the primitive's size; step/size: the float step at the kind's largest\n"
        "         coordinate over its smallest size, in world coordinates)\n";

@@ -41,6 +41,13 @@ std::string plan_kinds_text(const tracer::Plan& p) {
     });
     o += fmt::format("{}{} {}{}", o.empty() ? "" : "; ", kinds::kind_name(kinds::Kind(k)), m,
                      kp.f64_storage ? " (double, stored in double)" : kp.f64 ? " (double)" : "");
+    // The primitives' classes where they are not all alike (tracer/profile.hpp).
+    const tracer::KindClasses& c = kp.classes;
+    std::vector<std::string> parts;
+    if (c.as_input && c.as_input < kp.count) parts.push_back(fmt::format("{} as input", c.as_input));
+    if (c.coarse) parts.push_back(fmt::format("{} coarse{}", c.coarse, c.negligible ? ", negligible" : ""));
+    if (c.degenerate) parts.push_back(fmt::format("{} degenerate", c.degenerate));
+    for (std::size_t i = 0; i < parts.size(); ++i) o += (i ? ", " : " [") + parts[i] + (i + 1 == parts.size() ? "]" : "");
   }
   return o;
 }
@@ -124,7 +131,11 @@ std::string report_section_plan(const ReportOptions& o, const fs::path& out, jso
   }
   md += "\nThe precision scenes (`raybench info precision:NAME` describes each; `raybench render precision:NAME` renders it) are "
         "built to need something: a ball on a planet of radius 6.4e6, a scene 6.4e6 or 1e3..1e7 from the origin, small spheres "
-        "5e3 away, thin tori 500 sizes away, cylinders seen from 1e4 radii, a scene mixing scales. The embedded scenes need "
+        "5e3 away, thin tori 500 sizes away, cylinders seen from 1e4 radii, a scene mixing scales, a scanned mesh with "
+        "slivers and collapsed triangles (its coordinates floats, or in double). In brackets, a kind's primitives by class "
+        "in the chosen frame: as the input holds them (float keeps every vertex), coarse (float step over size above 2^-12; "
+        "negligible when together they can change under 0.1 hit per million: kept in float), degenerate (no area, or "
+        "under one float step: slots no ray hits); `raybench plan` names the worst of each. The embedded scenes need "
         "nothing special; on them auto costs what the kinds' chosen methods cost (the table's auto / fast; the lab's "
         "`ns_per_test` compares the methods themselves).\n\n";
   md += "![speed against failures per model](plan_models.png)\n\n";

@@ -45,6 +45,18 @@ const RaySoA& TraceSession::rays(trace::RaySet set, std::size_t count, std::uint
   return it->second.first;
 }
 
+namespace {
+// Each kind's storage and method under the plan, with its primitives' classes (tracer/profile.hpp).
+json plan_kinds_json(const tracer::Plan& plan) {
+  json k = json::array();
+  const json doc = plan.json();
+  for (const auto& e : doc["kinds"])
+    k.push_back({{"kind", e["kind"]}, {"count", e["count"]}, {"method", e["method"]}, {"precision", e["precision"]},
+                 {"storage", e["storage"]}, {"classes", e["classes"]}});
+  return k;
+}
+}  // namespace
+
 json TraceSession::build_json() const {
   const auto& st = accel_.bin.stats;
   json hist = json::array();
@@ -53,6 +65,7 @@ json TraceSession::build_json() const {
   json j{{"builder", builder_},
          {"model", tracer::model_name(accel_.plan().model)},
          {"frame", tracer::frame_name(accel_.plan().frame)},
+         {"plan_kinds", plan_kinds_json(accel_.plan())},
          {"build_ms", accel_.build_ms},
          {"sah_build_ms", st.build_ms},
          {"reorder_ms", accel_.reorder_ms},
@@ -361,6 +374,13 @@ std::string trace_text(const json& j) {
   o += fmt::format("memory     raybench {:.1f} B/prim (8-wide nodes + leaf-ordered batches); Embree {} B/prim (BVH)\n",
                    j["bytes_per_prim"].get<double>(), num_or_dash(j["embree_bytes_per_prim"], "{:.1f}"));
   o += fmt::format("model      {} (frame {}; `raybench plan` explains the choices)\n", j["model"].get<std::string>(), j["frame"].get<std::string>());
+  if (j.contains("plan_kinds"))
+    for (const auto& k : j["plan_kinds"]) {
+      const std::string classes = k["classes"]["summary"].get<std::string>();
+      o += fmt::format("           {} {}: {} in {}, stored in {}{}\n", k["count"].get<std::size_t>(), k["kind"].get<std::string>(),
+                       k["method"].get<std::string>(), k["precision"].get<std::string>(), k["storage"].get<std::string>(),
+                       classes.empty() ? "" : "; " + classes);
+    }
   // The median with its range and coefficient of variation over the timed runs (after the warm-up).
   auto timing = [&](const std::string& p) {
     return fmt::format("{:.2f} Mrays/s (median of {}, range {:.2f}-{:.2f}{})", j[p + "mrays_per_s"].get<double>(), j["repetitions"].get<int>(),

@@ -17,6 +17,11 @@
 //   far_cylinders   NFF cylinders and cone frusta seen from 1e4 of their radii
 //   mixed_scales    a planet of radius 6.4e6 with a mesh, spheres and a cylinder on it, and a moon
 //                   of radius 1.7e6 at 3.8e8
+//   scanned         what a scanner writes: a closed bumpy mesh of 20,480 triangles, 0.2 across,
+//                   its coordinates floats, with 3 % slivers (tiny triangles 1e-8..1e-6 across at
+//                   its vertices) and 100 collapsed triangles (a repeated vertex, or three on a line)
+//   scanned_double  the same mesh with its coordinates in double (a 17-digit export of it): the
+//                   slivers are no longer what the input held once rounded to float
 #include "scene/sources.hpp"
 
 #include <fmt/format.h>
@@ -176,11 +181,54 @@ Scene mixed_scales_scene() {
   return std::move(b.s);
 }
 
+Scene scanned_scene(bool as_floats, const std::string& name) {
+  PrecisionBuilder b(name);
+  const Vec3d c{0.0513, 0.0271, -0.0187};
+  const auto m = b.material({0.8f, 0.75f, 0.65f}, 0.8f, 0.2f, 20);
+  b.icosphere(c, 0.1, 5, m);
+  // Bumps, as a scan has them: each vertex moved along its radius by a smooth pattern.
+  for (Vec3d& v : b.s.verts) {
+    const Vec3d d = v - c;
+    v = c + d * (1.0 + 0.08 * std::sin(41.0 * d.x) * std::cos(37.0 * d.y) + 0.05 * std::sin(53.0 * d.z));
+  }
+  std::uint64_t x = 0x9E3779B97F4A7C15ull;
+  auto U = [&] {
+    x ^= x << 13, x ^= x >> 7, x ^= x << 17;
+    return double(x >> 11) * 0x1p-53;
+  };
+  const auto n = std::uint32_t(b.s.verts.size()), tris = std::uint32_t(b.s.triangles.size());
+  // Slivers: 3 % of the mesh, tiny triangles at its vertices, 1e-8 to 1e-6 across.
+  for (std::uint32_t k = 0; k < tris * 3 / 100; ++k) {
+    const std::uint32_t a = std::uint32_t(U() * n) % n;
+    const double e = std::pow(10.0, -8.0 + 2.0 * U());
+    const Vec3d p = b.s.verts[a];
+    b.s.verts.push_back(p + Vec3d{e, 0.3 * e, 0});
+    b.s.verts.push_back(p + Vec3d{0.2 * e, e, 0.5 * e});
+    const auto v0 = std::uint32_t(b.s.verts.size() - 2);
+    b.s.triangles.push_back({{a, v0, v0 + 1}, m});
+  }
+  // Collapsed triangles: a repeated vertex, or three vertices on one line.
+  for (std::uint32_t k = 0; k < 100; ++k) {
+    const std::uint32_t a = std::uint32_t(U() * n) % n, c2 = std::uint32_t(U() * n) % n;
+    if (k % 2) {
+      b.s.triangles.push_back({{a, a, c2}, m});
+    } else {
+      b.s.verts.push_back((b.s.verts[a] + b.s.verts[c2]) * 0.5);
+      b.s.triangles.push_back({{a, std::uint32_t(b.s.verts.size() - 1), c2}, m});
+    }
+  }
+  if (as_floats)
+    for (Vec3d& v : b.s.verts) v = to_double(to_float(v));
+  b.s.lights.push_back({c + Vec3d{1.7, 2.3, 1.1}, {1, 1, 1}});
+  b.view(c + Vec3d{0.13, 0.09, 0.31}, c, 40);
+  return std::move(b.s);
+}
+
 }  // namespace
 
 std::vector<std::string> precision_scene_names() {
   return {"ball_ground", "ball_ground_far", "planet", "mesh_spheres", "mesh_spheres_1e3", "mesh_spheres_1e5", "mesh_spheres_1e7",
-          "far_spheres", "thin_torus", "far_cylinders", "mixed_scales"};
+          "far_spheres", "thin_torus", "far_cylinders", "mixed_scales", "scanned", "scanned_double"};
 }
 
 Scene precision_scene(const std::string& name) {
@@ -196,6 +244,8 @@ Scene precision_scene(const std::string& name) {
   if (name == "thin_torus") return thin_torus_scene();
   if (name == "far_cylinders") return far_cylinders_scene();
   if (name == "mixed_scales") return mixed_scales_scene();
+  if (name == "scanned") return scanned_scene(true, "precision:scanned");
+  if (name == "scanned_double") return scanned_scene(false, "precision:scanned_double");
   std::string all;
   for (const auto& n : precision_scene_names()) all += (all.empty() ? "" : ", ") + n;
   throw SceneError("precision:" + name + ": unknown scene (" + all + ")");

@@ -6,12 +6,17 @@
 #include "render/render.hpp"
 #include "scene/sources.hpp"
 #include "scene/transform.hpp"
+#include "tracer/accel.hpp"
 #include "tracer/plan.hpp"
 #include "tracer/profile.hpp"
 
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
 #include <cmath>
+#include <cstdio>
+#include <fstream>
 
 namespace {
 
@@ -91,6 +96,198 @@ TEST(Plan, FastAndExactModels) {
   EXPECT_EQ(method(e, Kind::sphere), "compensated");
 }
 
+// ---- the data's own precision, and degenerate primitives ---------------------------------------
+// A scanned mesh whose coordinates are floats keeps float storage whatever its slivers: float
+// reproduces every vertex the input held. The same mesh in double puts only its slivers above the
+// float tolerance; collapsed triangles never change the plan.
+TEST(PlanPrimitives, AFloatScanKeepsFloatAndItsSliversAreCountedApart) {
+  const scene::Scene s = scene::precision_scene("scanned");
+  const tracer::Profile pr = tracer::make_profile(s);
+  EXPECT_EQ(pr.input.floats, pr.input.coords);
+  EXPECT_EQ(pr.input.finer, 0u);
+  const tracer::Plan p = tracer::make_plan(s, pr, Model::automatic);
+  const auto& t = kp(p, Kind::triangle);
+  EXPECT_EQ(p.frame, tracer::FrameKind::world);
+  EXPECT_FALSE(t.f64_storage) << t.reason;
+  EXPECT_FALSE(t.f64);
+  EXPECT_EQ(t.classes.coarse, 0u);
+  // The 50 with a repeated vertex, and slivers under one float step; the 50 whose middle vertex lay
+  // on the line between the others are thin needles once rounded to float, counted as the input.
+  EXPECT_GE(t.classes.degenerate, 50u);
+  EXPECT_EQ(t.classes.as_input + t.classes.degenerate + t.classes.fine, s.triangles.size());
+  EXPECT_NE(p.text().find("as the input holds them"), std::string::npos) << p.text();
+  // The smallest object is the mesh's, not a sliver's.
+  EXPECT_GT(pr.object_min, 1e-4);
+}
+
+TEST(PlanPrimitives, TheSameScanInDoublePutsOnlyItsSliversAboveTheToleranceAndJudgesThemByEffect) {
+  const scene::Scene s = scene::precision_scene("scanned_double");
+  const tracer::Profile pr = tracer::make_profile(s);
+  EXPECT_GT(pr.input.finer, 0u);
+  const tracer::Plan p = tracer::make_plan(s, pr, Model::automatic);
+  const auto& t = kp(p, Kind::triangle);
+  const std::size_t mesh = 20480;  // the icosphere's triangles come first; the slivers after them
+  EXPECT_GT(t.classes.coarse, 0u);
+  EXPECT_LE(t.classes.coarse, (s.triangles.size() - mesh));
+  EXPECT_GE(t.classes.worst_coarse, mesh) << "the worst primitive is a sliver";
+  EXPECT_GE(t.classes.fine, mesh - 10);
+  // The slivers' rounding can change a negligible share of the hits: the kind stays in float.
+  EXPECT_TRUE(t.classes.negligible);
+  EXPECT_LT(t.classes.moved_share, tracer::kNegligibleShare);
+  EXPECT_FALSE(t.f64_storage) << t.classes_text;
+  EXPECT_NE(t.classes_text.find("negligible"), std::string::npos) << t.classes_text;
+}
+
+// Coarse primitives that matter still decide: two copies of the scan a million units apart (no
+// frame serves both) put the kind in double.
+TEST(PlanPrimitives, CoarsePrimitivesThatChangeHitsPutTheKindInDouble) {
+  scene::Scene s = scene::precision_scene("scanned_double");
+  const auto nv = std::uint32_t(s.verts.size());
+  const std::size_t nt = s.triangles.size();
+  for (std::uint32_t v = 0; v < nv; ++v) s.verts.push_back(s.verts[v] + Vec3d{1.0e6 + 0.37, -2.1e5, 3.3e5});
+  for (std::size_t i = 0; i < nt; ++i) {
+    auto t = s.triangles[i];
+    for (auto& v : t.v) v += nv;
+    s.triangles.push_back(t);
+  }
+  const tracer::Plan p = tracer::make_plan(s, Model::automatic);
+  const auto& t = kp(p, Kind::triangle);
+  EXPECT_FALSE(t.classes.negligible);
+  EXPECT_GT(t.classes.moved_share, tracer::kNegligibleShare);
+  EXPECT_TRUE(t.f64_storage) << t.classes_text;
+}
+
+TEST(PlanPrimitives, DegenerateTrianglesNeverChangeThePlan) {
+  for (const char* name : {"scanned", "scanned_double", "mesh_spheres_1e5"}) {
+    scene::Scene with = scene::precision_scene(name), without = with;
+    if (std::string(name) == "mesh_spheres_1e5") {
+      // Collapsed triangles added to a mesh that has none.
+      const auto n = std::uint32_t(with.verts.size());
+      for (std::uint32_t k = 0; k < 50; ++k) with.triangles.push_back({{k % n, k % n, (k * 7 + 3) % n}, 0});
+    } else {
+      without.triangles.resize(without.triangles.size() - 100);  // the scene's collapsed triangles come last
+    }
+    const tracer::Plan a = tracer::make_plan(with, Model::automatic), b = tracer::make_plan(without, Model::automatic);
+    EXPECT_EQ(a.frame, b.frame) << name;
+    EXPECT_EQ(a.origin.x, b.origin.x) << name;
+    for (int k = 0; k < kinds::kKinds; ++k) {
+      EXPECT_EQ(a.kinds[std::size_t(k)].method, b.kinds[std::size_t(k)].method) << name << " " << k;
+      EXPECT_EQ(a.kinds[std::size_t(k)].f64, b.kinds[std::size_t(k)].f64) << name << " " << k;
+      EXPECT_EQ(a.kinds[std::size_t(k)].f64_storage, b.kinds[std::size_t(k)].f64_storage) << name << " " << k;
+    }
+    EXPECT_GE(kp(a, Kind::triangle).classes.degenerate, kp(b, Kind::triangle).classes.degenerate + 50) << name;
+  }
+}
+
+// The input's precision read from files: the same mesh as a binary float PLY, as a 17-digit OBJ of
+// its double coordinates, and as a 6-digit OBJ (decimal text that float keeps).
+TEST(PlanPrimitives, TheInputsPrecisionComesFromTheFileAndDecidesTheStorage) {
+  const scene::Scene s = scene::precision_scene("scanned_double");
+  const std::string dir = ::testing::TempDir();
+  const std::string ply = dir + "/rb_plan_scan.ply", obj17 = dir + "/rb_plan_scan17.obj", obj6 = dir + "/rb_plan_scan6.obj";
+  {
+    std::ofstream f(ply, std::ios::binary);
+    f << "ply\nformat binary_little_endian 1.0\nelement vertex " << s.verts.size()
+      << "\nproperty float x\nproperty float y\nproperty float z\nelement face " << s.triangles.size()
+      << "\nproperty list uchar int vertex_indices\nend_header\n";
+    for (const Vec3d& v : s.verts)
+      for (const float c : {float(v.x), float(v.y), float(v.z)}) f.write(reinterpret_cast<const char*>(&c), 4);
+    for (const auto& t : s.triangles) {
+      const unsigned char three = 3;
+      f.write(reinterpret_cast<const char*>(&three), 1);
+      for (const auto i : t.v) {
+        const std::int32_t k = std::int32_t(i);
+        f.write(reinterpret_cast<const char*>(&k), 4);
+      }
+    }
+  }
+  for (const auto& [path, format] : {std::pair{obj17, "v {:.17g} {:.17g} {:.17g}\n"}, std::pair{obj6, "v {:.6g} {:.6g} {:.6g}\n"}}) {
+    std::ofstream f(path);
+    for (const Vec3d& v : s.verts) f << fmt::format(fmt::runtime(format), v.x, v.y, v.z);
+    for (const auto& t : s.triangles) f << fmt::format("f {} {} {}\n", t.v[0] + 1, t.v[1] + 1, t.v[2] + 1);
+  }
+  // All three keep float storage, each for its own reason: the PLY and the 6-digit text as the input
+  // holds them; the 17-digit text's mesh by the float tolerance, its slivers by their effect.
+  struct Expect {
+    std::string path;
+    std::string summary, classes;
+  };
+  for (const Expect& e : {Expect{ply, "float: every mesh coordinate is a float", "as the input holds them"},
+                          Expect{obj17, "finer than float", "negligible, kept in float"},
+                          Expect{obj6, "decimal text of up to 6 significant digits", "as the input holds them"}}) {
+    const scene::Scene loaded = scene::load_scene(e.path);
+    const tracer::Profile pr = tracer::make_profile(loaded);
+    EXPECT_EQ(pr.input.summary().rfind(e.summary, 0), 0u) << e.path << ": " << pr.input.summary();
+    const tracer::Plan p = tracer::make_plan(loaded, pr, Model::automatic);
+    EXPECT_FALSE(kp(p, Kind::triangle).f64_storage) << e.path << ": " << kp(p, Kind::triangle).classes_text;
+    EXPECT_NE(kp(p, Kind::triangle).classes_text.find(e.classes), std::string::npos) << e.path << ": " << kp(p, Kind::triangle).classes_text;
+    EXPECT_EQ(p.json()["kinds"][0]["classes"]["summary"], kp(p, Kind::triangle).classes_text);
+    EXPECT_EQ(pr.json()["input_precision"]["summary"], pr.input.summary());
+  }
+  std::remove(ply.c_str());
+  std::remove(obj17.c_str());
+  std::remove(obj6.c_str());
+}
+
+// ---- spawn offsets per hit ------------------------------------------------------------------------
+// A ball of radius 2 resting on a planet of radius 6.4e6: secondary rays start off the point they
+// leave by an offset scaled to that hit, not to the scene's largest coordinate (which would put
+// them tens of units away: no shadow under the ball, a false terminator on its lower half).
+namespace {
+bvh::HitRec trace_one(const tracer::SceneAccel& a, const Ray<float>& r, bool any) {
+  RaySoA rays;
+  rays.push(r);
+  std::vector<bvh::HitRec> h(rays.size());
+  tracer::TraceOptions o;
+  o.any = any;
+  a.trace(rays, 0, rays.size(), h.data(), o);
+  return h[0];
+}
+// Whether the light is blocked from the point a world ray from `from` along `dir` first hits.
+bool shadowed(const tracer::SceneAccel& a, const Vec3d& from, const Vec3d& dir, const Vec3d& light, std::uint32_t* hit_prim) {
+  const Ray<float> r = a.frame_ray(from, dir);
+  const bvh::HitRec h = trace_one(a, r, false);
+  *hit_prim = h.prim;
+  if (h.prim == bvh::kNoPrim) return false;
+  const kinds::Surface sf = a.surface(h.prim, r, h.t);
+  const Vec3d to = light - sf.p;
+  const Vec3f d = to_float(to * (1.0 / std::sqrt(dot(to, to))));
+  const Vec3f o = a.spawn_point(sf, d);
+  return trace_one(a, make_ray(o, d, 0.0f, float(std::sqrt(dot(to, to)))), true).prim != bvh::kNoPrim;
+}
+}  // namespace
+
+TEST(PlanSpawn, ABallOnAPlanetCastsItsShadowAndLightsItsLowerHalf) {
+  const scene::Scene s = scene::precision_scene("planet");
+  // The scene's own layout (scene/precision_scenes.cpp): the planet's top point, the ball on it.
+  const Vec3d top{0.3, 0, -0.2}, ball = top + Vec3d{0.3, 2.0, -0.1}, light = s.lights.at(0).pos;
+  const double radius = 2.0;
+  for (Model m : {Model::automatic, Model::exact}) {
+    const tracer::SceneAccel a = tracer::SceneAccel::build(s, tracer::make_plan(s, m));
+    std::uint32_t prim = 0;
+    // The ground in the ball's shadow: the line from the light through the ball's centre, where it
+    // meets the ground, seen from above.
+    const double k = light.y / (light.y - ball.y);
+    const Vec3d umbra = light + (ball - light) * k;
+    const Vec3d above = umbra + Vec3d{-0.5, 3.0, 0.4};
+    EXPECT_TRUE(shadowed(a, above, umbra - above, light, &prim)) << tracer::model_name(m) << ": no shadow under the ball";
+    EXPECT_EQ(kinds::index_of(prim), 0u) << "the planet (sphere 0) is what the ray meets";
+    // Lit ground away from the ball.
+    const Vec3d open = top + Vec3d{-6.0, 0.0, 5.0};
+    EXPECT_FALSE(shadowed(a, open + Vec3d{0.3, 3.0, 0.2}, Vec3d{-0.3, -3.0, -0.2}, light, &prim)) << tracer::model_name(m);
+    // Lit points of the ball whose normals point down (its lower half, facing the light).
+    const Vec3d l = light - ball;
+    for (const double down : {-0.05, -0.2, -0.4}) {
+      Vec3d n{l.x, down * std::sqrt(dot(l, l)), l.z};
+      n = n * (1.0 / std::sqrt(dot(n, n)));
+      ASSERT_GT(dot(n, l), 0.0);
+      EXPECT_FALSE(shadowed(a, ball + n * (radius + 1.0), n * -1.0, light, &prim))
+          << tracer::model_name(m) << ": a false terminator at normal y " << n.y;
+      EXPECT_EQ(kinds::index_of(prim), 1u) << "the ball (sphere 1) is what the ray meets";
+    }
+  }
+}
+
 // ---- whole scenes against the exact reference ------------------------------------------------------
 TEST(PlanAccuracy, AutoAndExactHaveNoFailureOnAnyWholeSceneCase) {
   acc::Options o;
@@ -110,7 +307,7 @@ TEST(PlanAccuracy, AutoAndExactHaveNoFailureOnAnyWholeSceneCase) {
     EXPECT_EQ(r.failure_ppm(), 0.0) << r.case_name << " " << r.method << ": " << r.false_hits << " false hits, " << r.false_misses
                                     << " false misses, " << r.wrong_roots << " wrong hits, " << r.self_hits << " self-hits";
   }
-  EXPECT_GE(cases, 2 * 10);
+  EXPECT_GE(cases, 2 * 12);
   // The cases detect failures: the fast model (world coordinates, the cheapest method in float,
   // the extent epsilon) fails on them.
   EXPECT_GT(fast_failures, 100u);

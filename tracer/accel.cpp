@@ -239,12 +239,12 @@ kinds::Surface SceneAccel::surface(std::uint32_t prim, const Ray<float>& r, floa
   q.batch = table_.batch[std::size_t(k)];
   kinds::Surface sf = AllKinds::at<kinds::Surface>(k, [&]<class K>() { return K::surface(q, kinds::index_of(prim)); });
   // A primitive stored in float lies within a few roundings of its coordinates (and, for placed
-  // ones, of its map's) from the double surface sf.p is on: 8 u (|p| + its extent), frame units.
-  if (!plan_.kinds[std::size_t(k)].f64_storage) {
-    const double ext = AllKinds::at<double>(k, [&]<class K>() { return K::feature(*scene_, kinds::index_of(prim)).extent; });
-    const Vec3d pf = sf.p - plan_.origin;
-    sf.err = 8 * 0x1p-24 * (std::max({std::fabs(pf.x), std::fabs(pf.y), std::fabs(pf.z)}) + ext);
-  }
+  // ones, of its map's) from the double surface sf.p is on: 8 u (|p| + its extent), frame units,
+  // u = 2^-24; one stored in double within as many double roundings (u = 2^-53).
+  const double ext = AllKinds::at<double>(k, [&]<class K>() { return K::feature(*scene_, kinds::index_of(prim)).extent; });
+  const Vec3d pf = sf.p - plan_.origin;
+  const double u = plan_.kinds[std::size_t(k)].f64_storage ? 0x1p-53 : 0x1p-24;
+  sf.err = 8 * u * (std::max({std::fabs(pf.x), std::fabs(pf.y), std::fabs(pf.z)}) + (std::isfinite(ext) ? ext : 0.0));
   return sf;
 }
 
@@ -253,7 +253,14 @@ Vec3f SceneAccel::spawn_point(const kinds::Surface& sf, const Vec3f& dir) const 
   const Vec3f n = dot(sf.ng, dir) < 0.0f ? -sf.ng : sf.ng;
   switch (plan_.spawn) {
     case SpawnScheme::extent_eps: return spawn::eps_offset(p, n, plan_.spawn_eps);
-    case SpawnScheme::integer: return spawn::wb_offset(p, n, plan_.spawn_scale);
+    case SpawnScheme::integer: {
+      // Scaled to this hit, not to the scene: the magnitude the hit point was computed from, its own
+      // coordinates and, for a primitive stored in float, its coordinates and extent (sf.err is 8
+      // float roundings of those, so sf.err 2^21 is their size; stored in double, 2^-29 of it). A
+      // ball resting on a planet keeps its offsets at the ball's scale.
+      const float m = std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z), float(sf.err * 0x1p21)});
+      return spawn::wb_offset(p, n, spawn::pow2_scale(m));
+    }
     case SpawnScheme::error_bound: {
       // sf.p is the hit point projected onto the surface in double (tracer/kinds.hpp: within a few
       // double roundings of it), so the error of the float point is its rounding to float plus the

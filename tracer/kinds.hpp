@@ -7,6 +7,8 @@
 //     kind supports double storage) and how one is made relative to a frame origin (make;
 //     optionally prefetch_input, which fetches make's scene data ahead when the batch is written in
 //     leaf order);
+//   - optionally mesh_vertices (the indices into Scene::verts of a primitive's vertices), with which
+//     the profile tells whether float storage reproduces the input (tracer/profile.hpp);
 //   - its methods, cheapest first, each a kernel over any number type (hit<M>), with what each
 //     precision costs and which lab cases show where it fails (tracer/plan.cpp chooses);
 //   - the surface at a hit (point, normals, material: the renderer's shading input);
@@ -50,6 +52,7 @@ static_assert(kKinds <= bvh::kMaxKinds);
 struct Feature {
   Vec3d centre{0, 0, 0};
   double size = 0, extent = 0;
+  bool flat = false;  // no area though its size is not 0 (a triangle's three vertices on one line)
 };
 
 // The surface at a hit, in world coordinates (double point: a surface 6.4e6 from the origin keeps

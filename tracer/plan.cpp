@@ -100,7 +100,7 @@ const std::vector<PlanOption>& plan_options(Kind k) {
 
 namespace {
 
-constexpr double kTau = 0x1p-12;     // float step over a primitive's size: represented well enough
+constexpr double kTau = kFloatTolerance;  // float step over a primitive's size: represented well enough
 constexpr double kTauEye = 1.0 / 16;  // the eye's rounding shifts the view by at most 1/16 of a pixel
 
 bool supports_f64_storage(Kind k) {
@@ -120,6 +120,24 @@ std::string method_name(Kind k, int m) {
 }
 std::string fmt_ratio(double x) { return x >= 1e4 || (x > 0 && x < 1e-2) ? fmt::format("{:.1e}", x) : fmt::format("{:.3g}", x); }
 std::string fmt_pow2(double x) { return x > 0 ? fmt::format("2^{:.1f}", std::log2(x)) : "0"; }
+
+// The classes of a kind's primitives in the chosen frame, each counted, with its worst primitive.
+std::string classes_text(const KindClasses& c, bool stored64) {
+  std::vector<std::string> parts;
+  if (c.as_input) parts.push_back(fmt::format("{} as the input holds them (float keeps every vertex)", c.as_input));
+  if (c.fine) parts.push_back(fmt::format("{} with float step over size at most {}", c.fine, fmt_pow2(kTau)));
+  if (c.coarse)
+    parts.push_back(fmt::format("{} above it (worst #{}: {}), which can change {:.2g} of a million hits{}", c.coarse, c.worst_coarse,
+                                fmt_pow2(c.worst_coarse_ratio), 1e6 * c.moved_share,
+                                stored64 ? ": they put the kind in double"
+                                         : c.negligible ? ": negligible, kept in float with the rest" : ""));
+  if (c.degenerate)
+    parts.push_back(fmt::format("{} degenerate (no area, or under one float step: kept as slots no ray hits; smallest #{}, {:.3g} across)",
+                                c.degenerate, c.worst_degenerate, c.worst_degenerate_extent));
+  std::string t;
+  for (const auto& p : parts) t += (t.empty() ? "" : "; ") + p;
+  return t;
+}
 
 bool covers(const PlanOption& o, const KindProfile& kp) {
   return kp.far_ratio <= o.far && kp.scale_ratio <= o.scale && kp.aspect_max <= o.aspect;
@@ -231,6 +249,8 @@ Plan make_plan(const scene::Scene& s, const Profile& p, Model m) {
       if (kp.f64_storage)
         kp.reason += fmt::format("; stored in double: in float the surface would move by {} of {}", fmt_pow2(fe.contact[std::size_t(k)]),
                                  kpro.scale_ratio > 1e3 ? "the smallest object" : "its size");
+      kp.classes = fe.classes[std::size_t(k)];
+      kp.classes_text = classes_text(kp.classes, kp.f64_storage);
     }
 
     // ---- slab test: conservative boxes for every ray origin the scene produces ----
@@ -244,17 +264,16 @@ Plan make_plan(const scene::Scene& s, const Profile& p, Model m) {
         plan.origin_bound);
 
     // ---- spawn offset ----
-    plan.spawn_scale = spawn::pow2_scale(p.extent);
     plan.spawn_eps = float(std::max(1e-5 * ext, 1e-7));
     if (m == Model::exact) {
       plan.spawn = SpawnScheme::error_bound;
       plan.spawn_reason = "the exact model: the hit point in double moved off the surface by its float rounding bound (lab: */secondary_bound_offset)";
     } else {
       plan.spawn = SpawnScheme::integer;
-      plan.spawn_reason = fmt::format(
-          "the integer offset (256 float steps along the normal; near the frame origin a fixed {:.3g}): no self-hit in the lab "
-          "(*/secondary_wb_offset), cheaper than the error bound",
-          double(plan.spawn_scale) / 65536.0);
+      plan.spawn_reason =
+          "the integer offset (256 float steps along the normal; near the frame origin 2^-16 of the hit's own magnitude: its "
+          "coordinates, and for a primitive stored in float its extent; never the scene's largest coordinate): no self-hit in "
+          "the lab (*/secondary_wb_offset, scene/*), cheaper than the error bound";
     }
   }
   if (m == Model::fast) {
@@ -280,13 +299,24 @@ nlohmann::json Plan::json() const {
                  {"precision", kp.f64 ? "double" : "float"},
                  {"storage", kp.f64_storage ? "double" : "float"},
                  {"reason", kp.reason},
-                 {"evidence", kp.evidence}});
+                 {"evidence", kp.evidence},
+                 {"classes",
+                  {{"as_input", kp.classes.as_input},
+                   {"fine", kp.classes.fine},
+                   {"coarse", kp.classes.coarse},
+                   {"degenerate", kp.classes.degenerate},
+                   {"worst_coarse", kp.classes.coarse ? json(kp.classes.worst_coarse) : json(nullptr)},
+                   {"worst_coarse_step_over_size", kp.classes.worst_coarse_ratio},
+                   {"coarse_share_of_hits", kp.classes.moved_share},
+                   {"coarse_negligible", kp.classes.negligible},
+                   {"worst_degenerate", kp.classes.degenerate ? json(kp.classes.worst_degenerate) : json(nullptr)},
+                   {"summary", kp.classes_text}}}});
   }
   return {{"model", model_name(model)},
           {"frame", {{"kind", frame_name(frame)}, {"origin", {origin.x, origin.y, origin.z}}, {"reason", frame_reason}}},
           {"kinds", k},
           {"slab", {{"test", bvh::slab_name(slab)}, {"origin_bound", origin_bound}, {"reason", slab_reason}}},
-          {"spawn", {{"scheme", spawn_name(spawn)}, {"scale", spawn_scale}, {"epsilon", spawn_eps}, {"reason", spawn_reason}}}};
+          {"spawn", {{"scheme", spawn_name(spawn)}, {"epsilon", spawn_eps}, {"reason", spawn_reason}}}};
 }
 
 std::string Plan::text() const {
@@ -297,6 +327,7 @@ std::string Plan::text() const {
     if (!kp.count) continue;
     o += fmt::format("{:<8}{} x {}: {} in {}{}\n        {}\n", kinds::kind_name(Kind(i)), kp.count, kinds::kind_name(Kind(i)),
                      method_name(Kind(i), kp.method), kp.f64 ? "double" : "float", kp.f64_storage ? " (stored in double)" : "", kp.reason);
+    if (!kp.classes_text.empty()) o += fmt::format("        classes: {}\n", kp.classes_text);
     if (!kp.evidence.empty()) o += fmt::format("        lab: {}\n", kp.evidence);
   }
   o += fmt::format("slab    {}\n        {}\n", bvh::slab_name(slab), slab_reason);

@@ -14,6 +14,7 @@
 
 #include "bvh/traverse.hpp"
 #include "tracer/kinds.hpp"
+#include "tracer/profile.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -44,6 +45,8 @@ struct KindPlan {
   bool f64_storage = false; // the primitives stored in double
   std::string reason;       // why this method and precision (one line)
   std::string evidence;     // the lab cases the choice rests on ("family/case", ...)
+  KindClasses classes;      // what float storage in the chosen frame does to each primitive
+  std::string classes_text; // the classes, counted, with the worst primitive of each
 };
 
 struct Plan {
@@ -59,18 +62,16 @@ struct Plan {
   bvh::Slab slab = bvh::Slab::conservative;
   float origin_bound = 0;
   std::string slab_reason;
-  // Secondary rays: the scheme, the scale of the integer offset's near-origin constants, and the
-  // extent epsilon (the fast model's offset: 1e-5 of the scene's extent and distance from the origin).
+  // Secondary rays: the scheme (the integer offset scales to each hit: SceneAccel::spawn_point), and
+  // the extent epsilon (the fast model's offset: 1e-5 of the scene's extent and distance from the
+  // origin).
   SpawnScheme spawn = SpawnScheme::integer;
-  float spawn_scale = 1;
   float spawn_eps = 1e-5f;
   std::string spawn_reason;
 
   nlohmann::json json() const;
   std::string text() const;  // the plan for a terminal: one line per choice with its reason
 };
-
-struct Profile;  // tracer/profile.hpp
 
 // One way the tracer can run a kind (its method index and precision) and the conditions under
 // which the accuracy lab measures it with no failure (tracer/plan.cpp: the table, cheapest first).

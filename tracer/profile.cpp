@@ -2,7 +2,10 @@
 
 #include "scene/camera.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -38,15 +41,75 @@ double near_dist(const scene::Bounds& b, const Vec3d& p) {
                 std::max({b.lo.z - p.z, 0.0, p.z - b.hi.z})};
   return std::sqrt(dot(d, d));
 }
+// No area or no size, or smaller than one float step where it lies in the frame at `origin` (`step`:
+// the float step at its largest coordinate there).
+bool degenerate_at(const scene::Bounds& b, const kinds::Feature& f, const Vec3d& origin, double& step) {
+  step = b.empty() ? 0 : float_step(std::max(max_abs(b.lo - origin), max_abs(b.hi - origin)));
+  return b.empty() || !(f.size > 0) || !(f.extent > 0) || f.flat || !(f.extent > step);
+}
+
+// The significant digits of x's shortest decimal form and the place of its last one: x's text
+// resolution is half a unit there.
+double text_resolution(double x, int& digits) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, x, std::chars_format::scientific);  // shortest: d.ddde+XX
+  const char* e = std::find(buf, r.ptr, 'e');
+  digits = 0;
+  for (const char* c = buf; c < e; ++c) digits += *c >= '0' && *c <= '9';
+  int exp10 = 0;
+  if (e < r.ptr) std::from_chars(e + 1 + (e[1] == '+'), r.ptr, exp10);
+  return 0.5 * std::pow(10.0, exp10 - digits + 1);
+}
+
+// What the mesh coordinates hold, and which vertices float storage in world coordinates keeps.
+void measure_input(const scene::Scene& s, Profile& p) {
+  InputPrecision& in = p.input;
+  p.vertex_as_input.assign(s.verts.size(), 0);
+  for (std::size_t v = 0; v < s.verts.size(); ++v) {
+    bool kept = true;
+    for (const double c : {s.verts[v].x, s.verts[v].y, s.verts[v].z}) {
+      ++in.coords;
+      const double f = double(float(c));
+      if (f == c) {
+        ++in.floats;
+        continue;
+      }
+      int digits = 0;
+      const double res = text_resolution(c, digits);
+      in.digits_max = std::max(in.digits_max, digits);
+      if (std::fabs(f - c) <= res * (1 + 0x1p-20)) {  // the tie at exactly half a unit, computed in binary
+        ++in.decimal;
+      } else {
+        ++in.finer;
+        kept = false;
+      }
+    }
+    p.vertex_as_input[v] = kept;
+  }
+}
+
 }  // namespace
+
+std::string InputPrecision::summary() const {
+  if (!coords) return "no mesh vertices";
+  if (floats == coords) return "float: every mesh coordinate is a float (float storage keeps the input as it is)";
+  if (!finer)
+    return fmt::format("decimal text of up to {} significant digits: float reproduces every mesh coordinate within the text's own "
+                       "resolution ({} exact floats)",
+                       digits_max, floats);
+  return fmt::format("finer than float: {} of {} mesh coordinates hold more than a float ({} exact floats, {} decimals float keeps; "
+                     "up to {} significant digits)",
+                     finer, coords, floats, decimal, digits_max);
+}
 
 Profile make_profile(const scene::Scene& s) {
   Profile p;
   p.scene = s.name;
+  measure_input(s, p);
   const scene::View v = scene::view_of(s);
   p.camera = v.from;
   p.stated_camera = v.stated;
-  std::vector<double> extents_all;
+  std::vector<double> extents_all, extents_represented;
   struct Acc {
     std::vector<double> size, extent;
   };
@@ -61,17 +124,25 @@ Profile make_profile(const scene::Scene& s) {
       p.bounds.grow(b);
       kp.coord_max = std::max({kp.coord_max, max_abs(b.lo), max_abs(b.hi)});
       const kinds::Feature f = K::feature(s, i);
-      if (!(f.size > 0) || !(f.extent > 0)) return;
+      double step = 0;
+      if (degenerate_at(b, f, {0, 0, 0}, step)) {
+        ++kp.degenerate;
+        return;
+      }
       a.size.push_back(f.size);
       a.extent.push_back(f.extent);
       extents_all.push_back(f.extent);
+      if (step <= kFloatTolerance * f.extent) extents_represented.push_back(f.extent);
       kp.aspect_max = std::max(kp.aspect_max, f.extent / f.size);
     });
     p.primitives += kp.count;
   });
   p.extent = p.bounds.empty() ? 0 : p.bounds.max_extent();
   p.coord_max = p.bounds.empty() ? 0 : std::max(max_abs(p.bounds.lo), max_abs(p.bounds.hi));
-  p.object_min = quantile(extents_all, 0.01);
+  // Slivers (a few percent of a scanned mesh, smaller than 4096 float steps where they lie) do not
+  // set the scene's scale: the percentile is over the primitives float represents, unless those
+  // are not nine in ten (a whole scene far from the origin).
+  p.object_min = quantile(extents_represented.size() * 10 >= extents_all.size() * 9 ? extents_represented : extents_all, 0.01);
   const scene::Camera& cam = s.camera;
   p.pixel_angle = v.angle * M_PI / 180.0 / double(std::max({cam.width, cam.height, 1}));
   // Ray origins: the eye and every primitive that is not huge; the eye's distance to the nearest box.
@@ -109,7 +180,8 @@ Profile make_profile(const scene::Scene& s) {
     double far = 0;
     K::each(s, [&](std::uint32_t i) {
       const kinds::Feature f = K::feature(s, i);
-      if (f.size > 0) far = std::max(far, far_dist(p.origins, f.centre) / f.size);
+      double step = 0;
+      if (!degenerate_at(K::bounds(s, i), f, {0, 0, 0}, step)) far = std::max(far, far_dist(p.origins, f.centre) / f.size);
     });
     kp.far_ratio = far;
     kp.scale_ratio = p.object_min > 0 ? kp.extent_max / p.object_min : 0;
@@ -128,20 +200,54 @@ double FrameError::worst(const std::array<bool, kKinds>& ignore) const {
 FrameError frame_error(const scene::Scene& s, const Profile& p, const Vec3d& origin) {
   FrameError e;
   const double small = p.object_min > 0 ? p.object_min : (p.extent > 0 ? p.extent : 1.0);
+  const bool world = origin.x == 0 && origin.y == 0 && origin.z == 0;
   kinds::AllKinds::each([&]<class K>() {
-    double worst = 0;
+    double worst = 0, worst_fine = 0;
+    // The area float storage may move (the coarse primitives' perimeters times their float step)
+    // against the kind's area (each primitive's smallest times largest length over 2: an
+    // underestimate for fat primitives, which makes the share larger; huge ones left out).
+    double moved = 0, area = 0;
+    KindClasses& c = e.classes[std::size_t(K::id)];
     K::each(s, [&](std::uint32_t i) {
       const scene::Bounds b = K::bounds(s, i);
-      if (b.empty()) return;
-      // The largest coordinate the primitive stores in this frame (its box corners relative to
-      // the origin), its float step against its own extent; a primitive over a thousand times the
-      // smallest object (a planet, a vast floor) against that object: small objects rest on it.
-      const double m = std::max(max_abs(b.lo - origin), max_abs(b.hi - origin));
-      const double ext = K::feature(s, i).extent;
-      const double scale = ext > 1e3 * small || !(ext > 0) ? small : ext;
-      worst = std::max(worst, float_step(m) / scale);
+      const kinds::Feature f = K::feature(s, i);
+      // The float step at the largest coordinate the primitive stores in this frame.
+      double step = 0;
+      if (degenerate_at(b, f, origin, step)) {
+        if (c.degenerate++ == 0 || f.extent < c.worst_degenerate_extent) c.worst_degenerate = i, c.worst_degenerate_extent = f.extent;
+        return;
+      }
+      if constexpr (requires { K::mesh_vertices(s, i); }) {
+        if (world && !p.vertex_as_input.empty()) {
+          bool kept = true;
+          for (const auto v : K::mesh_vertices(s, i)) kept = kept && p.vertex_as_input[v];
+          if (kept) {
+            ++c.as_input;
+            return;
+          }
+        }
+      }
+      // Its float step against its own extent; a primitive over a thousand times the smallest
+      // object (a planet, a vast floor) against that object: small objects rest on it.
+      const bool huge = f.extent > 1e3 * small;
+      const double scale = huge ? small : f.extent;
+      const double r = step / scale;
+      worst = std::max(worst, r);
+      if (!huge) area += 0.5 * f.size * f.extent;
+      if (r <= kFloatTolerance) {
+        ++c.fine;
+        worst_fine = std::max(worst_fine, r);
+      } else {
+        if (r > c.worst_coarse_ratio) c.worst_coarse = i, c.worst_coarse_ratio = r;
+        ++c.coarse;
+        moved += 3.0 * f.extent * step;
+      }
     });
-    e.contact[std::size_t(K::id)] = worst;
+    // Coarse primitives whose rounding can change at most kNegligibleShare of the hits on the kind
+    // (slivers among a mesh's triangles) do not decide its storage: judged by effect, not by size.
+    c.moved_share = area > 0 ? moved / area : (c.coarse ? 1.0 : 0.0);
+    c.negligible = c.coarse > 0 && c.moved_share <= kNegligibleShare;
+    e.contact[std::size_t(K::id)] = c.negligible ? worst_fine : worst;
   });
   const double dist = std::max(p.camera_distance, small);
   e.eye = p.pixel_angle > 0 ? float_step(max_abs(p.camera - origin)) * std::sqrt(3.0) / dist / p.pixel_angle : 0;
@@ -181,6 +287,13 @@ nlohmann::json Profile::json() const {
           {"huge_primitives", huge},
           {"light_distance_max", light_distance_max},
           {"object_min", object_min},
+          {"input_precision",
+           {{"summary", input.summary()},
+            {"coordinates", input.coords},
+            {"floats", input.floats},
+            {"decimal_kept_by_float", input.decimal},
+            {"finer_than_float", input.finer},
+            {"digits_max", input.digits_max}}},
           {"kinds", k}};
 }
 

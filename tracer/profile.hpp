@@ -13,6 +13,7 @@
 #include <array>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace rb::tracer {
 
@@ -22,8 +23,28 @@ using kinds::kKinds;
 // The spacing of floats at magnitude x (ulp), for x >= 0; 2^-149 at 0.
 double float_step(double x);
 
+// The float step over a primitive's size below which float storage represents it well enough.
+inline constexpr double kFloatTolerance = 0x1p-12;
+
+// What the input's mesh coordinates hold (Scene::verts), read from the values themselves, whatever
+// the file's format: a binary float PLY gives floats; decimal text gives the number its digits
+// spell, which float reproduces within the text's own resolution (half a unit in the last of its
+// shortest digits) when the text has no more digits than float holds; doubles computed by a
+// generator or a transform hold more.
+struct InputPrecision {
+  std::size_t coords = 0;   // coordinates examined
+  std::size_t floats = 0;   // exactly a float
+  std::size_t decimal = 0;  // not a float, but the nearest float is within the text's own resolution
+  std::size_t finer = 0;    // more than a float holds
+  int digits_max = 0;       // the most significant decimal digits of a coordinate that is not a float
+  std::string summary() const;  // one line: "float: every coordinate is a float", ...
+};
+
 struct KindProfile {
   std::size_t count = 0;
+  // Primitives with no area or no size, or smaller than one float step where they lie (world):
+  // left out of every figure below.
+  std::size_t degenerate = 0;
   // Feature sizes (Feature::size: the smallest length that matters for a primitive) and extents
   // (its largest dimension), over the kind's non-degenerate primitives.
   double size_min = 0, size_median = 0, size_max = 0;
@@ -50,8 +71,8 @@ struct Profile {
   double camera_distance = 0;       // from the eye to the nearest primitive's box (0 inside one)
   double pixel_angle = 0;           // the view's angle per pixel (radians)
   double light_distance_max = 0;    // from the bounds' centre to the farthest light
-  // The smallest object extent (1st percentile over every primitive's extent, so that a few
-  // slivers do not decide): the scale at which the scene must stay right.
+  // The smallest object extent (1st percentile over the primitives' extents, so that a few
+  // slivers do not decide; see make_profile): the scale at which the scene must stay right.
   double object_min = 0;
   // The box ray origins come from: the eye and every primitive but the huge ones (over a thousand
   // times the smallest object: a planet, a vast floor, whose far parts are not where the scene's
@@ -60,6 +81,10 @@ struct Profile {
   std::size_t huge = 0;             // primitives left out of `origins`
   std::array<KindProfile, kKinds> kinds{};
   std::size_t primitives = 0;
+  InputPrecision input;
+  // Per vertex of Scene::verts: float storage in world coordinates reproduces it (all three
+  // coordinates exact floats or within the input's own resolution).
+  std::vector<std::uint8_t> vertex_as_input;
 
   nlohmann::json json() const;
 };
@@ -72,8 +97,37 @@ Profile make_profile(const scene::Scene& s);
 // smallest object for a primitive a thousand times larger than that (a planet: small objects rest
 // on it). For the eye (`eye`), the shift its rounding gives the whole view, in pixels (its float step
 // over its distance to the nearest object, over the angle of a pixel).
+//
+// Every primitive falls in one class, by what float storage in that frame does to it:
+//   as_input    the frame is the world's and float reproduces the input within its own precision
+//               (a mesh read as floats): storing it in float changes nothing the data held;
+//   fine        float step over its size at most kFloatTolerance;
+//   coarse      above: float would move its surface visibly against its size (needs double,
+//               unless all the coarse ones together can change a negligible share of the hits);
+//   degenerate  no area or no size (collapsed and collinear triangles, zero radii), or smaller than
+//               one float step where it is (rounding collapses it): kept in the tree as a slot no
+//               ray hits, which is the exact answer up to rays of measure zero; never counted
+//               against the others (contact[k] is over the fine and coarse primitives only).
+// The share of a kind's hits that coarse primitives may change before they decide its storage:
+// their perimeters times the float step where they lie, over the kind's area (a tenth of a hit per
+// million).
+inline constexpr double kNegligibleShare = 1e-7;
+
+struct KindClasses {
+  std::size_t as_input = 0, fine = 0, coarse = 0, degenerate = 0;
+  // The coarse primitives' perimeters times their float step over the kind's area, and whether
+  // that is at most kNegligibleShare: then the coarse ones stay in float with the rest (contact[k]
+  // is over the fine primitives only).
+  double moved_share = 0;
+  bool negligible = false;
+  std::uint32_t worst_coarse = UINT32_MAX;      // the primitive with the largest step over size
+  double worst_coarse_ratio = 0;
+  std::uint32_t worst_degenerate = UINT32_MAX;  // the smallest degenerate primitive (by extent)
+  double worst_degenerate_extent = 0;
+};
 struct FrameError {
   std::array<double, kKinds> contact{};
+  std::array<KindClasses, kKinds> classes{};
   double eye = 0;
   double worst(const std::array<bool, kKinds>& ignore) const;  // the largest contact[k] not ignored
 };

@@ -33,8 +33,10 @@ struct TriangleKind {
     const auto& t = s.triangles[i];
     const Vec3d a = s.verts[t.v[0]], b = s.verts[t.v[1]], c = s.verts[t.v[2]];
     const double e0 = std::sqrt(dot(b - a, b - a)), e1 = std::sqrt(dot(c - b, c - b)), e2 = std::sqrt(dot(a - c, a - c));
-    return {(a + b + c) * (1.0 / 3.0), std::min({e0, e1, e2}), std::max({e0, e1, e2})};
+    const Vec3d n = cross(b - a, c - a);
+    return {(a + b + c) * (1.0 / 3.0), std::min({e0, e1, e2}), std::max({e0, e1, e2}), !(dot(n, n) > 0.0)};
   }
+  static const std::array<std::uint32_t, 3>& mesh_vertices(const Scene& s, std::uint32_t i) { return s.triangles[i].v; }
 
   // The vertices relative to the frame origin, each coordinate rounded once (shared vertices stay
   // bit-identical, so the watertight test stays watertight in any frame).
