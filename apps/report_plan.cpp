@@ -11,6 +11,7 @@
 #include "render/render.hpp"
 #include "scene/sources.hpp"
 #include "scene/transform.hpp"
+#include "tracer/accel.hpp"
 #include "tracer/plan.hpp"
 
 #include <fmt/format.h>
@@ -101,14 +102,16 @@ std::string report_section_plan(const ReportOptions& o, const fs::path& out, jso
   std::vector<Src> srcs;
   const std::string data = data_dir() + "/meshes/";
   srcs.push_back({"stanford-bunny.obj", [data] { return scene::load_scene(data + "stanford-bunny.obj"); }, 4096});
+  if (!o.quick)  // its reference is a brute-force loop over 202,520 triangles per ray: fewer rays
+    srcs.push_back({"dragon_vrip_res2_bin.ply", [data] { return scene::load_scene(data + "dragon_vrip_res2_bin.ply"); }, 1024});
   for (const auto& n : scene::spd_names())
     srcs.push_back({"spd:" + n, [n] { return scene::generate_spd(n, scene::spd_default_size(n)); }, n == "gears" ? 1024u : 4096u});
   for (const auto& n : scene::lecture_scene_names()) srcs.push_back({"lecture:" + n, [n] { return scene::lecture_scene(n); }, 4096});
   for (const auto& n : scene::precision_scene_names())
     if (n != "mesh_spheres") srcs.push_back({"precision:" + n, [n] { return scene::precision_scene(n); }, 4096});
 
-  md += "| scene | primitives | frame | auto: each kind's method | Mrays/s fast / auto / exact | auto / fast | failures per million rays: "
-        "fast / auto / exact |\n|---|---:|---|---|---:|---:|---:|\n";
+  md += "| scene | primitives | frame | auto: each kind's method | Mrays/s fast / auto / exact | auto / fast | bytes per primitive "
+        "fast / auto | failures per million rays: fast / auto / exact |\n|---|---:|---|---|---:|---:|---:|---:|\n";
   json rows = json::array(), lab_rows = json::array();
   std::size_t step = 0;
   for (const auto& src : srcs) {
@@ -117,10 +120,17 @@ std::string report_section_plan(const ReportOptions& o, const fs::path& out, jso
     const tracer::Plan plan = tracer::make_plan(s, tracer::Model::automatic);
     const auto r = acc::whole_scene_rows(s, src.label, s.name, o.quick ? src.rays / 16 : src.rays, true, 1);
     auto speed = [](const acc::Row& x) { return 1e3 / x.ns_per_test; };
-    md += fmt::format("| {} | {} | {} | {} | {:.2f} / {:.2f} / {:.2f} | {:.2f} | {} / {} / {} |\n", src.label, s.primitive_count(),
-                      tracer::frame_name(plan.frame), plan_kinds_text(plan), speed(r[0]), speed(r[1]), speed(r[2]), speed(r[1]) / speed(r[0]),
-                      plan_ppm(r[0].failure_ppm()), plan_ppm(r[1].failure_ppm()), plan_ppm(r[2].failure_ppm()));
-    json j{{"scene", src.label}, {"primitives", s.primitive_count()}, {"plan", plan.json()}};
+    // The memory each model's tree and batches take (tracer/accel.hpp), per primitive.
+    auto bytes = [&](tracer::Model m) {
+      return double(tracer::SceneAccel::build(s, tracer::make_plan(s, m)).bytes()) / double(std::max<std::size_t>(1, s.primitive_count()));
+    };
+    const double bytes_fast = bytes(tracer::Model::fast), bytes_auto = bytes(tracer::Model::automatic);
+    md += fmt::format("| {} | {} | {} | {} | {:.2f} / {:.2f} / {:.2f} | {:.2f} | {:.1f} / {:.1f} | {} / {} / {} |\n", src.label,
+                      s.primitive_count(), tracer::frame_name(plan.frame), plan_kinds_text(plan), speed(r[0]), speed(r[1]), speed(r[2]),
+                      speed(r[1]) / speed(r[0]), bytes_fast, bytes_auto, plan_ppm(r[0].failure_ppm()), plan_ppm(r[1].failure_ppm()),
+                      plan_ppm(r[2].failure_ppm()));
+    json j{{"scene", src.label}, {"primitives", s.primitive_count()}, {"plan", plan.json()},
+           {"bytes_per_prim", {{"fast", bytes_fast}, {"auto", bytes_auto}}}};
     for (const auto& x : r) {
       j[x.method] = {{"mrays_per_s", speed(x)}, {"failure_ppm", x.failure_ppm()}, {"false_hit_ppm", x.false_hit_ppm},
                      {"false_miss_ppm", x.false_miss_ppm}, {"wrong_hit_ppm", x.wrong_root_ppm}, {"self_hit_ppm", x.self_hit_ppm},
