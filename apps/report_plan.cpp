@@ -124,13 +124,15 @@ std::string report_section_plan(const ReportOptions& o, const fs::path& out, jso
     auto bytes = [&](tracer::Model m) {
       return double(tracer::SceneAccel::build(s, tracer::make_plan(s, m)).bytes()) / double(std::max<std::size_t>(1, s.primitive_count()));
     };
-    const double bytes_fast = bytes(tracer::Model::fast), bytes_auto = bytes(tracer::Model::automatic);
-    md += fmt::format("| {} | {} | {} | {} | {:.2f} / {:.2f} / {:.2f} | {:.2f} | {:.1f} / {:.1f} | {} / {} / {} |\n", src.label,
+    // Two more builds per scene: left out of --quick (the layout only).
+    const double bytes_fast = o.quick ? NAN : bytes(tracer::Model::fast), bytes_auto = o.quick ? NAN : bytes(tracer::Model::automatic);
+    const auto b1 = [](double x) { return std::isfinite(x) ? fmt::format("{:.1f}", x) : std::string("-"); };
+    md += fmt::format("| {} | {} | {} | {} | {:.2f} / {:.2f} / {:.2f} | {:.2f} | {} / {} | {} / {} / {} |\n", src.label,
                       s.primitive_count(), tracer::frame_name(plan.frame), plan_kinds_text(plan), speed(r[0]), speed(r[1]), speed(r[2]),
-                      speed(r[1]) / speed(r[0]), bytes_fast, bytes_auto, plan_ppm(r[0].failure_ppm()), plan_ppm(r[1].failure_ppm()),
+                      speed(r[1]) / speed(r[0]), b1(bytes_fast), b1(bytes_auto), plan_ppm(r[0].failure_ppm()), plan_ppm(r[1].failure_ppm()),
                       plan_ppm(r[2].failure_ppm()));
-    json j{{"scene", src.label}, {"primitives", s.primitive_count()}, {"plan", plan.json()},
-           {"bytes_per_prim", {{"fast", bytes_fast}, {"auto", bytes_auto}}}};
+    json j{{"scene", src.label}, {"primitives", s.primitive_count()}, {"plan", plan.json()}};
+    if (!o.quick) j["bytes_per_prim"] = {{"fast", bytes_fast}, {"auto", bytes_auto}};
     for (const auto& x : r) {
       j[x.method] = {{"mrays_per_s", speed(x)}, {"failure_ppm", x.failure_ppm()}, {"false_hit_ppm", x.false_hit_ppm},
                      {"false_miss_ppm", x.false_miss_ppm}, {"wrong_hit_ppm", x.wrong_root_ppm}, {"self_hit_ppm", x.self_hit_ppm},

@@ -86,6 +86,11 @@ std::string report_section_render(const ReportOptions& o, const fs::path& out, j
     ro.spd = spd;
     ro.width = ro.height = size;
     ro.warmup = 1;  // so that the first trial render of the packet sizes does not pay the cold start
+    if (o.quick) {  // the layout only: one render, the usual packet sizes, no trials
+      ro.warmup = 0;
+      ro.eye_packet = 16;
+      ro.secondary_packet = 8;
+    }
     json j = run_render(ro, nullptr);
     TraceRunOptions t;
     t.scene = src;
