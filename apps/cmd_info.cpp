@@ -87,7 +87,7 @@ json scene_info(const rb::scene::Scene& s) {
     k["batches"] = json::array({{{"batch", what}, {"bytes", batch}}});
     k["plan"] = fmt::format("{} in {}{}", K::methods[std::size_t(kp.method)].name, kp.f64 ? "double" : "float",
                             kp.f64_storage ? " (stored in double)" : "");
-    k["classes"] = kp.classes_text;
+    k["classes"] = kp.classes_text();
     kinds.push_back(k);
   });
   j["kinds"] = kinds;

@@ -45,18 +45,6 @@ const RaySoA& TraceSession::rays(trace::RaySet set, std::size_t count, std::uint
   return it->second.first;
 }
 
-namespace {
-// Each kind's storage and method under the plan, with its primitives' classes (tracer/profile.hpp).
-json plan_kinds_json(const tracer::Plan& plan) {
-  json k = json::array();
-  const json doc = plan.json();
-  for (const auto& e : doc["kinds"])
-    k.push_back({{"kind", e["kind"]}, {"count", e["count"]}, {"method", e["method"]}, {"precision", e["precision"]},
-                 {"storage", e["storage"]}, {"classes", e["classes"]}});
-  return k;
-}
-}  // namespace
-
 json TraceSession::build_json() const {
   const auto& st = accel_.bin.stats;
   json hist = json::array();
@@ -65,7 +53,7 @@ json TraceSession::build_json() const {
   json j{{"builder", builder_},
          {"model", tracer::model_name(accel_.plan().model)},
          {"frame", tracer::frame_name(accel_.plan().frame)},
-         {"plan_kinds", plan_kinds_json(accel_.plan())},
+         {"plan_kinds", accel_.plan().json()["kinds"]},  // each kind's method, storage and classes
          {"build_ms", accel_.build_ms},
          {"sah_build_ms", st.build_ms},
          {"reorder_ms", accel_.reorder_ms},

@@ -134,8 +134,8 @@ TEST(PlanPrimitives, TheSameScanInDoublePutsOnlyItsSliversAboveTheToleranceAndJu
   // The slivers' rounding can change a negligible share of the hits: the kind stays in float.
   EXPECT_TRUE(t.classes.negligible);
   EXPECT_LT(t.classes.moved_share, tracer::kNegligibleShare);
-  EXPECT_FALSE(t.f64_storage) << t.classes_text;
-  EXPECT_NE(t.classes_text.find("negligible"), std::string::npos) << t.classes_text;
+  EXPECT_FALSE(t.f64_storage) << t.classes_text();
+  EXPECT_NE(t.classes_text().find("negligible"), std::string::npos) << t.classes_text();
 }
 
 // Coarse primitives that matter still decide: two copies of the scan a million units apart (no
@@ -154,7 +154,7 @@ TEST(PlanPrimitives, CoarsePrimitivesThatChangeHitsPutTheKindInDouble) {
   const auto& t = kp(p, Kind::triangle);
   EXPECT_FALSE(t.classes.negligible);
   EXPECT_GT(t.classes.moved_share, tracer::kNegligibleShare);
-  EXPECT_TRUE(t.f64_storage) << t.classes_text;
+  EXPECT_TRUE(t.f64_storage) << t.classes_text();
 }
 
 TEST(PlanPrimitives, DegenerateTrianglesNeverChangeThePlan) {
@@ -219,9 +219,9 @@ TEST(PlanPrimitives, TheInputsPrecisionComesFromTheFileAndDecidesTheStorage) {
     const tracer::Profile pr = tracer::make_profile(loaded);
     EXPECT_EQ(pr.input.summary().rfind(e.summary, 0), 0u) << e.path << ": " << pr.input.summary();
     const tracer::Plan p = tracer::make_plan(loaded, pr, Model::automatic);
-    EXPECT_FALSE(kp(p, Kind::triangle).f64_storage) << e.path << ": " << kp(p, Kind::triangle).classes_text;
-    EXPECT_NE(kp(p, Kind::triangle).classes_text.find(e.classes), std::string::npos) << e.path << ": " << kp(p, Kind::triangle).classes_text;
-    EXPECT_EQ(p.json()["kinds"][0]["classes"]["summary"], kp(p, Kind::triangle).classes_text);
+    EXPECT_FALSE(kp(p, Kind::triangle).f64_storage) << e.path << ": " << kp(p, Kind::triangle).classes_text();
+    EXPECT_NE(kp(p, Kind::triangle).classes_text().find(e.classes), std::string::npos) << e.path << ": " << kp(p, Kind::triangle).classes_text();
+    EXPECT_EQ(p.json()["kinds"][0]["classes"]["summary"], kp(p, Kind::triangle).classes_text());
     EXPECT_EQ(pr.json()["input_precision"]["summary"], pr.input.summary());
   }
   std::remove(ply.c_str());

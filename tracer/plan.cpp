@@ -100,7 +100,6 @@ const std::vector<PlanOption>& plan_options(Kind k) {
 
 namespace {
 
-constexpr double kTau = kFloatTolerance;  // float step over a primitive's size: represented well enough
 constexpr double kTauEye = 1.0 / 16;  // the eye's rounding shifts the view by at most 1/16 of a pixel
 
 bool supports_f64_storage(Kind k) {
@@ -121,11 +120,19 @@ std::string method_name(Kind k, int m) {
 std::string fmt_ratio(double x) { return x >= 1e4 || (x > 0 && x < 1e-2) ? fmt::format("{:.1e}", x) : fmt::format("{:.3g}", x); }
 std::string fmt_pow2(double x) { return x > 0 ? fmt::format("2^{:.1f}", std::log2(x)) : "0"; }
 
+bool covers(const PlanOption& o, const KindProfile& kp) {
+  return kp.far_ratio <= o.far && kp.scale_ratio <= o.scale && kp.aspect_max <= o.aspect;
+}
+
+}  // namespace
+
 // The classes of a kind's primitives in the chosen frame, each counted, with its worst primitive.
-std::string classes_text(const KindClasses& c, bool stored64) {
+std::string KindPlan::classes_text() const {
+  const KindClasses& c = classes;
+  const bool stored64 = f64_storage;
   std::vector<std::string> parts;
   if (c.as_input) parts.push_back(fmt::format("{} as the input holds them (float keeps every vertex)", c.as_input));
-  if (c.fine) parts.push_back(fmt::format("{} with float step over size at most {}", c.fine, fmt_pow2(kTau)));
+  if (c.fine) parts.push_back(fmt::format("{} with float step over size at most {}", c.fine, fmt_pow2(kFloatTolerance)));
   if (c.coarse)
     parts.push_back(fmt::format("{} above it (worst #{}: {}), which can change {:.2g} of a million hits{}", c.coarse, c.worst_coarse,
                                 fmt_pow2(c.worst_coarse_ratio), 1e6 * c.moved_share,
@@ -138,12 +145,6 @@ std::string classes_text(const KindClasses& c, bool stored64) {
   for (const auto& p : parts) t += (t.empty() ? "" : "; ") + p;
   return t;
 }
-
-bool covers(const PlanOption& o, const KindProfile& kp) {
-  return kp.far_ratio <= o.far && kp.scale_ratio <= o.scale && kp.aspect_max <= o.aspect;
-}
-
-}  // namespace
 
 Plan make_plan(const scene::Scene& s, Model m) { return make_plan(s, make_profile(s), m); }
 
@@ -178,11 +179,11 @@ Plan make_plan(const scene::Scene& s, const Profile& p, Model m) {
     for (int k = 0; k < kKinds; ++k) {
       double best = 1e300;
       for (const auto& c : cand) best = std::min(best, c.e.contact[std::size_t(k)]);
-      store64[std::size_t(k)] = p.kinds[std::size_t(k)].count > 0 && best > kTau && supports_f64_storage(Kind(k));
+      store64[std::size_t(k)] = p.kinds[std::size_t(k)].count > 0 && best > kFloatTolerance && supports_f64_storage(Kind(k));
     }
     if (m == Model::exact)
       for (int k = 0; k < kKinds; ++k) store64[std::size_t(k)] = p.kinds[std::size_t(k)].count > 0 && supports_f64_storage(Kind(k));
-    auto score = [&](const Candidate& c) { return std::max(c.e.worst(store64) / kTau, c.e.eye / kTauEye); };
+    auto score = [&](const Candidate& c) { return std::max(c.e.worst(store64) / kFloatTolerance, c.e.eye / kTauEye); };
     std::size_t pick = 0;
     if (m == Model::exact || score(cand[0]) > 1) {
       pick = 1;  // the scene's centre unless the camera is clearly better
@@ -202,7 +203,7 @@ Plan make_plan(const scene::Scene& s, const Profile& p, Model m) {
     };
     if (pick == 0)
       plan.frame_reason = fmt::format("world coordinates represent the scene (float step over each primitive's size at most {}: {})",
-                                      fmt_pow2(kTau), per_kind(cand[0].e));
+                                      fmt_pow2(kFloatTolerance), per_kind(cand[0].e));
     else
       plan.frame_reason = fmt::format("{}: in world coordinates the float step over a primitive's size is {}; relative to the {} it is {}",
                                       m == Model::exact ? "the exact model re-centres" : "re-centred", per_kind(cand[0].e),
@@ -214,7 +215,7 @@ Plan make_plan(const scene::Scene& s, const Profile& p, Model m) {
       KindPlan& kp = plan.kinds[std::size_t(k)];
       const KindProfile& kpro = p.kinds[std::size_t(k)];
       if (!kpro.count) continue;
-      const bool need64 = m == Model::exact ? store64[std::size_t(k)] : fe.contact[std::size_t(k)] > kTau && supports_f64_storage(Kind(k));
+      const bool need64 = m == Model::exact ? store64[std::size_t(k)] : fe.contact[std::size_t(k)] > kFloatTolerance && supports_f64_storage(Kind(k));
       const auto& opts = plan_options(Kind(k));
       const PlanOption* chosen = nullptr;
       if (m == Model::exact) {
@@ -250,7 +251,6 @@ Plan make_plan(const scene::Scene& s, const Profile& p, Model m) {
         kp.reason += fmt::format("; stored in double: in float the surface would move by {} of {}", fmt_pow2(fe.contact[std::size_t(k)]),
                                  kpro.scale_ratio > 1e3 ? "the smallest object" : "its size");
       kp.classes = fe.classes[std::size_t(k)];
-      kp.classes_text = classes_text(kp.classes, kp.f64_storage);
     }
 
     // ---- slab test: conservative boxes for every ray origin the scene produces ----
@@ -310,7 +310,7 @@ nlohmann::json Plan::json() const {
                    {"coarse_share_of_hits", kp.classes.moved_share},
                    {"coarse_negligible", kp.classes.negligible},
                    {"worst_degenerate", kp.classes.degenerate ? json(kp.classes.worst_degenerate) : json(nullptr)},
-                   {"summary", kp.classes_text}}}});
+                   {"summary", kp.classes_text()}}}});
   }
   return {{"model", model_name(model)},
           {"frame", {{"kind", frame_name(frame)}, {"origin", {origin.x, origin.y, origin.z}}, {"reason", frame_reason}}},
@@ -327,7 +327,7 @@ std::string Plan::text() const {
     if (!kp.count) continue;
     o += fmt::format("{:<8}{} x {}: {} in {}{}\n        {}\n", kinds::kind_name(Kind(i)), kp.count, kinds::kind_name(Kind(i)),
                      method_name(Kind(i), kp.method), kp.f64 ? "double" : "float", kp.f64_storage ? " (stored in double)" : "", kp.reason);
-    if (!kp.classes_text.empty()) o += fmt::format("        classes: {}\n", kp.classes_text);
+    if (const std::string c = kp.classes_text(); !c.empty()) o += fmt::format("        classes: {}\n", c);
     if (!kp.evidence.empty()) o += fmt::format("        lab: {}\n", kp.evidence);
   }
   o += fmt::format("slab    {}\n        {}\n", bvh::slab_name(slab), slab_reason);

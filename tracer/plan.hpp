@@ -46,7 +46,8 @@ struct KindPlan {
   std::string reason;       // why this method and precision (one line)
   std::string evidence;     // the lab cases the choice rests on ("family/case", ...)
   KindClasses classes;      // what float storage in the chosen frame does to each primitive
-  std::string classes_text; // the classes, counted, with the worst primitive of each
+  // The classes, counted, with the worst primitive of each ("" when none was classed: fast model).
+  std::string classes_text() const;
 };
 
 struct Plan {
