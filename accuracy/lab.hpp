@@ -31,6 +31,9 @@ struct Options {
   std::size_t rays = 0;           // rays per case (0: 10000 quick, 100000 full)
   std::string filter;             // regex searched in "family/case" (POSIX extended; empty: all)
   bool timing = true;             // measure ns per test (off: every ns figure is NaN)
+  // Where the embedded meshes are (their folder `meshes/`): the scene family's real meshes (the
+  // bunny, the dragon) are traced from there; empty: those cases are left out.
+  std::string data_dir;
   std::function<void(double, const std::string&)> progress;  // fraction done, what
 };
 

@@ -6,6 +6,7 @@
 #include "apps/cli.hpp"
 #include "apps/commands.hpp"
 #include "apps/machine.hpp"
+#include "apps/paths.hpp"
 #include "apps/progress.hpp"
 
 #include <fmt/format.h>
@@ -76,6 +77,7 @@ std::string accuracy_text(const std::vector<acc::Row>& all) {
 std::vector<acc::Row> run_accuracy(acc::Options o, const std::string& label) {
   auto bar = std::make_shared<ProgressBar>(label);
   o.progress = [bar](double f, const std::string& what) { bar->update(f, what); };
+  if (o.data_dir.empty()) o.data_dir = data_dir();  // the scene family's real meshes
   auto rows = acc::run_lab(o);
   bar->done();
   return rows;

@@ -141,7 +141,8 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
   if (!o.out.empty()) render::write_png(o.out, w, h, img);
 
   json prim = json::object();
-  for (int k = 0; k < kinds::kKinds; ++k) prim[kinds::kind_name(kinds::Kind(k))] = st.cost.kind_prims[k];
+  // A kind's tests in both of its batches (leaf tags k and kKinds + k: its primitives stored apart).
+  for (int k = 0; k < kinds::kKinds; ++k) prim[kinds::kind_name(kinds::Kind(k))] = st.cost.kind_prims[k] + st.cost.kind_prims[kinds::kKinds + k];
   const double rays = double(st.rays());
   // The image's float samples in one FNV-1a digest: the same for any thread or rank count and any
   // packet sizes.

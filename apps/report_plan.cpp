@@ -46,7 +46,8 @@ std::string plan_kinds_text(const tracer::Plan& p) {
     const tracer::KindClasses& c = kp.classes;
     std::vector<std::string> parts;
     if (c.as_input && c.as_input < kp.count) parts.push_back(fmt::format("{} as input", c.as_input));
-    if (c.coarse) parts.push_back(fmt::format("{} coarse{}", c.coarse, c.negligible ? ", negligible" : ""));
+    if (c.coarse)
+      parts.push_back(fmt::format("{} coarse{}", c.coarse, c.negligible ? ", negligible" : !kp.split.empty() ? ", stored apart in double" : ""));
     if (c.degenerate) parts.push_back(fmt::format("{} degenerate", c.degenerate));
     for (std::size_t i = 0; i < parts.size(); ++i) o += (i ? ", " : " [") + parts[i] + (i + 1 == parts.size() ? "]" : "");
   }
@@ -82,8 +83,9 @@ std::string report_section_plan(const ReportOptions& o, const fs::path& out, jso
         "and makes a plan (`raybench plan SCENE` prints it with a reason per choice): the frame of reference, whose origin is "
         "subtracted from every coordinate in double before it is rounded to float (world, the scene's centre or the camera); "
         "each kind's method and precision, the cheapest that the accuracy lab measures with no failure under the scene's "
-        "conditions (each choice cites the lab cases it rests on, and a test runs them); double storage for a kind that no frame "
-        "represents in float (a planet under a ball); node boxes widened for the scene's ray origins, so the fast slab test "
+        "conditions (each choice cites the lab cases it rests on, and a test runs them); double storage for the primitives that "
+        "no frame represents in float (a planet under a ball): a whole kind, or, when they are at most a quarter of it, those "
+        "few in a batch and leaves of their own while the rest stays in float; node boxes widened for the scene's ray origins, so the fast slab test "
         "loses no hit; and the spawn offset of secondary rays (hit points projected onto their surface in double, then moved by "
         "the integer offset). `--model fast` is the fixed choice of a tracer that does not look (world coordinates, the "
         "cheapest method of every kind in float, an offset of 1e-5 of the scene's size); `--model exact` is the most accurate "
@@ -125,7 +127,7 @@ std::string report_section_plan(const ReportOptions& o, const fs::path& out, jso
       return double(tracer::SceneAccel::build(s, tracer::make_plan(s, m)).bytes()) / double(std::max<std::size_t>(1, s.primitive_count()));
     };
     // Two more builds per scene: left out of --quick (the layout only).
-    const double bytes_fast = o.quick ? NAN : bytes(tracer::Model::fast), bytes_auto = o.quick ? NAN : bytes(tracer::Model::automatic);
+    const double bytes_fast = o.quick ? double(NAN) : bytes(tracer::Model::fast), bytes_auto = o.quick ? double(NAN) : bytes(tracer::Model::automatic);
     const auto b1 = [](double x) { return std::isfinite(x) ? fmt::format("{:.1f}", x) : std::string("-"); };
     md += fmt::format("| {} | {} | {} | {} | {:.2f} / {:.2f} / {:.2f} | {:.2f} | {} / {} | {} / {} / {} |\n", src.label,
                       s.primitive_count(), tracer::frame_name(plan.frame), plan_kinds_text(plan), speed(r[0]), speed(r[1]), speed(r[2]),
@@ -144,10 +146,12 @@ std::string report_section_plan(const ReportOptions& o, const fs::path& out, jso
   md += "\nThe precision scenes (`raybench info precision:NAME` describes each; `raybench render precision:NAME` renders it) are "
         "built to need something: a ball on a planet of radius 6.4e6, a scene 6.4e6 or 1e3..1e7 from the origin, small spheres "
         "5e3 away, thin tori 500 sizes away, cylinders seen from 1e4 radii, a scene mixing scales, a scanned mesh with "
-        "slivers and collapsed triangles (its coordinates floats, or in double). In brackets, a kind's primitives by class "
+        "slivers and collapsed triangles (its coordinates floats, or in double), small meshes scattered over a world 3.7e4 wide. "
+        "In brackets, a kind's primitives by class "
         "in the chosen frame: as the input holds them (float keeps every vertex), coarse (float step over size above 2^-12; "
-        "negligible when together they can change under 0.1 hit per million: kept in float), degenerate (no area, or "
-        "under one float step: slots no ray hits); `raybench plan` names the worst of each. The embedded scenes need "
+        "negligible when together they can change under 0.1 hit per million: kept in float; otherwise stored apart in double "
+        "when they are at most a quarter of the kind; primitives under one float step are coarse unless the input held them as "
+        "floats), degenerate (no area: slots no ray hits); `raybench plan` names the worst of each. The embedded scenes need "
         "nothing special; on them auto costs what the kinds' chosen methods cost (the table's auto / fast; the lab's "
         "`ns_per_test` compares the methods themselves).\n\n";
   md += "![speed against failures per model](plan_models.png)\n\n";

@@ -31,16 +31,19 @@ struct BNode {
 static_assert(sizeof(BNode) == 32);
 
 // Wide node: 8 children tested by one 8-lane slab test. Child references: kEmpty, an internal
-// node index (< kLeafBit), or a leaf: kLeafBit | kind << kKindShift | group (the leaf's 8-slot
-// group in its kind's batch). Empty slots have the box (+inf, -inf): no ray enters them.
+// node index (< kLeafBit), or a leaf: kLeafBit | kind << kLeafKindShift | group (the leaf's 8-slot
+// group in its kind's batch; `kind` is the builder's tag, 4 bits: a tracer may give one primitive
+// kind several batches, one per storage class). Empty slots have the box (+inf, -inf): no ray
+// enters them.
 inline constexpr std::uint32_t kEmpty = 0xFFFFFFFFu;
 inline constexpr std::uint32_t kLeafBit = 0x80000000u;
-inline constexpr int kKindShift = 28;
-inline constexpr std::uint32_t kGroupMask = (1u << kKindShift) - 1;
+inline constexpr int kLeafKindShift = 27;
+inline constexpr int kMaxKinds = 16;  // leaf tags: 4 bits of a leaf reference
+inline constexpr std::uint32_t kLeafGroupMask = (1u << kLeafKindShift) - 1;
 inline bool is_leaf(std::uint32_t ref) { return (ref & kLeafBit) != 0; }
-inline int leaf_kind(std::uint32_t ref) { return int((ref >> kKindShift) & 7u); }
-inline std::uint32_t leaf_group(std::uint32_t ref) { return ref & kGroupMask; }
-inline std::uint32_t make_leaf_ref(int kind, std::uint32_t group) { return kLeafBit | (std::uint32_t(kind) << kKindShift) | group; }
+inline int leaf_kind(std::uint32_t ref) { return int((ref >> kLeafKindShift) & 15u); }
+inline std::uint32_t leaf_group(std::uint32_t ref) { return ref & kLeafGroupMask; }
+inline std::uint32_t make_leaf_ref(int kind, std::uint32_t group) { return kLeafBit | (std::uint32_t(kind) << kLeafKindShift) | group; }
 
 struct alignas(32) WNode {
   float b[6][8];  // [2 axis + 0] lo, [2 axis + 1] hi, per child
@@ -135,19 +138,21 @@ Bvh8 collapse8(const Bvh2& b);
 void make_conservative(Bvh8& t, float origin_bound);
 
 // ---- what the traversal returns and counts -------------------------------------------------------
-// A hit: t (+inf when none) and the primitive as kind << kKindShift | index within its kind (kNoPrim).
+// A hit: t (+inf when none) and the primitive as kind << kKindShift | index within its kind (kNoPrim):
+// the primitive's own kind (3 bits), whichever batch it was traced in.
 struct HitRec {
   float t;
   std::uint32_t prim;
 };
 inline constexpr std::uint32_t kNoPrim = 0xFFFFFFFFu;
-inline constexpr int kMaxKinds = 8;  // 3 bits of a leaf reference
+inline constexpr int kKindShift = 28;
+inline constexpr std::uint32_t kIndexMask = (1u << kKindShift) - 1;
 inline std::uint32_t prim_code(int kind, std::uint32_t index) { return std::uint32_t(kind) << kKindShift | index; }
 inline int prim_kind(std::uint32_t code) { return int(code >> kKindShift); }
-inline std::uint32_t prim_index(std::uint32_t code) { return code & kGroupMask; }
+inline std::uint32_t prim_index(std::uint32_t code) { return code & kIndexMask; }
 
 // Traversal cost, summed over rays: nodes visited, box tests, primitive tests (real slots), and the
-// primitive tests split by kind.
+// primitive tests split by leaf tag (the builder's kind).
 struct TraceCounters {
   std::uint64_t nodes = 0, boxes = 0, prims = 0;
   std::uint64_t kind_prims[kMaxKinds] = {};

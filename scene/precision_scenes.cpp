@@ -22,6 +22,13 @@
 //                   its vertices) and 100 collapsed triangles (a repeated vertex, or three on a line)
 //   scanned_double  the same mesh with its coordinates in double (a 17-digit export of it): the
 //                   slivers are no longer what the input held once rounded to float
+//   scattered       a world of 230 small closed meshes (80 triangles each, 1.2..2.4 across): 200
+//                   within 800 of the origin, 30 in a cluster 3.7e4 away (where float's step is a
+//                   500th of their triangles), the camera among those: no frame holds both groups
+//                   in float
+//   pipes           what a CAD export makes of 8 pipes 20 long and 0.05..0.2 in radius: 256 facets
+//                   around, each two triangles the pipe's length (10^4 times longer than wide),
+//                   and end caps as fans (8,192 triangles)
 #include "scene/sources.hpp"
 
 #include <fmt/format.h>
@@ -226,9 +233,67 @@ Scene scanned_scene(bool as_floats, const std::string& name) {
 
 }  // namespace
 
+Scene scattered_scene() {
+  PrecisionBuilder b("precision:scattered");
+  std::uint64_t x = 0x2545F4914F6CDD1Dull;
+  auto U = [&] {
+    x ^= x << 13, x ^= x >> 7, x ^= x << 17;
+    return double(x >> 11) * 0x1p-53;
+  };
+  const auto stone = b.material({0.7f, 0.68f, 0.62f}, 0.8f, 0.1f, 10), blue = b.material({0.3f, 0.45f, 0.8f}, 0.7f, 0.3f, 40);
+  for (int i = 0; i < 200; ++i) {
+    const double a = 2 * 3.141592653589793 * U(), r = 800 * std::sqrt(U());
+    b.icosphere({r * std::cos(a), 5 * U(), r * std::sin(a)}, 0.6 + 0.6 * U(), 1, stone);
+  }
+  const Vec3d far{30000.37, 3.1, -21000.53};
+  for (int i = 0; i < 30; ++i) b.icosphere(far + Vec3d{80 * U() - 40, 6 * U(), 80 * U() - 40}, 0.6 + 0.6 * U(), 1, blue);
+  b.s.lights.push_back({far + Vec3d{30.3, 60.7, 45.1}, {1, 1, 1}});
+  b.view(far + Vec3d{0.7, 12.3, 75.1}, far + Vec3d{0.1, 1.3, 0.3}, 50);
+  return std::move(b.s);
+}
+
+Scene pipes_scene() {
+  PrecisionBuilder b("precision:pipes");
+  std::uint64_t x = 0x6A09E667F3BCC909ull;
+  auto U = [&] {
+    x ^= x << 13, x ^= x >> 7, x ^= x << 17;
+    return double(x >> 11) * 0x1p-53;
+  };
+  const auto steel = b.material({0.75f, 0.75f, 0.8f}, 0.6f, 0.4f, 60);
+  constexpr int n = 256;
+  for (int p = 0; p < 8; ++p) {
+    // Axis from a to a + L d, radius r; (e1, e2) spans the plane across it.
+    const Vec3d a{10 * U() - 5, 3 * U(), 10 * U() - 5};
+    const double az = 6.283185307179586 * U(), el = 0.3 * (U() - 0.5);
+    const Vec3d d{std::cos(az) * std::cos(el), std::sin(el), std::sin(az) * std::cos(el)};
+    const Vec3d e1 = normalize(cross(d, std::fabs(d.y) < 0.9 ? Vec3d{0, 1, 0} : Vec3d{1, 0, 0})), e2 = cross(d, e1);
+    const double r = 0.05 + 0.15 * U(), L = 20;
+    const auto base = std::uint32_t(b.s.verts.size());
+    for (int end = 0; end < 2; ++end) {
+      for (int k = 0; k < n; ++k) {
+        const double t = 6.283185307179586 * k / n;
+        b.s.verts.push_back(a + d * (L * end) + e1 * (r * std::cos(t)) + e2 * (r * std::sin(t)));
+      }
+    }
+    b.s.verts.push_back(a);
+    b.s.verts.push_back(a + d * L);
+    const std::uint32_t c0 = base + 2 * n, c1 = c0 + 1;
+    for (std::uint32_t k = 0; k < std::uint32_t(n); ++k) {
+      const std::uint32_t k1 = (k + 1) % n;
+      b.s.triangles.push_back({{base + k, base + k1, base + n + k1}, steel});
+      b.s.triangles.push_back({{base + k, base + n + k1, base + n + k}, steel});
+      b.s.triangles.push_back({{c0, base + k1, base + k}, steel});
+      b.s.triangles.push_back({{c1, base + n + k, base + n + k1}, steel});
+    }
+  }
+  b.s.lights.push_back({{13.1, 17.3, 9.7}, {1, 1, 1}});
+  b.view({3.7, 9.1, 24.3}, {0.3, 1.1, 0.2}, 45);
+  return std::move(b.s);
+}
+
 std::vector<std::string> precision_scene_names() {
   return {"ball_ground", "ball_ground_far", "planet", "mesh_spheres", "mesh_spheres_1e3", "mesh_spheres_1e5", "mesh_spheres_1e7",
-          "far_spheres", "thin_torus", "far_cylinders", "mixed_scales", "scanned", "scanned_double"};
+          "far_spheres", "thin_torus", "far_cylinders", "mixed_scales", "scanned", "scanned_double", "scattered", "pipes"};
 }
 
 Scene precision_scene(const std::string& name) {
@@ -246,6 +311,8 @@ Scene precision_scene(const std::string& name) {
   if (name == "mixed_scales") return mixed_scales_scene();
   if (name == "scanned") return scanned_scene(true, "precision:scanned");
   if (name == "scanned_double") return scanned_scene(false, "precision:scanned_double");
+  if (name == "scattered") return scattered_scene();
+  if (name == "pipes") return pipes_scene();
   std::string all;
   for (const auto& n : precision_scene_names()) all += (all.empty() ? "" : ", ") + n;
   throw SceneError("precision:" + name + ": unknown scene (" + all + ")");

@@ -117,7 +117,9 @@ void expect_same(const std::vector<HitRec>& a, const std::vector<HitRec>& b, std
   EXPECT_EQ(bad, 0u) << what;
 }
 
-void check_all_modes(const scene::Scene& s, std::size_t count, tracer::Model model = tracer::Model::automatic) {
+// `sparse`: a scene whose bounds are mostly empty (diffuse and random rays may all miss); its
+// primary rays must still hit.
+void check_all_modes(const scene::Scene& s, std::size_t count, tracer::Model model = tracer::Model::automatic, bool sparse = false) {
   const tracer::SceneAccel a = tracer::SceneAccel::build(s, tracer::make_plan(s, model));
   for (auto set : {trace::RaySet::primary, trace::RaySet::shadow, trace::RaySet::diffuse, trace::RaySet::random}) {
     const RaySoA rays = trace::make_rays(s, a, set, count, 7);
@@ -125,7 +127,7 @@ void check_all_modes(const scene::Scene& s, std::size_t count, tracer::Model mod
     const auto ref = brute(a, rays, any);
     std::size_t hits = 0;
     for (std::size_t i = 0; i < rays.count; ++i) hits += ref[i].prim != kNoPrim;
-    if (set != trace::RaySet::shadow) {
+    if (set == trace::RaySet::primary || (set != trace::RaySet::shadow && !sparse)) {
       EXPECT_GT(hits, 0u) << trace::ray_set_name(set);
     }
     for (int packet : {1, 8, 16, 64, 256})
@@ -163,6 +165,20 @@ TEST(Bvh, MixedAnalyticSceneEqualsBruteForce) {
   for (auto m : {tracer::Model::automatic, tracer::Model::fast, tracer::Model::exact}) check_all_modes(mixed(3), 512, m);
 }
 
+// Primitives the plan stores apart, in double, in leaves of their own: traced by the mesh path (a
+// triangle-only scene) and by the table of leaf functions (with spheres beside them), every ray
+// set, packet size and slab test as the oracle.
+TEST(Bvh, PrimitivesStoredApartEqualBruteForce) {
+  scene::Scene s = scene::precision_scene("scattered");
+  const tracer::Plan mesh = tracer::make_plan(s, tracer::Model::automatic);
+  ASSERT_FALSE(mesh.kinds[0].split.empty());
+  check_all_modes(s, 128, tracer::Model::automatic, true);
+  for (int i = 0; i < 8; ++i) s.spheres.push_back({s.camera.at + Vec3d{3.0 * i - 12, 0.5, 2.0 - i}, 0.4 + 0.1 * i, 0});
+  const tracer::Plan p = tracer::make_plan(s, tracer::Model::automatic);
+  ASSERT_FALSE(p.kinds[0].split.empty());
+  check_all_modes(s, 128, tracer::Model::automatic, true);
+}
+
 TEST(Bvh, GeneratedSceneEqualsBruteForce) { check_all_modes(scene::generate_spd("balls", 1), 256); }
 
 TEST(Bvh, EveryBoxContainsItsChildrenAndPrimitives) {
@@ -183,10 +199,10 @@ TEST(Bvh, EveryBoxContainsItsChildrenAndPrimitives) {
         continue;
       }
       for (std::size_t j = 0; j < 8; ++j) {
-        const std::uint32_t id = a.slot_id(kinds::Kind(n.kind), std::size_t(n.first) * 8 + j);
+        const std::uint32_t id = a.slot_id(n.kind, std::size_t(n.first) * 8 + j);
         if (id == UINT32_MAX) continue;
         ++prims;
-        const scene::Bounds b = kinds::AllKinds::at<scene::Bounds>(kinds::Kind(n.kind), [&]<class K>() { return K::bounds(s, id); });
+        const scene::Bounds b = kinds::AllKinds::at<scene::Bounds>(tracer::tag_kind(n.kind), [&]<class K>() { return K::bounds(s, id); });
         float lo[3], hi[3];
         kinds::frame_box(b, a.origin(), lo, hi);
         EXPECT_TRUE(inside(n.lo, n.hi, lo, hi));

@@ -379,7 +379,9 @@ TEST(Outputs, AReportFollowsTheRuleForEveryFileItWrites) {
   EXPECT_TRUE(has(slurp(s / "kept.md"), "# ")) << "the link's target holds the report";
   EXPECT_EQ(node(s / "rep/index.html"), fifo);
   EXPECT_TRUE(has(page, "<html") && has(page, "</html>")) << page.substr(0, 200);
-  if (!dev.empty()) EXPECT_EQ(node(dev), device);
+  if (!dev.empty()) {
+    EXPECT_EQ(node(dev), device);
+  }
   EXPECT_TRUE(is_json(slurp(s / "rep/tracing.json")));
   EXPECT_TRUE(temporaries(s.dir / "rep").empty() && temporaries(s.dir).empty());
 }

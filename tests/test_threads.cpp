@@ -98,15 +98,15 @@ TEST(Threads, LeavesAreGroupedInNodeOrderForEveryThreadCount) {
       o.parallel = parallel;
       ts.run([&] { a = tracer::SceneAccel::build(s, o); });
       ASSERT_GT(a.bin.nodes.size(), 8192u);
-      std::vector<std::uint32_t> next(kinds::kKinds, 0);
-      std::vector<std::set<std::uint32_t>> seen(kinds::kKinds);
+      std::vector<std::uint32_t> next(tracer::kLeafKinds, 0);
+      std::vector<std::set<std::uint32_t>> seen(tracer::kLeafKinds);
       std::size_t slots = 0;
       for (const bvh::BNode& n : a.bin.nodes) {
         if (!n.leaf()) continue;
         ASSERT_EQ(n.first, next[n.kind]) << threads << " threads, parallel " << parallel;
         ++next[n.kind];
         for (std::uint32_t j = 0; j < 8; ++j) {
-          const std::uint32_t id = a.slot_id(kinds::Kind(n.kind), std::size_t(n.first) * 8 + j);
+          const std::uint32_t id = a.slot_id(n.kind, std::size_t(n.first) * 8 + j);
           if (j >= n.count) {
             EXPECT_EQ(id, UINT32_MAX);
             continue;

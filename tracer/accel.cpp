@@ -69,6 +69,7 @@ SceneAccel& SceneAccel::operator=(SceneAccel&& o) noexcept {
   plan_ = std::move(o.plan_);
   scene_prims_ = o.scene_prims_;
   batches_ = std::move(o.batches_);
+  apart_ = std::move(o.apart_);
   fns_ = o.fns_;
   mesh_only_ = o.mesh_only_;
   wire();
@@ -79,14 +80,20 @@ void SceneAccel::wire() {
   table_ = {};
   table_.fns = fns_.data();
   AllKinds::each([&]<class K>() {
-    const auto& b = std::get<Batch<K>>(batches_);
-    table_.batch[std::size_t(K::id)] = &b;
-    table_.slots_fn[std::size_t(K::id)] = [](const void* p, std::size_t base) { return real_slots(*static_cast<const Batch<K>*>(p), base); };
+    auto slots = [](const void* p, std::size_t base) { return real_slots(*static_cast<const Batch<K>*>(p), base); };
+    table_.batch[std::size_t(K::id)] = &std::get<Batch<K>>(batches_);
+    table_.batch[std::size_t(apart_tag(K::id))] = &std::get<Batch<K>>(apart_);
+    table_.slots_fn[std::size_t(K::id)] = table_.slots_fn[std::size_t(apart_tag(K::id))] = slots;
   });
   mesh_.tri = &std::get<Batch<kinds::TriangleKind>>(batches_);
+  mesh_.apart = &std::get<Batch<kinds::TriangleKind>>(apart_);
 }
 
 void SceneAccel::check_size(const scene::Scene& s, const bvh::BuildOptions& opt) {
+  // A leaf reference holds 27 bits of group number, a hit 28 bits of index within its kind.
+  if (s.primitive_count() > bvh::kLeafGroupMask)
+    throw std::length_error("the scene has " + std::to_string(s.primitive_count()) + " primitives; the tracer takes at most " +
+                            std::to_string(bvh::kLeafGroupMask));
   const std::size_t need = s.primitive_count() * bvh::kBuildBytesPerPrim;
   if (opt.max_bytes && need > opt.max_bytes)
     throw std::length_error("the BVH of " + std::to_string(s.primitive_count()) + " primitives needs about " +
@@ -101,14 +108,19 @@ SceneAccel SceneAccel::build(const scene::Scene& s, const Plan& plan, const bvh:
   a.options = opt;
   check_size(s, opt);
 
-  // Every primitive: its kind and scene index, kinds in Kind order, each in scene order.
+  // Every primitive: its leaf tag (its kind, or apart_tag(kind) when the plan stores it apart) and
+  // scene index, kinds in Kind order, each in scene order.
   std::vector<std::uint8_t> kind;
   std::vector<std::uint32_t> index;
   kind.reserve(s.primitive_count());
   index.reserve(s.primitive_count());
   AllKinds::each([&]<class K>() {
+    const std::vector<std::uint32_t>& apart = plan.kinds[std::size_t(K::id)].split;  // ascending, as K::each
+    std::size_t next = 0;
     K::each(s, [&](std::uint32_t i) {
-      kind.push_back(std::uint8_t(K::id));
+      const bool away = next < apart.size() && apart[next] == i;
+      next += away;
+      kind.push_back(std::uint8_t(away ? apart_tag(K::id) : int(K::id)));
       index.push_back(i);
     });
   });
@@ -119,7 +131,7 @@ SceneAccel SceneAccel::build(const scene::Scene& s, const Plan& plan, const bvh:
   const Vec3d origin = plan.origin;
   const bvh::BoxFill boxes = [&](std::size_t b, std::size_t e, float* lo, float* hi) {
     for (std::size_t i = b; i < e; ++i) {
-      const scene::Bounds wb = AllKinds::at<scene::Bounds>(Kind(kind[i]), [&]<class K>() { return K::bounds(s, index[i]); });
+      const scene::Bounds wb = AllKinds::at<scene::Bounds>(tag_kind(kind[i]), [&]<class K>() { return K::bounds(s, index[i]); });
       kinds::frame_box(wb, origin, &lo[3 * (i - b)], &hi[3 * (i - b)]);
     }
   };
@@ -144,7 +156,7 @@ SceneAccel SceneAccel::build(const scene::Scene& s, const Plan& plan, const bvh:
   const auto t1 = std::chrono::steady_clock::now();
   constexpr std::size_t kNodeChunk = 8192;
   const std::size_t nn = a.bin.nodes.size(), chunks = (nn + kNodeChunk - 1) / kNodeChunk;
-  using Counts = std::array<std::uint32_t, kKinds>;
+  using Counts = std::array<std::uint32_t, kLeafKinds>;
   std::vector<Counts> first(chunks + 1, Counts{});  // first[c][k]: groups of kind k before chunk c
   auto by_chunk = [&](auto&& f) {
     auto body = [&](std::size_t c0, std::size_t c1) {
@@ -157,9 +169,9 @@ SceneAccel SceneAccel::build(const scene::Scene& s, const Plan& plan, const bvh:
     for (std::size_t i = b; i < e; ++i) first[c + 1][a.bin.nodes[i].kind] += a.bin.nodes[i].leaf();
   });
   for (std::size_t c = 0; c < chunks; ++c)
-    for (std::size_t k = 0; k < kKinds; ++k) first[c + 1][k] += first[c][k];
-  std::array<kinds::SlotIds, kKinds> ids;
-  for (std::size_t k = 0; k < kKinds; ++k) ids[k].assign(std::size_t(first[chunks][k]) * 8, UINT32_MAX);  // sized once
+    for (std::size_t k = 0; k < kLeafKinds; ++k) first[c + 1][k] += first[c][k];
+  std::array<kinds::SlotIds, kLeafKinds> ids;
+  for (std::size_t k = 0; k < kLeafKinds; ++k) ids[k].assign(std::size_t(first[chunks][k]) * 8, UINT32_MAX);  // sized once
   by_chunk([&](std::size_t c, std::size_t b, std::size_t e) {
     Counts g = first[c];
     for (std::size_t i = b; i < e; ++i) {
@@ -174,15 +186,20 @@ SceneAccel SceneAccel::build(const scene::Scene& s, const Plan& plan, const bvh:
   });
   // The batches, and the 8-wide tree with its conservative boxes: independent (both read the
   // renumbered binary tree), side by side.
-  std::array<LeafChoice, kKinds> choice{};
+  std::array<LeafChoice, kKinds> choice{}, apart{};
   auto batches = [&] {
     AllKinds::each([&]<class K>() {
       const KindPlan& kp = plan.kinds[std::size_t(K::id)];
       choice[std::size_t(K::id)] = {kp.method, kp.f64, kp.f64_storage};
+      apart[std::size_t(K::id)] = {kp.split_method, true, true};
       auto& b = std::get<Batch<K>>(a.batches_);
       auto& v = ids[std::size_t(K::id)];
-      if constexpr (K::custom) K::build(b, s, std::move(v), origin, kp.method, kp.f64, kp.f64_storage);
-      else build_std<K>(b, s, std::move(v), origin, kp.f64_storage, opt.parallel);
+      if constexpr (K::custom) {
+        K::build(b, s, std::move(v), origin, kp.method, kp.f64, kp.f64_storage);
+      } else {
+        build_std<K>(b, s, std::move(v), origin, kp.f64_storage, opt.parallel);
+        build_std<K>(std::get<Batch<K>>(a.apart_), s, std::move(ids[std::size_t(apart_tag(K::id))]), origin, true, opt.parallel);
+      }
     });
     a.reorder_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
   };
@@ -196,10 +213,14 @@ SceneAccel SceneAccel::build(const scene::Scene& s, const Plan& plan, const bvh:
     batches();
     wide();
   }
-  a.fns_ = leaf_table(choice);
+  const auto main_fns = leaf_table(choice), apart_fns = leaf_table(apart);
+  std::copy(main_fns.begin(), main_fns.end(), a.fns_.begin());
+  std::copy(apart_fns.begin(), apart_fns.end(), a.fns_.begin() + kKinds);
   std::size_t present = 0;
   AllKinds::each([&]<class K>() { present += K::count(s) > 0; });
-  a.mesh_only_ = present == 1 && kinds::TriangleKind::count(s) > 0 && choice[0].method == 0 && !choice[0].f64 && !choice[0].f64_storage;
+  const KindPlan& tri = plan.kinds[std::size_t(Kind::triangle)];
+  a.mesh_only_ = present == 1 && kinds::TriangleKind::count(s) > 0 && tri.method == 0 && !tri.f64 && !tri.f64_storage &&
+                 (tri.split.empty() || tri.split_method == 0);
   a.wire();
   a.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   // The binary tree's statistics (SAH cost, depth, leaf sizes) describe the build and are not part
@@ -209,18 +230,26 @@ SceneAccel SceneAccel::build(const scene::Scene& s, const Plan& plan, const bvh:
 }
 
 std::size_t SceneAccel::kind_bytes(Kind k) const {
-  return AllKinds::at<std::size_t>(k, [&]<class K>() { return std::get<Batch<K>>(batches_).bytes(); });
+  return AllKinds::at<std::size_t>(k, [&]<class K>() { return std::get<Batch<K>>(batches_).bytes() + std::get<Batch<K>>(apart_).bytes(); });
 }
-std::uint32_t SceneAccel::slot_id(Kind k, std::size_t slot) const {
-  return AllKinds::at<std::uint32_t>(k, [&]<class K>() {
-    const auto& b = std::get<Batch<K>>(batches_);
+std::size_t SceneAccel::apart_bytes(Kind k) const {
+  return AllKinds::at<std::size_t>(k, [&]<class K>() { return std::get<Batch<K>>(apart_).bytes(); });
+}
+std::uint32_t SceneAccel::slot_id(int tag, std::size_t slot) const {
+  if (tag < 0 || tag >= kLeafKinds) return UINT32_MAX;
+  return AllKinds::at<std::uint32_t>(tag_kind(tag), [&]<class K>() {
+    const auto& b = std::get<Batch<K>>(tag < kKinds ? batches_ : apart_);
     return slot < b.id.size() ? b.id[slot] : UINT32_MAX;
   });
+}
+bool SceneAccel::stored_apart(Kind k, std::uint32_t index) const {
+  const auto& v = plan_.kinds[std::size_t(k)].split;
+  return std::binary_search(v.begin(), v.end(), index);
 }
 
 std::size_t SceneAccel::bytes_prims() const {
   std::size_t b = 0;
-  AllKinds::each([&]<class K>() { b += std::get<Batch<K>>(batches_).bytes(); });
+  for (int k = 0; k < kKinds; ++k) b += kind_bytes(Kind(k));
   return b;
 }
 
@@ -243,7 +272,7 @@ kinds::Surface SceneAccel::surface(std::uint32_t prim, const Ray<float>& r, floa
   // u = 2^-24; one stored in double within as many double roundings (u = 2^-53).
   const double ext = AllKinds::at<double>(k, [&]<class K>() { return K::feature(*scene_, kinds::index_of(prim)).extent; });
   const Vec3d pf = sf.p - plan_.origin;
-  const double u = plan_.kinds[std::size_t(k)].f64_storage ? 0x1p-53 : 0x1p-24;
+  const double u = plan_.kinds[std::size_t(k)].f64_storage || stored_apart(k, kinds::index_of(prim)) ? 0x1p-53 : 0x1p-24;
   sf.err = 8 * u * (std::max({std::fabs(pf.x), std::fabs(pf.y), std::fabs(pf.z)}) + (std::isfinite(ext) ? ext : 0.0));
   return sf;
 }
@@ -295,16 +324,13 @@ HitRec SceneAccel::brute_force(const Ray<float>& r, bool any) const {
   HitRec h{r.tmax, kNoPrim};
   if (!(r.tmin <= r.tmax)) return {std::numeric_limits<float>::infinity(), kNoPrim};
   RayCache cache(r);
-  bool done = false;
-  AllKinds::each([&]<class K>() {
-    if (done) return;
-    const auto& b = std::get<Batch<K>>(batches_);
-    for (std::size_t g = 0; g < b.id.size(); g += 8)
-      if (fns_[std::size_t(K::id)].single(&b, g, r, cache, h) && any) {
-        done = true;
-        return;
-      }
-  });
+  for (int tag = 0; tag < kLeafKinds; ++tag) {
+    const std::size_t slots = AllKinds::at<std::size_t>(tag_kind(tag), [&]<class K>() {
+      return std::get<Batch<K>>(tag < kKinds ? batches_ : apart_).id.size();
+    });
+    for (std::size_t g = 0; g < slots; g += 8)
+      if (fns_[std::size_t(tag)].single(table_.batch[tag], g, r, cache, h) && any) return bvh::finished(h);
+  }
   return bvh::finished(h);
 }
 

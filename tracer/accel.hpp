@@ -1,7 +1,8 @@
 // A scene ready to trace under a plan (tracer/plan.hpp): every primitive's box in the plan's frame,
 // one SAH build over them (bvh/build.cpp), the 8-wide tree with conservative boxes, and each kind's
 // batch in leaf order, made relative to the frame origin in the plan's precision, with the leaf
-// functions of the plan's method. Rays are traced in frame coordinates: `frame_ray` turns a world
+// functions of the plan's method; the primitives the plan stores apart (KindPlan::split) in a
+// second batch of their kind, in double, in leaves of their own (tag apart_tag(kind)). Rays are traced in frame coordinates: `frame_ray` turns a world
 // ray (double) into one, `surface` turns a hit back into a world surface point and normals.
 //
 // The scene must outlive the SceneAccel (surfaces read the scene's own arrays).
@@ -83,9 +84,13 @@ class SceneAccel {
   std::size_t bytes_nodes() const { return wide.nodes.size() * sizeof(bvh::WNode); }
   std::size_t bytes_prims() const;  // batches + ids
   std::size_t bytes() const { return bytes_nodes() + bytes_prims(); }
-  std::size_t kind_bytes(Kind k) const;
-  // The scene index in slot `slot` of kind k's leaf-ordered batch (UINT32_MAX: padding or beyond).
-  std::uint32_t slot_id(Kind k, std::size_t slot) const;
+  std::size_t kind_bytes(Kind k) const;   // both of the kind's batches
+  std::size_t apart_bytes(Kind k) const;  // its primitives stored apart
+  // The scene index in slot `slot` of the leaf-ordered batch of leaf tag `tag` (a kind, or
+  // apart_tag(kind)); UINT32_MAX: padding or beyond.
+  std::uint32_t slot_id(int tag, std::size_t slot) const;
+  // Whether primitive `index` of kind k is stored apart, in double.
+  bool stored_apart(Kind k, std::uint32_t index) const;
 
   bvh::Bvh2 bin;
   bvh::Bvh8 wide;
@@ -98,10 +103,11 @@ class SceneAccel {
   Plan plan_;
   std::size_t scene_prims_ = 0;
   Batches batches_;
-  std::array<LeafFns, kKinds> fns_{};
+  Batches apart_;  // the primitives stored apart (standard kinds only; the rest empty)
+  std::array<LeafFns, kLeafKinds> fns_{};
   TableLeaves table_;
   MeshLeaves mesh_;
-  bool mesh_only_ = false;  // one kind, triangles, Woop in float: MeshLeaves
+  bool mesh_only_ = false;  // one kind, triangles, Woop in float (any apart in double): MeshLeaves
 
   template <bool Count>
   void dispatch(const RaySoA& rays, std::size_t begin, std::size_t end, HitRec* out, const TraceOptions& o,

@@ -7,9 +7,12 @@
 //                      widened: the arithmetic of double on the same stored primitive;
 //   double storage     the same on a batch stored in double (the primitive made relative to the
 //                      frame origin in double, never rounded to float).
+// A kind has a second batch when the plan stores some of its primitives apart, in double
+// (KindPlan::split): leaves of kind k carry the tag k, leaves of its apart batch the tag kKinds + k.
 // The leaf sources that bvh/traverse.hpp instantiates: TableLeaves (any scene: one function
-// pointer per kind, chosen once per scene) and MeshLeaves (a triangle-only scene traced with Woop
-// in float: the kernel inlined into the traversal loop).
+// pointer per tag, chosen once per scene) and MeshLeaves (a triangle-only scene traced with Woop
+// in float: the kernel inlined into the traversal loop; triangles stored apart in double by the
+// double kernel).
 #pragma once
 
 #include "bvh/traverse.hpp"
@@ -31,6 +34,12 @@ using kinds::AllKinds;
 using kinds::Kind;
 using kinds::kKinds;
 using kinds::MethodInfo;
+
+// Leaf tags: kind k's batch is tag k, its primitives stored apart (in double) tag kKinds + k.
+inline constexpr int kLeafKinds = 2 * kKinds;
+static_assert(kLeafKinds <= bvh::kMaxKinds);
+inline constexpr int apart_tag(Kind k) { return kKinds + int(k); }
+inline constexpr Kind tag_kind(int tag) { return Kind(tag % kKinds); }
 
 // ---- f8 <-> two d4 halves ------------------------------------------------------------------------
 namespace detail {
@@ -167,6 +176,37 @@ RB_INLINE void prefetch_ids(const B& b, std::size_t base) {
 }
 
 // ---- the generic leaf functions of a standard kind -------------------------------------------------
+// In double: the kernel in 4 double lanes, two calls per group, on the batch stored in double
+// (Store64) or on the float batch widened. Needs no per-ray cache.
+template <class K, int M, bool Store64>
+RB_INLINE bool std_single64(const StdBatch<K>& b, std::size_t base, const Ray<float>& r, HitRec& h) {
+  Ray<d4> rd = Ray<d4>::broadcast(r);
+  rd.tmax = d4(detail::tmax64(h.t));
+  const auto pre = K::pre(rd);
+  bool any = false;
+  for (std::size_t half = 0; half < 2; ++half) {
+    const std::size_t s = base + 4 * half;
+    typename K::template Prim<d4> p;
+    if constexpr (Store64) p = b.f64.template load<d4>(s);
+    else p = b.f32.template load<d4>(s);
+    const Hit<d4> hit = K::template hit<M>(rd, pre, p);
+    const unsigned bits = detail::bits4(hit.mask);
+    if (!bits) continue;
+    alignas(32) double t[4];
+    hit.t.store_aligned(t);
+    for (int l = 0; l < 4; ++l) {
+      if (!(bits >> l & 1u)) continue;
+      const std::uint32_t code = kinds::code(K::id, b.id[s + std::size_t(l)]);
+      if (bvh::nearer(float(t[l]), code, h)) {
+        h = {float(t[l]), code};
+        rd.tmax = d4(detail::tmax64(h.t));
+        any = true;
+      }
+    }
+  }
+  return any;
+}
+
 template <class K, int M, bool F64, bool Store64>
 RB_INLINE bool std_single(const StdBatch<K>& b, std::size_t base, const Ray<float>& r, RayCache& c, HitRec& h) {
   prefetch_ids(b, base);
@@ -177,41 +217,47 @@ RB_INLINE bool std_single(const StdBatch<K>& b, std::size_t base, const Ray<floa
     if (none_of<f8>(hit.mask)) return false;
     return bvh::take_nearest(hit.t, h, [&](int lane) { return kinds::code(K::id, b.id[base + std::size_t(lane)]); });
   } else {
-    Ray<d4> rd = Ray<d4>::broadcast(r);
-    rd.tmax = d4(detail::tmax64(h.t));
-    const auto pre = K::pre(rd);
-    bool any = false;
-    for (std::size_t half = 0; half < 2; ++half) {
-      const std::size_t s = base + 4 * half;
-      typename K::template Prim<d4> p;
-      if constexpr (Store64) p = b.f64.template load<d4>(s);
-      else p = b.f32.template load<d4>(s);
-      const Hit<d4> hit = K::template hit<M>(rd, pre, p);
-      const unsigned bits = detail::bits4(hit.mask);
+    return std_single64<K, M, Store64>(b, base, r, h);
+  }
+}
+
+// A packet against one group in double: each primitive against the packet's rays in two 4-lane
+// halves.
+template <class K, int M, bool Store64, bool Any>
+RB_INLINE void std_packet64(const StdBatch<K>& b, std::size_t base, bvh::PacketRays& p) {
+  for (std::size_t j = base; j < base + 8; ++j) {
+    const std::uint32_t sid = b.id[j];
+    if (sid == UINT32_MAX) continue;
+    const std::uint32_t code = kinds::code(K::id, sid);
+    typename K::template Prim<d4> prim;
+    if constexpr (Store64) prim = b.f64.template broadcast<d4>(j);
+    else prim = b.f32.template broadcast<d4>(j);
+    for (int q = 0; q < p.n; ++q) {
+      const int k = p.list[q];
+      if (none_of<f8>(p.active[k])) continue;
+      const f8 tmax = detail::tmax64(p.tbest[k]);
+      const Ray<d4> lo = detail::half_ray(p.r[k], tmax, false), hi = detail::half_ray(p.r[k], tmax, true);
+      const Hit<d4> hl = K::template hit<M>(lo, K::pre(lo), prim), hh = K::template hit<M>(hi, K::pre(hi), prim);
+      unsigned bits = detail::bits4(hl.mask) | detail::bits4(hh.mask) << 4;
       if (!bits) continue;
-      alignas(32) double t[4];
-      hit.t.store_aligned(t);
-      for (int l = 0; l < 4; ++l) {
-        if (!(bits >> l & 1u)) continue;
-        const std::uint32_t code = kinds::code(K::id, b.id[s + std::size_t(l)]);
-        if (bvh::nearer(float(t[l]), code, h)) {
-          h = {float(t[l]), code};
-          rd.tmax = d4(detail::tmax64(h.t));
-          any = true;
-        }
-      }
+      // The kernel ran up to the next float above tbest: keep the hits whose float t is within it.
+      const f8 t = detail::join_f8(hl.t, hh.t);
+      bits &= bvh::detail::movemask(t <= p.tbest[k]);
+      if (!bits) continue;
+      bvh::packet_update<Any>(p, k, bvh::detail::lanes_of(bits), t, code);
     }
-    return any;
   }
 }
 
 template <class K, int M, bool F64, bool Store64, bool Any>
 RB_INLINE void std_packet(const StdBatch<K>& b, std::size_t base, bvh::PacketRays& p, PacketCache& c) {
-  for (std::size_t j = base; j < base + 8; ++j) {
-    const std::uint32_t sid = b.id[j];
-    if (sid == UINT32_MAX) continue;
-    const std::uint32_t code = kinds::code(K::id, sid);
-    if constexpr (!F64) {
+  if constexpr (F64) {
+    std_packet64<K, M, Store64, Any>(b, base, p);
+  } else {
+    for (std::size_t j = base; j < base + 8; ++j) {
+      const std::uint32_t sid = b.id[j];
+      if (sid == UINT32_MAX) continue;
+      const std::uint32_t code = kinds::code(K::id, sid);
       const auto prim = b.f32.template broadcast<f8>(j);
       for (int q = 0; q < p.n; ++q) {
         const int k = p.list[q];
@@ -220,24 +266,6 @@ RB_INLINE void std_packet(const StdBatch<K>& b, std::size_t base, bvh::PacketRay
         rr.tmax = p.tbest[k];
         const Hit<f8> hit = K::template hit<M>(rr, c.template pre8<K>(p, k), prim);
         bvh::packet_update<Any>(p, k, hit.mask, hit.t, code);
-      }
-    } else {
-      typename K::template Prim<d4> prim;
-      if constexpr (Store64) prim = b.f64.template broadcast<d4>(j);
-      else prim = b.f32.template broadcast<d4>(j);
-      for (int q = 0; q < p.n; ++q) {
-        const int k = p.list[q];
-        if (none_of<f8>(p.active[k])) continue;
-        const f8 tmax = detail::tmax64(p.tbest[k]);
-        const Ray<d4> lo = detail::half_ray(p.r[k], tmax, false), hi = detail::half_ray(p.r[k], tmax, true);
-        const Hit<d4> hl = K::template hit<M>(lo, K::pre(lo), prim), hh = K::template hit<M>(hi, K::pre(hi), prim);
-        unsigned bits = detail::bits4(hl.mask) | detail::bits4(hh.mask) << 4;
-        if (!bits) continue;
-        // The kernel ran up to the next float above tbest: keep the hits whose float t is within it.
-        const f8 t = detail::join_f8(hl.t, hh.t);
-        bits &= bvh::detail::movemask(t <= p.tbest[k]);
-        if (!bits) continue;
-        bvh::packet_update<Any>(p, k, bvh::detail::lanes_of(bits), t, code);
       }
     }
   }
@@ -272,9 +300,9 @@ inline std::uint32_t real_slots(const B& b, std::size_t base) {
 
 // ---- the leaf sources of bvh/traverse.hpp -----------------------------------------------------------
 struct TableLeaves {
-  const void* batch[kKinds] = {};
-  const LeafFns* fns = nullptr;  // kKinds entries
-  std::uint32_t (*slots_fn[kKinds])(const void*, std::size_t) = {};
+  const void* batch[kLeafKinds] = {};
+  const LeafFns* fns = nullptr;  // kLeafKinds entries
+  std::uint32_t (*slots_fn[kLeafKinds])(const void*, std::size_t) = {};
   using RayCache = tracer::RayCache;
   using PacketCache = tracer::PacketCache;
   RB_INLINE bool single(std::uint32_t ref, const Ray<float>& r, RayCache& c, HitRec& h) const {
@@ -382,13 +410,17 @@ struct MeshPacketCache {
   MeshPacketCache() {}
 };
 struct MeshLeaves {
-  const StdBatch<kinds::TriangleKind>* tri = nullptr;
+  using Tri = kinds::TriangleKind;
+  const StdBatch<Tri>* tri = nullptr;
+  const StdBatch<Tri>* apart = nullptr;  // the triangles stored apart, in double (tag apart_tag)
   using RayCache = MeshRayCache;
   using PacketCache = MeshPacketCache;
+  static bool is_apart(std::uint32_t ref) { return bvh::leaf_kind(ref) != int(Tri::id); }
   RB_INLINE bool single(std::uint32_t ref, const Ray<float>& r, RayCache& c, HitRec& h) const {
-    (void)r;
-    c.rb.tmax = f8(h.t);
     const std::size_t base = std::size_t(bvh::leaf_group(ref)) * 8;
+    if (is_apart(ref)) [[unlikely]]
+      return std_single64<Tri, 0, true>(*apart, base, r, h);
+    c.rb.tmax = f8(h.t);
     prefetch_ids(*tri, base);
     const float* g = tri->f32.field(0, base);  // the group: field i at g + 8 i
     auto vertex = [&](int v) {
@@ -407,6 +439,10 @@ struct MeshLeaves {
   template <bool Any>
   RB_INLINE void packet(std::uint32_t ref, bvh::PacketRays& p, PacketCache& c) const {
     const std::size_t base = std::size_t(bvh::leaf_group(ref)) * 8;
+    if (is_apart(ref)) [[unlikely]] {
+      std_packet64<Tri, 0, true, Any>(*apart, base, p);
+      return;
+    }
     int rays = 0;
     for (int q = 0; q < p.n; ++q) rays += count_true<f8>(p.active[p.list[q]]);
     const int tris = int(real_slots(*tri, base));
@@ -448,7 +484,7 @@ struct MeshLeaves {
       }
     }
   }
-  std::uint32_t slots(std::uint32_t ref) const { return real_slots(*tri, std::size_t(bvh::leaf_group(ref)) * 8); }
+  std::uint32_t slots(std::uint32_t ref) const { return real_slots(is_apart(ref) ? *apart : *tri, std::size_t(bvh::leaf_group(ref)) * 8); }
 
   template <bool Any>
   RB_INLINE void packet_by_ray(std::size_t base, bvh::PacketRays& p, PacketCache& c) const {

@@ -110,6 +110,13 @@ bool supports_f64_storage(Kind k) {
   });
   return s;
 }
+bool method_f64_storage(Kind k, int m) {
+  bool s = false;
+  kinds::AllKinds::each([&]<class K>() {
+    if (K::id == k && m >= 0 && m < int(K::methods.size())) s = K::methods[std::size_t(m)].f64_storage;
+  });
+  return s;
+}
 std::string method_name(Kind k, int m) {
   std::string n;
   kinds::AllKinds::each([&]<class K>() {
@@ -129,17 +136,19 @@ bool covers(const PlanOption& o, const KindProfile& kp) {
 // The classes of a kind's primitives in the chosen frame, each counted, with its worst primitive.
 std::string KindPlan::classes_text() const {
   const KindClasses& c = classes;
-  const bool stored64 = f64_storage;
+  const bool stored64 = f64_storage, apart = !split.empty();
   std::vector<std::string> parts;
   if (c.as_input) parts.push_back(fmt::format("{} as the input holds them (float keeps every vertex)", c.as_input));
   if (c.fine) parts.push_back(fmt::format("{} with float step over size at most {}", c.fine, fmt_pow2(kFloatTolerance)));
   if (c.coarse)
     parts.push_back(fmt::format("{} above it (worst #{}: {}), which can change {:.2g} of a million hits{}", c.coarse, c.worst_coarse,
                                 fmt_pow2(c.worst_coarse_ratio), 1e6 * c.moved_share,
-                                stored64 ? ": they put the kind in double"
-                                         : c.negligible ? ": negligible, kept in float with the rest" : ""));
+                                stored64     ? ": they put the kind in double"
+                                : apart      ? ": stored apart, in double"
+                                : c.negligible ? ": negligible, kept in float with the rest"
+                                               : ""));
   if (c.degenerate)
-    parts.push_back(fmt::format("{} degenerate (no area, or under one float step: kept as slots no ray hits; smallest #{}, {:.3g} across)",
+    parts.push_back(fmt::format("{} degenerate (no area: kept as slots no ray hits; smallest #{}, {:.3g} across)",
                                 c.degenerate, c.worst_degenerate, c.worst_degenerate_extent));
   std::string t;
   for (const auto& p : parts) t += (t.empty() ? "" : "; ") + p;
@@ -174,6 +183,22 @@ Plan make_plan(const scene::Scene& s, const Profile& p, Model m) {
                                    {FrameKind::centre, p.bounds.empty() ? Vec3d{0, 0, 0} : p.bounds.centre(), {}},
                                    {FrameKind::camera, p.camera, {}}};
     for (auto& c : cand) c.e = frame_error(s, p, c.origin);
+    // A kind whose coarse primitives in a frame are a few (at most kSplitShare of it) that can change
+    // more than a negligible share of its hits: those go to a batch of their own in double and the
+    // rest stays in float, so the frame is judged by the rest.
+    auto splits = [&](const FrameError& e, int k) {
+      const KindClasses& c = e.classes[std::size_t(k)];
+      return m != Model::exact && c.coarse > 0 && !c.negligible && supports_f64_storage(Kind(k)) &&
+             double(c.coarse) <= kSplitShare * double(p.kinds[std::size_t(k)].count);
+    };
+    auto split_count = [&](const FrameError& e) {
+      std::size_t n = 0;
+      for (int k = 0; k < kKinds; ++k) n += splits(e, k) ? e.classes[std::size_t(k)].coarse : 0;
+      return n;
+    };
+    for (auto& c : cand)
+      for (int k = 0; k < kKinds; ++k)
+        if (splits(c.e, k)) c.e.contact[std::size_t(k)] = c.e.contact_fine[std::size_t(k)];
     // Kinds that no frame represents in float but that can be stored in double.
     std::array<bool, kKinds> store64{};
     for (int k = 0; k < kKinds; ++k) {
@@ -190,6 +215,10 @@ Plan make_plan(const scene::Scene& s, const Profile& p, Model m) {
       if (score(cand[2]) * 2 < score(cand[1])) pick = 2;
       if (m != Model::exact && score(cand[0]) <= score(cand[pick])) pick = 0;
     }
+    // Among the frames that represent the scene, the one that leaves the fewest primitives to double.
+    if (m != Model::exact)
+      for (std::size_t i = 0; i < cand.size(); ++i)
+        if (score(cand[i]) <= 1 && (score(cand[pick]) > 1 || split_count(cand[i].e) < split_count(cand[pick].e))) pick = i;
     plan.frame = cand[pick].kind;
     plan.origin = cand[pick].origin;
     // The reason: each kind's float step over its size in world coordinates and in the frame.
@@ -198,7 +227,9 @@ Plan make_plan(const scene::Scene& s, const Profile& p, Model m) {
       for (int k = 0; k < kKinds; ++k)
         if (p.kinds[std::size_t(k)].count)
           t += fmt::format("{}{} {}{}", t.empty() ? "" : ", ", kinds::kind_name(Kind(k)), fmt_pow2(e.contact[std::size_t(k)]),
-                           store64[std::size_t(k)] ? " (stored in double)" : "");
+                           store64[std::size_t(k)] ? " (stored in double)"
+                           : splits(e, k)          ? fmt::format(" ({} coarse in double)", e.classes[std::size_t(k)].coarse)
+                                                   : "");
       return t + fmt::format("; the eye's rounding shifts the view by {} pixel", fmt_ratio(e.eye));
     };
     if (pick == 0)
@@ -251,6 +282,24 @@ Plan make_plan(const scene::Scene& s, const Profile& p, Model m) {
         kp.reason += fmt::format("; stored in double: in float the surface would move by {} of {}", fmt_pow2(fe.contact[std::size_t(k)]),
                                  kpro.scale_ratio > 1e3 ? "the smallest object" : "its size");
       kp.classes = fe.classes[std::size_t(k)];
+      if (splits(fe, k)) {
+        // The split-off primitives run the cheapest option in double whose method stores double and
+        // whose lab conditions cover the kind (the most accurate such when none does).
+        const PlanOption* o64 = nullptr;
+        auto stores64 = [&](const PlanOption& o) { return o.f64 && method_f64_storage(Kind(k), o.method); };
+        for (const auto& o : opts)
+          if (!o64 && stores64(o) && covers(o, kpro)) o64 = &o;
+        for (auto o = opts.rbegin(); !o64 && o != opts.rend(); ++o)
+          if (stores64(*o)) o64 = &*o;
+        kp.split = fe.coarse_ids[std::size_t(k)];
+        kp.split_method = o64 ? o64->method : 0;
+        const KindClasses& c = kp.classes;
+        kp.split_reason = fmt::format(
+            "{} coarse of {} ({:.2g} %) stored in double in a batch of their own, {} in double: in float their surfaces would "
+            "move by up to {} of their size (#{}) and together could change {:.2g} of a million hits; the other {} stay in {}",
+            c.coarse, kpro.count, 100.0 * double(c.coarse) / double(kpro.count), method_name(Kind(k), kp.split_method),
+            fmt_pow2(c.worst_coarse_ratio), c.worst_coarse, 1e6 * c.moved_share, kpro.count - c.coarse, kp.f64 ? "double" : "float");
+      }
     }
 
     // ---- slab test: conservative boxes for every ray origin the scene produces ----
@@ -310,7 +359,13 @@ nlohmann::json Plan::json() const {
                    {"coarse_share_of_hits", kp.classes.moved_share},
                    {"coarse_negligible", kp.classes.negligible},
                    {"worst_degenerate", kp.classes.degenerate ? json(kp.classes.worst_degenerate) : json(nullptr)},
-                   {"summary", kp.classes_text()}}}});
+                   {"summary", kp.classes_text()}}},
+                 {"split", kp.split.empty() ? json(nullptr)
+                                            : json{{"count", kp.split.size()},
+                                                   {"method", method_name(Kind(i), kp.split_method)},
+                                                   {"precision", "double"},
+                                                   {"storage", "double"},
+                                                   {"reason", kp.split_reason}}}});
   }
   return {{"model", model_name(model)},
           {"frame", {{"kind", frame_name(frame)}, {"origin", {origin.x, origin.y, origin.z}}, {"reason", frame_reason}}},
@@ -328,6 +383,7 @@ std::string Plan::text() const {
     o += fmt::format("{:<8}{} x {}: {} in {}{}\n        {}\n", kinds::kind_name(Kind(i)), kp.count, kinds::kind_name(Kind(i)),
                      method_name(Kind(i), kp.method), kp.f64 ? "double" : "float", kp.f64_storage ? " (stored in double)" : "", kp.reason);
     if (const std::string c = kp.classes_text(); !c.empty()) o += fmt::format("        classes: {}\n", c);
+    if (!kp.split.empty()) o += fmt::format("        apart:   {}\n", kp.split_reason);
     if (!kp.evidence.empty()) o += fmt::format("        lab: {}\n", kp.evidence);
   }
   o += fmt::format("slab    {}\n        {}\n", bvh::slab_name(slab), slab_reason);

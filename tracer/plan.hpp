@@ -46,9 +46,20 @@ struct KindPlan {
   std::string reason;       // why this method and precision (one line)
   std::string evidence;     // the lab cases the choice rests on ("family/case", ...)
   KindClasses classes;      // what float storage in the chosen frame does to each primitive
+  // The coarse primitives stored in double in a batch of their own (scene indices, ascending), with
+  // the method they run there; the rest of the kind stays in the batch above. Empty unless a few
+  // coarse primitives (at most kSplitShare of the kind) can change more than a negligible share of
+  // its hits.
+  std::vector<std::uint32_t> split;
+  int split_method = 0;
+  std::string split_reason;
   // The classes, counted, with the worst primitive of each ("" when none was classed: fast model).
   std::string classes_text() const;
 };
+
+// The largest share of a kind's primitives that the plan stores apart, in double, while the rest
+// stays in float; a kind with more coarse primitives than that is stored in double as a whole.
+inline constexpr double kSplitShare = 0.25;
 
 struct Plan {
   Model model = Model::fast;

@@ -211,9 +211,11 @@ FrameError frame_error(const scene::Scene& s, const Profile& p, const Vec3d& ori
     K::each(s, [&](std::uint32_t i) {
       const scene::Bounds b = K::bounds(s, i);
       const kinds::Feature f = K::feature(s, i);
-      // The float step at the largest coordinate the primitive stores in this frame.
+      // The float step at the largest coordinate the primitive stores in this frame. A primitive with
+      // no area or no size is degenerate; one smaller than that step but with an area in the input
+      // is not: float would collapse it, double keeps it (coarse, unless the input held it as float).
       double step = 0;
-      if (degenerate_at(b, f, origin, step)) {
+      if (degenerate_at(b, f, origin, step) && (b.empty() || !(f.size > 0) || !(f.extent > 0) || f.flat)) {
         if (c.degenerate++ == 0 || f.extent < c.worst_degenerate_extent) c.worst_degenerate = i, c.worst_degenerate_extent = f.extent;
         return;
       }
@@ -240,6 +242,7 @@ FrameError frame_error(const scene::Scene& s, const Profile& p, const Vec3d& ori
       } else {
         if (r > c.worst_coarse_ratio) c.worst_coarse = i, c.worst_coarse_ratio = r;
         ++c.coarse;
+        e.coarse_ids[std::size_t(K::id)].push_back(i);
         moved += 3.0 * f.extent * step;
       }
     });
@@ -248,6 +251,7 @@ FrameError frame_error(const scene::Scene& s, const Profile& p, const Vec3d& ori
     c.moved_share = area > 0 ? moved / area : (c.coarse ? 1.0 : 0.0);
     c.negligible = c.coarse > 0 && c.moved_share <= kNegligibleShare;
     e.contact[std::size_t(K::id)] = c.negligible ? worst_fine : worst;
+    e.contact_fine[std::size_t(K::id)] = worst_fine;
   });
   const double dist = std::max(p.camera_distance, small);
   e.eye = p.pixel_angle > 0 ? float_step(max_abs(p.camera - origin)) * std::sqrt(3.0) / dist / p.pixel_angle : 0;

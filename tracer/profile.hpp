@@ -102,12 +102,13 @@ Profile make_profile(const scene::Scene& s);
 //   as_input    the frame is the world's and float reproduces the input within its own precision
 //               (a mesh read as floats): storing it in float changes nothing the data held;
 //   fine        float step over its size at most kFloatTolerance;
-//   coarse      above: float would move its surface visibly against its size (needs double,
-//               unless all the coarse ones together can change a negligible share of the hits);
-//   degenerate  no area or no size (collapsed and collinear triangles, zero radii), or smaller than
-//               one float step where it is (rounding collapses it): kept in the tree as a slot no
-//               ray hits, which is the exact answer up to rays of measure zero; never counted
-//               against the others (contact[k] is over the fine and coarse primitives only).
+//   coarse      above: float would move its surface visibly against its size, or collapse it when
+//               it is smaller than one float step where it is (needs double, unless all the
+//               coarse ones together can change a negligible share of the hits);
+//   degenerate  no area or no size (collapsed and collinear triangles, zero radii): kept in the
+//               tree as a slot no ray hits, which is the exact answer up to rays of measure zero;
+//               never counted against the others (contact[k] is over the fine and coarse
+//               primitives only).
 // The share of a kind's hits that coarse primitives may change before they decide its storage:
 // their perimeters times the float step where they lie, over the kind's area (a tenth of a hit per
 // million).
@@ -128,6 +129,12 @@ struct KindClasses {
 struct FrameError {
   std::array<double, kKinds> contact{};
   std::array<KindClasses, kKinds> classes{};
+  // The coarse primitives of each kind (scene indices, ascending): the plan may store them in double
+  // in a batch of their own (tracer/plan.hpp, KindPlan::split).
+  std::array<std::vector<std::uint32_t>, kKinds> coarse_ids{};
+  // The largest float step over size among each kind's fine and as-input primitives (those that
+  // stay in float when the coarse ones are split off).
+  std::array<double, kKinds> contact_fine{};
   double eye = 0;
   double worst(const std::array<bool, kKinds>& ignore) const;  // the largest contact[k] not ignored
 };
