@@ -226,7 +226,7 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"auto", "fast", "exact"}))->capture_default_str();
   trace->add_option("--slab", to.slab, "Slab test: plan (the model's), conservative,\nfast or robust")
       ->check(CLI::IsMember({"plan", "conservative", "fast", "robust"}))->capture_default_str();
-  trace->add_option("-r,--repetitions", to.repetitions, "Timed runs per engine (the median is quoted)")
+  trace->add_option("-r,--repetitions", to.repetitions, "Timed rounds, engines alternating (the median is\nquoted; from 6 rounds raybench / Embree has a\n95 % interval)")
       ->check(CLI::Range(1, 100))->capture_default_str();
   trace->add_option("--warmup", to.warmup, "Untimed runs per engine before the timed ones")->check(CLI::Range(0, 100))->capture_default_str();
   trace->add_option("--brute", to.brute_rays, "Rays checked against the brute-force loop\n(-1: a budget by scene size, 0: none)")

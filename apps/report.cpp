@@ -277,10 +277,10 @@ std::string terminal_summary(const json& summary, const std::vector<Goal>& goals
   else
     t += "\n";
   t += "Goals:\n";
-  for (const auto& g : goals) t += fmt::format("  [{}] {}: {}\n", g.met < 0 ? " - " : g.met ? "met" : "NOT", g.goal, g.measured);
+  for (const auto& g : goals) t += fmt::format("  [{}] {}: {}\n", doc::goal_word(g.met), g.goal, g.measured);
   if (summary.contains("tracing") && summary["tracing"].contains("goals"))
     for (const auto& g : summary["tracing"]["goals"])
-      t += fmt::format("  [{}] tracing: {}: {}\n", g["met"] == -1 ? " - " : g["met"] == 1 ? "met" : "NOT", g["goal"].get<std::string>(),
+      t += fmt::format("  [{}] tracing: {}: {}\n", doc::goal_word(g["met"].get<int>()), g["goal"].get<std::string>(),
                        g["measured"].get<std::string>());
   if (summary.contains("simd_target_4x_counts")) {
     const auto& c = summary["simd_target_4x_counts"];

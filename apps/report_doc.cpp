@@ -343,7 +343,7 @@ void organise(Document& d, const std::vector<Goal>& goals, const fs::path& out, 
     Block t{Block::Kind::table, 0, "", "", {}, {}};
     t.table.head = {"goal", "measured in this run", "met", "figure", "section"};
     t.table.align = {"", "", "", "", ""};
-    int met = 0, not_met = 0, unmeasured = 0;
+    int met = 0, not_met = 0, undecided = 0, unmeasured = 0;
     for (const Goal& g : goals) {
       std::string sec = "-";
       for (const auto& [bare, id] : section_id)
@@ -351,13 +351,17 @@ void organise(Document& d, const std::vector<Goal>& goals, const fs::path& out, 
           for (const auto& [sid, title] : section_title)
             if (sid == id) sec = fmt::format("[{}](#{})", title, id);
       const std::string fig = g.figure.empty() ? "-" : fmt::format("[chart]({})", g.figure);
-      t.table.rows.push_back({g.goal, g.measured, g.met < 0 ? "-" : g.met ? "yes" : "**no**", fig, sec});
-      (g.met < 0 ? unmeasured : g.met ? met : not_met)++;
+      t.table.rows.push_back({g.goal, g.measured,
+                              g.met == kGoalMet ? "yes" : g.met == kGoalNotMet ? "**no**" : g.met == kGoalUndecided ? "undecided" : "-", fig,
+                              sec});
+      (g.met == kGoalMet ? met : g.met == kGoalNotMet ? not_met : g.met == kGoalUndecided ? undecided : unmeasured)++;
     }
     top.push_back({Block::Kind::text, 0,
-                   fmt::format("{} goals: **{} met**, **{} not met**{}. Each is checked against this run's figures in the section "
-                               "named beside it, with the reason it is a goal.",
-                               goals.size(), met, not_met, unmeasured ? fmt::format(", {} not measured", unmeasured) : ""),
+                   fmt::format("{} goals: **{} met**, **{} not met**{}{}. Each is checked against this run's figures in the section "
+                               "named beside it, with the reason it is a goal. A goal on a ratio measured in paired rounds is met "
+                               "only when the ratio's 95 % interval clears its target, and undecided when the interval straddles it.",
+                               goals.size(), met, not_met, undecided ? fmt::format(", {} undecided", undecided) : "",
+                               unmeasured ? fmt::format(", {} not measured", unmeasured) : ""),
                    "", {}, {}});
     top.push_back(t);
   }

@@ -36,10 +36,17 @@ struct Block {
 };
 
 // One goal of the report, checked in this run. met: 1 yes, 0 no, -1 not measured.
+// A goal's verdict: met, not met, undecided (its ratio's 95 % interval straddles the target) or not
+// measured, as the `met` codes of the report's JSON.
+inline constexpr int kGoalNotMeasured = -1, kGoalNotMet = 0, kGoalMet = 1, kGoalUndecided = 2;
+inline const char* goal_word(int met) {
+  return met == kGoalMet ? "met" : met == kGoalNotMet ? "not met" : met == kGoalUndecided ? "undecided" : "not measured";
+}
+
 struct Goal {
   std::string section;  // the start of the title of the section that measures it
   std::string goal, measured;
-  int met = -1;
+  int met = kGoalNotMeasured;  // kGoal*
   std::string figure;  // a PNG beside the page that shows it ("" when none)
 };
 

@@ -1,6 +1,7 @@
 #include "apps/stats.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -127,6 +128,85 @@ double smallest_p(std::size_t n1, std::size_t n2) {
   for (std::size_t i = 0; i < n1; ++i) a[i] = double(i);
   for (std::size_t i = 0; i < n2; ++i) b[i] = double(n1 + i);
   return mann_whitney_u(a, b).p;
+}
+
+RatioInterval paired_ratio(const std::vector<double>& a, const std::vector<double>& b, double level) {
+  RatioInterval r;
+  std::vector<double> q;
+  for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i)
+    if (a[i] > 0 && b[i] > 0 && std::isfinite(a[i]) && std::isfinite(b[i])) q.push_back(a[i] / b[i]);
+  r.n = q.size();
+  if (q.empty()) return r;
+  std::sort(q.begin(), q.end());
+  r.ratio = median(q);
+  if (q.size() < 2) return r;
+  // P(Binomial(n, 1/2) < k) for k = 1, 2, ...: the largest k whose tail stays within (1 - level) / 2.
+  const std::size_t n = q.size();
+  const double alpha2 = (1 - level) / 2;
+  double tail = 0, c = 1;  // c = C(n, j)
+  const double p_one = std::ldexp(1.0, -int(std::min<std::size_t>(n, 1000)));
+  std::size_t k = 0;
+  for (std::size_t j = 0; j < n / 2; ++j) {
+    const double next = tail + c * p_one;  // P(X <= j) = P(X < j + 1)
+    if (next > alpha2) break;
+    tail = next;
+    k = j + 1;
+    c = c * double(n - j) / double(j + 1);
+  }
+  if (k == 0) {  // too few rounds for the level: the whole range, with what it holds
+    r.lo = q.front(), r.hi = q.back();
+    r.coverage = 1 - 2 * p_one;
+  } else {
+    r.lo = q[k - 1], r.hi = q[n - k];
+    r.coverage = 1 - 2 * tail;
+  }
+  return r;
+}
+
+Verdict verdict(const RatioInterval& r, double target) {
+  if (!r.valid()) return Verdict::not_measured;
+  if (r.lo >= target) return Verdict::met;
+  if (r.hi < target) return Verdict::not_met;
+  return Verdict::undecided;
+}
+
+const char* verdict_name(Verdict v) {
+  switch (v) {
+    case Verdict::met: return "met";
+    case Verdict::not_met: return "not met";
+    case Verdict::undecided: return "undecided";
+    case Verdict::not_measured: return "not measured";
+  }
+  return "?";
+}
+
+nlohmann::json interval_json(const RatioInterval& r) {
+  auto num = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); };
+  return {{"ratio", num(r.ratio)}, {"lo", num(r.lo)}, {"hi", num(r.hi)}, {"coverage", num(r.coverage)}, {"rounds", r.n},
+          {"method", "median of the per-round ratios of paired rounds; distribution-free interval (order statistics, as the sign test)"}};
+}
+
+RatioInterval interval_from_json(const nlohmann::json& j) {
+  RatioInterval r;
+  if (!j.is_object()) return r;
+  auto num = [&](const char* k) { return j.contains(k) && j[k].is_number() ? j[k].get<double>() : kNaN; };
+  r.ratio = num("ratio"), r.lo = num("lo"), r.hi = num("hi"), r.coverage = num("coverage");
+  r.n = j.contains("rounds") && j["rounds"].is_number_unsigned() ? j["rounds"].get<std::size_t>() : 0;
+  return r;
+}
+
+std::string interval_text(const RatioInterval& r) {
+  char buf[96];
+  if (!std::isfinite(r.ratio)) return "-";
+  if (!r.valid()) {
+    std::snprintf(buf, sizeof buf, "%.2fx", r.ratio);
+    return buf;
+  }
+  if (r.coverage < 0.95)
+    std::snprintf(buf, sizeof buf, "%.2fx [range of %zu: %.2f-%.2f]", r.ratio, r.n, r.lo, r.hi);
+  else
+    std::snprintf(buf, sizeof buf, "%.2fx [%.2f-%.2f]", r.ratio, r.lo, r.hi);
+  return buf;
 }
 
 }  // namespace rb::stats

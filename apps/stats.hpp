@@ -2,8 +2,12 @@
 // and the Mann-Whitney U test that `raybench compare` applies to two sets of repetitions.
 #pragma once
 
+#include <nlohmann/json.hpp>
+
+#include <cmath>
 #include <cstddef>
 #include <limits>
+#include <string>
 #include <vector>
 
 namespace rb::stats {
@@ -38,6 +42,34 @@ struct UTest {
   bool exact = false;
 };
 UTest mann_whitney_u(const std::vector<double>& a, const std::vector<double>& b);
+
+// A ratio measured in paired rounds (round i timed both sides back to back, so that a change of the
+// machine's load falls on both): the median of the per-round ratios a_i / b_i with its
+// distribution-free confidence interval, the order statistics r_(k) and r_(n+1-k) of the sorted
+// ratios for the largest k with P(Binomial(n, 1/2) < k) <= (1 - level) / 2: the sign test's
+// interval for a median, exact for any continuous distribution of the ratios. `coverage` is the
+// interval's own confidence, 1 - 2 P(Binomial(n, 1/2) < k), at least `level` from 6 rounds on
+// (96.9 % at 6); with 2..5 rounds no k reaches it, the interval is [min, max] and `coverage` says
+// what that holds (93.75 % at 5). Pairs with a non-positive or non-finite side are dropped.
+struct RatioInterval {
+  std::size_t n = 0;  // rounds used
+  double ratio = kNaN, lo = kNaN, hi = kNaN, coverage = kNaN;
+  bool valid() const { return n >= 2 && std::isfinite(lo) && std::isfinite(hi); }
+};
+RatioInterval paired_ratio(const std::vector<double>& a, const std::vector<double>& b, double level = 0.95);
+
+// As JSON: {"ratio", "lo", "hi", "coverage", "rounds", "method"} (null figures where there are none),
+// and back (a missing or null object gives an interval that is not valid).
+nlohmann::json interval_json(const RatioInterval& r);
+RatioInterval interval_from_json(const nlohmann::json& j);
+// "1.12x [1.08-1.15]" ("1.12x [range of 5: 1.05-1.18]" below the level's rounds; "-" when none).
+std::string interval_text(const RatioInterval& r);
+
+// A goal on a ratio: met when the whole interval clears the target (lo >= target), not met when
+// it lies below (hi < target), undecided when it straddles it; not measured without an interval.
+enum class Verdict { met, not_met, undecided, not_measured };
+Verdict verdict(const RatioInterval& r, double target);
+const char* verdict_name(Verdict v);  // "met", "not met", "undecided", "not measured"
 
 // The smallest two-sided p-value the test can give for samples of sizes n1 and n2 without ties
 // (every value of one sample above every value of the other): with 3 and 3 repetitions it is 0.1,

@@ -17,7 +17,7 @@ struct TraceRunOptions {
   std::uint64_t seed = 1;
   std::string model = "auto";  // auto | fast | exact (tracer/plan.hpp)
   std::string slab = "plan";   // plan (the model's) | conservative | fast | robust
-  int repetitions = 5;
+  int repetitions = 7;  // from 6 paired rounds a ratio has its 95 % interval (apps/stats.hpp)
   int warmup = 1;             // untimed runs of each engine before the timed ones
   long long brute_rays = -1;  // -1: a budget by scene size; 0: none
   bool embree = true;

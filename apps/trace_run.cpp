@@ -248,9 +248,13 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
     j["mismatches"] = c.mismatches;
     j["other_prim_same_t"] = c.other_prim;
     j["mismatch_tolerance"] = "hit vs miss, or |t1 - t2| > 1e-4 max(1, |t|)";
+    // raybench's speed over Embree's best mode, round by round (Embree's time over ours), with its
+    // 95 % interval.
+    j["vs_embree"] = stats::interval_json(stats::paired_ratio(es[best], secs));
   } else {
     j["embree_mrays_per_s"] = nullptr;
     j["mismatch_rate"] = nullptr;
+    j["vs_embree"] = nullptr;
   }
 
   // The brute-force loop over all objects on a prefix of the rays: the oracle and the baseline.
@@ -396,8 +400,10 @@ std::string trace_text(const json& j) {
     for (const json& m : j["embree_modes"])
       each += fmt::format("{}{} {:.2f}", each.empty() ? "" : ", ", m["mode"].get<std::string>(), m["mrays_per_s"].get<double>());
     o += fmt::format("           every mode (Mrays/s): {}\n", each);
-    o += fmt::format("           raybench / Embree ({}) = {:.2f}\n", j["embree_mode"].get<std::string>(),
-                     j["mrays_per_s"].get<double>() / j["embree_mrays_per_s"].get<double>());
+    const stats::RatioInterval vr = stats::interval_from_json(j["vs_embree"]);
+    o += fmt::format("           raybench / Embree ({}):\n           {}: the median of {} rounds' ratios{}\n",
+                     j["embree_mode"].get<std::string>(), stats::interval_text(vr), vr.n,
+                     vr.valid() && vr.coverage >= 0.95 ? " [95 % interval]" : "");
     o += fmt::format("mismatch   {:.4f}% ({} of {} rays; {} hits at the same t on another primitive)\n", 100 * j["mismatch_rate"].get<double>(),
                      j["mismatches"].get<std::size_t>(), j["rays"].get<std::size_t>(), j["other_prim_same_t"].get<std::size_t>());
   } else {

@@ -358,6 +358,18 @@ TEST(Cli, TraceGivesMedianRangeAndCvAfterWarmupBesideEmbree) {
   EXPECT_TRUE(has(r.out, "CV ")) << r.out;
   EXPECT_TRUE(has(r.out, "2 warm-up")) << r.out;
   EXPECT_LE(widest(r.out), 80u) << r.out;
+  // raybench over Embree from the 3 paired rounds: the median of their ratios, and [min, max] with
+  // the confidence that range holds (3 rounds cannot give 95 %).
+  const auto& v = j["vs_embree"];
+  EXPECT_EQ(v["rounds"], 3);
+  std::vector<double> q;
+  for (int i = 0; i < 3; ++i) q.push_back(j["embree_seconds"][i].get<double>() / j["seconds"][i].get<double>());
+  std::sort(q.begin(), q.end());
+  EXPECT_DOUBLE_EQ(v["ratio"].get<double>(), q[1]);
+  EXPECT_DOUBLE_EQ(v["lo"].get<double>(), q[0]);
+  EXPECT_DOUBLE_EQ(v["hi"].get<double>(), q[2]);
+  EXPECT_DOUBLE_EQ(v["coverage"].get<double>(), 0.75);
+  EXPECT_TRUE(has(r.out, "[range of 3: ")) << r.out;
 }
 
 TEST(Cli, TraceTimesManyBuildsAsTheReportDoes) {
