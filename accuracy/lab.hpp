@@ -32,8 +32,9 @@ struct Options {
   std::string filter;             // regex searched in "family/case" (POSIX extended; empty: all)
   bool timing = true;             // measure ns per test (off: every ns figure is NaN)
   // Where the embedded meshes are (their folder `meshes/`): the scene family's real meshes (the
-  // bunny, the dragon) are traced from there; empty: those cases are left out.
+  // bunny, the dragon) are traced from there; empty, or real_meshes false: those cases are left out.
   std::string data_dir;
+  bool real_meshes = true;
   std::function<void(double, const std::string&)> progress;  // fraction done, what
 };
 

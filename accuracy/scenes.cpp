@@ -310,7 +310,7 @@ void run_scenes(Ctx& x) {
   for (const SceneCase& c : scene_case_table()) {
     if (!x.selected("scene", c.name)) continue;
     x.tick("scene", c.name);
-    if ((c.mesh && x.o->data_dir.empty()) || (c.full_only && !x.o->full)) continue;
+    if ((c.mesh && (x.o->data_dir.empty() || !x.o->real_meshes)) || (c.full_only && !x.o->full)) continue;
     x.reseed("scene", c.name);
     for (Row& r : whole_scene_rows(case_scene(c, x.o->data_dir), c.name, c.what, x.rays, x.o->timing, x.rng()))
       x.rows->push_back(std::move(r));

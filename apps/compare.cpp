@@ -72,11 +72,27 @@ Comparison compare_results(ResultSet a, ResultSet b, const CompareOptions& o) {
   auto keep = [&](const Figure& f) {
     return (o.metric.empty() || f.metric == o.metric) && (!filtered || filter_matches(re, f.section + "/" + f.name));
   };
-  // One trace or render each, run with different settings (threads, packet size, scene): its rows
-  // are named by the settings, so they are matched by metric alone (the notes name the settings).
-  if ((a.kind == "trace" || a.kind == "render") && !a.figures.empty() && !b.figures.empty() && a.figures[0].name != b.figures[0].name) {
-    c.notes.push_back(fmt::format("A ran \"{}\", B \"{}\": compared figure by figure", a.figures[0].name, b.figures[0].name));
-    for (auto& f : b.figures) f.name = a.figures[0].name;
+  // One trace or render each: runs of other settings measure other things, and are refused unless
+  // --force, which matches their figures by metric alone and says so first.
+  if (a.kind == "trace" || a.kind == "render") {
+    std::vector<std::string> differ;
+    for (const char* k : {"scene", "ray_set", "packet", "threads", "rays", "model", "slab", "width", "height"}) {
+      const json va = a.config.value(k, json(nullptr)), vb = b.config.value(k, json(nullptr));
+      if (va != vb) differ.push_back(fmt::format("{} {} / {}", k, va.dump(), vb.dump()));
+    }
+    if (!differ.empty()) {
+      std::string what;
+      for (const auto& d : differ) what += (what.empty() ? "" : ", ") + d;
+      if (!o.force)
+        throw std::runtime_error(fmt::format("{} and {} are runs of other settings ({}): their figures measure different things; "
+                                             "--force compares them anyway",
+                                             a.source, b.source, what));
+      c.notes.insert(c.notes.begin(), fmt::format("FORCED: A and B are runs of other settings ({}); their figures are matched by "
+                                                  "metric and measure different things",
+                                                  what));
+      if (!a.figures.empty())
+        for (auto& f : b.figures) f.name = a.figures[0].name;
+    }
   }
   std::map<std::string, std::size_t> in_b;
   for (std::size_t i = 0; i < b.figures.size(); ++i) in_b[b.figures[i].key()] = i;
@@ -99,8 +115,9 @@ Comparison compare_results(ResultSet a, ResultSet b, const CompareOptions& o) {
     r.ratio = va != 0 && std::isfinite(va) && std::isfinite(vb) ? vb / va : stats::kNaN;
     r.gain = r.a.direction > 0 ? r.ratio : r.a.direction < 0 ? (vb != 0 && std::isfinite(vb) ? va / vb : stats::kNaN) : stats::kNaN;
     const bool both_finite = std::isfinite(va) && std::isfinite(vb);
+    r.judged = r.a.judged || (!o.metric.empty() && r.a.metric == o.metric);
     if (r.a.timing) {
-      ++c.timings;
+      c.timings += r.judged;
       bool beyond = false;
       if (r.a.samples.size() >= 2 && r.b.samples.size() >= 2) {
         r.p = stats::mann_whitney_u(r.a.samples, r.b.samples).p;
@@ -116,12 +133,12 @@ Comparison compare_results(ResultSet a, ResultSet b, const CompareOptions& o) {
       const bool differ = both_finite ? std::fabs(vb - va) > 1e-12 * std::max(std::fabs(va), std::fabs(vb)) : std::isfinite(va) != std::isfinite(vb);
       if (differ) r.verdict = r.a.direction == 0 ? "changed" : ((vb > va) == (r.a.direction > 0) ? "better" : "worse");
     }
-    if (r.verdict == "faster") ++c.faster;
-    if (r.verdict == "slower") ++c.slower;
+    if (r.verdict == "faster") c.faster += r.judged;
+    if (r.verdict == "slower") c.slower += r.judged;
     if (r.verdict == "better") ++c.better;
     if (r.verdict == "worse") ++c.worse;
     if (r.verdict == "changed") ++c.changed;
-    if (o.threshold >= 0 && (r.verdict == "slower" || r.verdict == "worse")) {
+    if (o.threshold >= 0 && r.judged && (r.verdict == "slower" || r.verdict == "worse")) {
       // How much worse: 1 / gain - 1 (a time that doubled, a rate that halved: 100 %); a failure rate
       // that rose from 0 is infinitely worse.
       const double worse = std::isfinite(r.gain) && r.gain > 0 ? 1 / r.gain - 1 : std::numeric_limits<double>::infinity();
@@ -141,10 +158,17 @@ Comparison compare_results(ResultSet a, ResultSet b, const CompareOptions& o) {
     throw NothingToDo(fmt::format("no row is in both {} and {}{}", c.a.source, c.b.source,
                                   filtered || !o.metric.empty() ? " (after --filter / --metric)" : ""));
   std::vector<double> gains;
-  for (const auto& r : c.rows)
-    if (r.a.timing) gains.push_back(r.gain);
+  std::size_t unjudged = 0;
+  for (const auto& r : c.rows) {
+    if (r.a.timing && r.judged) gains.push_back(r.gain);
+    unjudged += !r.judged;
+  }
   c.geomean_gain = stats::geometric_mean(gains);
   machine_notes(c, c.notes);
+  if (unjudged)
+    c.notes.push_back(fmt::format("{} row(s) shown, not judged (in brackets): Embree's figures are the yardstick, and a build time "
+                                  "is one measurement; --metric NAME judges that metric",
+                                  unjudged));
   if (min_na != SIZE_MAX) {
     few_reps = stats::smallest_p(min_na, min_nb) >= o.alpha;
     if (few_reps)
@@ -217,7 +241,8 @@ std::string compare_text(const Comparison& c) {
         body += name + "\n";
         name.clear();
       }
-      const std::string verdict = r->verdict.empty() ? (r->a.timing ? "~" : "=") : r->verdict + (r->regression ? "!" : "");
+      std::string verdict = r->verdict.empty() ? (r->a.timing ? "~" : "=") : r->verdict + (r->regression ? "!" : "");
+      if (!r->judged) verdict = "(" + verdict + ")";
       body += fmt::format(fmt::runtime(kRow), name, value_text(r->a.value * r->a.scale), value_text(r->b.value * r->b.scale),
                           ratio_text(r->ratio), p_text(r->p), verdict);
     }
@@ -257,7 +282,8 @@ std::string compare_markdown(const Comparison& c) {
         continue;
       }
       md += fmt::format("| {} | {} | {} | {} | {} | {} |\n", r->a.name, value_text(r->a.value * r->a.scale), value_text(r->b.value * r->b.scale),
-                        ratio_text(r->ratio), p_text(r->p), r->regression ? "**" + r->verdict + " (regression)**" : r->verdict);
+                        ratio_text(r->ratio), p_text(r->p),
+                        r->regression ? "**" + r->verdict + " (regression)**" : r->judged ? r->verdict : "(" + r->verdict + ", not judged)");
     }
     if (hidden) md += fmt::format("\n{} unchanged figures not listed.\n", hidden);
     md += "\n";
@@ -279,7 +305,7 @@ json compare_json(const Comparison& c) {
     rows.push_back({{"section", r.a.section}, {"name", r.a.name}, {"metric", r.a.metric}, {"unit", r.a.unit}, {"scale", r.a.scale},
                     {"direction", r.a.direction}, {"timing", r.a.timing}, {"a", num(r.a.value)}, {"b", num(r.b.value)},
                     {"a_samples", r.a.samples}, {"b_samples", r.b.samples}, {"ratio", num(r.ratio)}, {"gain", num(r.gain)},
-                    {"p", r.p < 0 ? json(nullptr) : json(r.p)}, {"verdict", r.verdict}, {"regression", r.regression}});
+                    {"p", r.p < 0 ? json(nullptr) : json(r.p)}, {"verdict", r.verdict}, {"regression", r.regression}, {"judged", r.judged}});
   j["rows"] = rows;
   auto names = [](const std::vector<Figure>& f) {
     json a = json::array();

@@ -20,6 +20,9 @@ struct CompareOptions {
   std::string filter;        // regex on the row's name ("" : every row)
   std::string metric;        // only this metric ("" : every metric)
   bool all = false;          // also list the deterministic figures that did not change
+  // Compare two trace or render runs made with other settings (scene, ray set, packet size, threads,
+  // rays, model): refused without it, since their figures measure different things.
+  bool force = false;
 };
 
 struct ComparedRow {
@@ -29,6 +32,7 @@ struct ComparedRow {
   double p = -1;             // Mann-Whitney p-value; < 0 when either side has fewer than 2 repetitions
   std::string verdict;       // faster, slower (timings); better, worse, changed (deterministic figures); "" within noise
   bool regression = false;   // worse beyond noise by more than the threshold
+  bool judged = true;        // counted in the summary and by --threshold (Figure::judged, or named by --metric)
 };
 
 struct Comparison {

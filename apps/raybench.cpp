@@ -259,7 +259,7 @@ int main(int argc, char** argv) {
   // ---- render ----
   RenderRunOptions rdo;
   rdo.warmup = 1;
-  rdo.repetitions = 3;
+  rdo.repetitions = 5;  // 4 or more on each side let `compare`'s U test reach p < 0.05
   std::string render_json, render_history;
   auto* render = app.add_subcommand("render", "Render a scene with the recursive ray tracer");
   render->add_option("scene", rdo.scene, "A scene, as `raybench info` takes it")->required();
@@ -344,6 +344,7 @@ int main(int argc, char** argv) {
   compare->add_option("--filter", co.filter, "Only the rows whose section/name matches this\nregex");
   compare->add_option("--metric", co.metric, "Only this metric (e.g. tests_per_s,\nmrays_per_s, false_hit_ppm)");
   compare->add_flag("--all", co.all, "Also list the seeded figures that did not change");
+  compare->add_flag("--force", co.force, "Compare two trace or render runs made with other\nsettings (scene, ray set, packet, threads, rays,\nmodel) anyway, matched by metric");
   compare->add_flag("--markdown", compare_markdown, "Markdown tables instead of the text table");
   add_json(compare, compare_json, "Write the comparison as JSON to FILE\n(no FILE: stdout instead of the table)");
   compare->footer(
@@ -354,7 +355,11 @@ int main(int argc, char** argv) {
       "moved by more than --noise. Seeded figures (accuracy rates, test counts) differ\n"
       "when they are not equal. The summary gives the geometric mean of the speed\n"
       "ratios and how many rows are faster or slower. With --threshold, a regression\n"
-      "exits 1: `raybench compare base.json new.json --threshold 5` guards CI.");
+      "exits 1: `raybench compare base.json new.json --threshold 5` guards CI.\n"
+      "Only the subject's own figures are judged (summary, --threshold): Embree's\n"
+      "figures and build times measured once are shown in brackets, and judged only\n"
+      "when --metric names them. Two trace or render runs of other settings are\n"
+      "refused (--force compares them).");
 
   // ---- history ----
   HistoryOptions ho;

@@ -20,7 +20,7 @@ struct RenderRunOptions {
   int eye_packet = 0;           // 1, 8, 16 or 64; 0: the fastest of 64, 16 and 8 in trial renders
   std::string model = "auto";  // auto | fast | exact (tracer/plan.hpp)
   int warmup = 0;               // untimed renders before the timed ones (the command line: 1)
-  int repetitions = 1;          // timed renders; the median is quoted (the command line: 3)
+  int repetitions = 1;          // timed renders; the median is quoted (the command line: 5)
 };
 
 }  // namespace rb::app

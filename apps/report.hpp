@@ -27,7 +27,7 @@ int run_report(const ReportOptions& o);
 
 // A run of the registered benchmarks (apps/bench_run.cpp).
 struct BenchOptions {
-  int repetitions = 3;
+  int repetitions = 5;  // 4 or more on each side let `compare`'s U test reach p < 0.05
   double min_time = 0.1;                // seconds per repetition
   std::string filter = ".";             // regex on kernel/method/variant/case
   bool every_repetition = true;         // false: medians and the other aggregates only

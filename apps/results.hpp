@@ -21,6 +21,10 @@ struct Figure {
   double scale = 1;     // shown value = value * scale
   int direction = 1;    // +1 higher is better, -1 lower is better, 0 neither (a count that should not move)
   bool timing = true;   // a measurement, subject to noise; false: a seeded, deterministic figure
+  // Judged by `compare` (its summary, verdict counts and --threshold): the subject's own figures.
+  // Not judged unless asked for by --metric: a yardstick's (Embree's) and a timing measured once
+  // where the result has repetitions of its others (a build time): shown beside them.
+  bool judged = true;
   double value = std::numeric_limits<double>::quiet_NaN();  // the median of the samples, or the one figure
   std::vector<double> samples;                               // the repetitions (unscaled); empty: one figure
   std::string key() const { return section + "\t" + name + "\t" + metric; }

@@ -42,6 +42,15 @@ namespace {
 
 constexpr double kPrecisionPlanetR = 6.4e6;
 
+// Uniform doubles in [0, 1) from a seed (xorshift64): the same scene on every platform.
+struct Uniform {
+  std::uint64_t x;
+  double operator()() {
+    x ^= x << 13, x ^= x >> 7, x ^= x << 17;
+    return double(x >> 11) * 0x1p-53;
+  }
+};
+
 struct PrecisionBuilder {
   Scene s;
   explicit PrecisionBuilder(std::string name) {
@@ -140,11 +149,7 @@ Scene mesh_spheres_scene(double offset, const std::string& name) {
 Scene far_spheres_scene() {
   PrecisionBuilder b("precision:far_spheres");
   const auto m = b.material({0.9f, 0.5f, 0.2f}, 0.8f, 0.2f, 30);
-  std::uint64_t x = 88172645463325252ull;
-  auto U = [&] {
-    x ^= x << 13, x ^= x >> 7, x ^= x << 17;
-    return double(x >> 11) * 0x1p-53;
-  };
+  Uniform U{88172645463325252ull};
   for (int i = 0; i < 64; ++i) b.sphere({U() * 2 - 1, U() * 2 - 1, U() * 2 - 1}, 0.01 + 0.09 * U(), m);
   b.s.lights.push_back({{4003.1, 3001.7, 5002.3}, {1, 1, 1}});
   b.view({3001.7, 1700.3, 3900.1}, {0.013, -0.021, 0.007}, 0.04);
@@ -198,11 +203,7 @@ Scene scanned_scene(bool as_floats, const std::string& name) {
     const Vec3d d = v - c;
     v = c + d * (1.0 + 0.08 * std::sin(41.0 * d.x) * std::cos(37.0 * d.y) + 0.05 * std::sin(53.0 * d.z));
   }
-  std::uint64_t x = 0x9E3779B97F4A7C15ull;
-  auto U = [&] {
-    x ^= x << 13, x ^= x >> 7, x ^= x << 17;
-    return double(x >> 11) * 0x1p-53;
-  };
+  Uniform U{0x9E3779B97F4A7C15ull};
   const auto n = std::uint32_t(b.s.verts.size()), tris = std::uint32_t(b.s.triangles.size());
   // Slivers: 3 % of the mesh, tiny triangles at its vertices, 1e-8 to 1e-6 across.
   for (std::uint32_t k = 0; k < tris * 3 / 100; ++k) {
@@ -231,15 +232,9 @@ Scene scanned_scene(bool as_floats, const std::string& name) {
   return std::move(b.s);
 }
 
-}  // namespace
-
 Scene scattered_scene() {
   PrecisionBuilder b("precision:scattered");
-  std::uint64_t x = 0x2545F4914F6CDD1Dull;
-  auto U = [&] {
-    x ^= x << 13, x ^= x >> 7, x ^= x << 17;
-    return double(x >> 11) * 0x1p-53;
-  };
+  Uniform U{0x2545F4914F6CDD1Dull};
   const auto stone = b.material({0.7f, 0.68f, 0.62f}, 0.8f, 0.1f, 10), blue = b.material({0.3f, 0.45f, 0.8f}, 0.7f, 0.3f, 40);
   for (int i = 0; i < 200; ++i) {
     const double a = 2 * 3.141592653589793 * U(), r = 800 * std::sqrt(U());
@@ -254,11 +249,7 @@ Scene scattered_scene() {
 
 Scene pipes_scene() {
   PrecisionBuilder b("precision:pipes");
-  std::uint64_t x = 0x6A09E667F3BCC909ull;
-  auto U = [&] {
-    x ^= x << 13, x ^= x >> 7, x ^= x << 17;
-    return double(x >> 11) * 0x1p-53;
-  };
+  Uniform U{0x6A09E667F3BCC909ull};
   const auto steel = b.material({0.75f, 0.75f, 0.8f}, 0.6f, 0.4f, 60);
   constexpr int n = 256;
   for (int p = 0; p < 8; ++p) {
@@ -290,6 +281,8 @@ Scene pipes_scene() {
   b.view({3.7, 9.1, 24.3}, {0.3, 1.1, 0.2}, 45);
   return std::move(b.s);
 }
+
+}  // namespace
 
 std::vector<std::string> precision_scene_names() {
   return {"ball_ground", "ball_ground_far", "planet", "mesh_spheres", "mesh_spheres_1e3", "mesh_spheres_1e5", "mesh_spheres_1e7",

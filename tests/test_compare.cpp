@@ -195,7 +195,17 @@ TEST(Compare, TraceRenderAccuracyKinds) {
   tb["mrays_per_s"] = 20.0;
   tb["mismatch_rate"] = 0.001;
   ASSERT_EQ(rb::app::result_kind(ta), "trace");
-  const rb::app::Comparison t = rb::app::compare_results(rb::app::figures_of("trace", ta), rb::app::figures_of("trace", tb), {});
+  // Runs of other settings (here the thread count) measure different things: refused, unless forced.
+  try {
+    rb::app::compare_results(rb::app::figures_of("trace", ta), rb::app::figures_of("trace", tb), {});
+    ADD_FAILURE() << "runs with 1 and 2 threads compared without --force";
+  } catch (const std::runtime_error& e) {
+    EXPECT_TRUE(has(e.what(), "threads 1 / 2")) << e.what();
+    EXPECT_TRUE(has(e.what(), "--force")) << e.what();
+  }
+  rb::app::CompareOptions forced;
+  forced.force = true;
+  const rb::app::Comparison t = rb::app::compare_results(rb::app::figures_of("trace", ta), rb::app::figures_of("trace", tb), forced);
   std::map<std::string, const rb::app::ComparedRow*> by;
   for (const auto& r : t.rows) by[r.a.metric] = &r;
   ASSERT_TRUE(by.count("mrays_per_s") && by.count("embree_mrays_per_s") && by.count("mismatch_rate"));
@@ -203,9 +213,34 @@ TEST(Compare, TraceRenderAccuracyKinds) {
   EXPECT_EQ(by["mrays_per_s"]->a.samples.size(), 5u);  // per-run Mrays/s from the seconds
   EXPECT_EQ(by["mrays_per_s"]->verdict, "faster");
   EXPECT_EQ(by["mismatch_rate"]->verdict, "worse");  // a seeded figure: any change counts
-  bool threads_noted = false;
-  for (const auto& n : t.notes) threads_noted |= has(n, "threads");
-  EXPECT_TRUE(threads_noted);
+  ASSERT_FALSE(t.notes.empty());
+  EXPECT_TRUE(has(t.notes[0], "FORCED") && has(t.notes[0], "threads")) << t.notes[0];
+
+  // Only the subject's figures are judged: Embree's (the yardstick) and a build measured once are
+  // shown, not counted, unless --metric names them.
+  json tc = ta;
+  tc["seconds"] = {0.2, 0.2, 0.2, 0.2, 0.2};  // raybench half as fast
+  tc["mrays_per_s"] = 5.0;
+  tc["embree_seconds"] = {0.025, 0.025, 0.025, 0.025, 0.025};  // Embree twice as fast
+  tc["embree_mrays_per_s"] = 40.0;
+  tc["build_ms"] = 20.0;  // one build, twice as long
+  rb::app::CompareOptions o5;
+  o5.threshold = 0.05;
+  const rb::app::Comparison j = rb::app::compare_results(rb::app::figures_of("trace", ta), rb::app::figures_of("trace", tc), o5);
+  EXPECT_EQ(j.timings, 1u);
+  EXPECT_EQ(j.slower, 1u);
+  EXPECT_EQ(j.faster, 0u);
+  EXPECT_NEAR(j.geomean_gain, 0.5, 1e-12);  // raybench's speed alone
+  EXPECT_EQ(j.regressions, 1u);             // raybench's speed, not the build time
+  for (const auto& r : j.rows) {
+    EXPECT_EQ(r.judged, r.a.metric == "mrays_per_s" || !r.a.timing) << r.a.metric;
+    EXPECT_EQ(r.regression, r.a.metric == "mrays_per_s") << r.a.metric;
+  }
+  o5.metric = "build_ms";
+  const rb::app::Comparison jb = rb::app::compare_results(rb::app::figures_of("trace", ta), rb::app::figures_of("trace", tc), o5);
+  ASSERT_EQ(jb.rows.size(), 1u);
+  EXPECT_TRUE(jb.rows[0].judged);
+  EXPECT_EQ(jb.regressions, 1u);  // asked for: 10 -> 20 ms is a regression beyond 5 %
 
   const json ra = {{"scene", "spd:balls"}, {"width", 64}, {"height", 64}, {"depth", 5}, {"threads", 1}, {"eye_rays", 4096},
                    {"total_rays", 10000}, {"mrays_per_s", 5.0}, {"trace_seconds", {0.002, 0.002, 0.002}}};
