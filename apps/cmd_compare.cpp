@@ -2,6 +2,7 @@
 #include "apps/cli.hpp"
 #include "apps/commands.hpp"
 #include "apps/compare.hpp"
+#include "apps/history.hpp"
 
 #include <fmt/format.h>
 
@@ -12,8 +13,27 @@ namespace rb::app {
 int run_compare_command(const std::string& a, const std::string& b, const CompareOptions& o, bool markdown, const JsonOut& out) {
   Comparison c;
   try {
-    ResultSet ra = load_results(a);  // A first: an error names A before B
-    ResultSet rb = load_results(b);
+    ResultSet ra, rb;
+    if (!o.history.empty()) {
+      // Two runs of a results history, by id.
+      auto id = [](const std::string& s) {
+        std::size_t used = 0;
+        long long v = -1;
+        try {
+          v = std::stoll(s, &used);
+        } catch (const std::exception&) {
+        }
+        if (used != s.size() || v < 1) throw std::runtime_error("with --history, A and B are run ids (raybench history lists them), not '" + s + "'");
+        return v;
+      };
+      const long long ia = id(a), ib = id(b);
+      const History h(o.history, false);
+      ra = h.load_run(ia);
+      rb = h.load_run(ib);
+    } else {
+      ra = load_results(a);  // A first: an error names A before B
+      rb = load_results(b);
+    }
     c = compare_results(std::move(ra), std::move(rb), o);
   } catch (const NothingToDo& e) {
     std::cerr << error_line("compare", "", e.what()) << "\n";

@@ -23,6 +23,8 @@ struct CompareOptions {
   // Compare two trace or render runs made with other settings (scene, ray set, packet size, threads,
   // rays, model): refused without it, since their figures measure different things.
   bool force = false;
+  // A results history: A and B are the ids of two of its runs (`raybench history` lists them).
+  std::string history;
 };
 
 struct ComparedRow {

@@ -289,6 +289,39 @@ std::vector<History::Point> History::series(const std::string& metric, const std
   return out;
 }
 
+ResultSet History::load_run(long long id) const {
+  ResultSet r;
+  {
+    Stmt q(db_, "SELECT kind, machine FROM runs WHERE id = ?", path_);
+    q.integer(1, id);
+    if (sqlite3_step(q.s) != SQLITE_ROW) throw std::runtime_error(fmt::format("{}: no run {} (raybench history lists them)", path_, id));
+    r.kind = q.col_text(0);
+    r.machine = json::parse(q.col_text(1), nullptr, false);
+    if (r.machine.is_discarded()) r.machine = nullptr;
+  }
+  r.source = fmt::format("{} run {}", path_, id);
+  Stmt q(db_, "SELECT section, name, metric, unit, scale, direction, timing, value, samples FROM figures WHERE run = ? ORDER BY rowid", path_);
+  q.integer(1, id);
+  while (sqlite3_step(q.s) == SQLITE_ROW) {
+    Figure f;
+    f.section = q.col_text(0);
+    f.name = q.col_text(1);
+    f.metric = q.col_text(2);
+    f.unit = q.col_text(3);
+    f.scale = sqlite3_column_double(q.s, 4);
+    f.direction = sqlite3_column_int(q.s, 5);
+    f.timing = sqlite3_column_int(q.s, 6) != 0;
+    f.value = sqlite3_column_type(q.s, 7) == SQLITE_NULL ? stats::kNaN : sqlite3_column_double(q.s, 7);
+    const json samples = json::parse(q.col_text(8), nullptr, false);
+    if (samples.is_array())
+      for (const auto& x : samples)
+        if (x.is_number()) f.samples.push_back(x.get<double>());
+    f.judged = judged_metric(f.metric);
+    r.figures.push_back(std::move(f));
+  }
+  return r;
+}
+
 std::vector<std::pair<std::string, long long>> History::metrics() const {
   std::vector<std::pair<std::string, long long>> out;
   Stmt q(db_, "SELECT metric, COUNT(*) FROM figures GROUP BY metric ORDER BY metric", path_);

@@ -61,6 +61,9 @@ class History {
   };
   // Every stored figure of `metric` whose "section/name" matches the filter, by run.
   std::vector<Point> series(const std::string& metric, const std::string& filter = "") const;
+  // One stored run as a result (kind, machine block, every figure with its repetitions; source
+  // "FILE run ID"), for `raybench compare --history`. Throws std::runtime_error when there is none.
+  ResultSet load_run(long long id) const;
   // The metrics stored, with how many figures each.
   std::vector<std::pair<std::string, long long>> metrics() const;
 

@@ -334,8 +334,9 @@ int main(int argc, char** argv) {
   double compare_threshold = -1, compare_noise = 5;
   bool compare_markdown = false;
   auto* compare = app.add_subcommand("compare", "Compare two results: ratios and U-test p-values");
-  compare->add_option("A", compare_a, "The baseline: a JSON result or a report folder")->required();
-  compare->add_option("B", compare_b, "The result to compare with it, of the same kind")->required();
+  compare->add_option("A", compare_a, "The baseline: a JSON result or a report folder\n(with --history: a run id)")->required();
+  compare->add_option("B", compare_b, "The result to compare with it, of the same kind\n(with --history: a run id)")->required();
+  compare->add_option("--history", co.history, "A and B are two runs of this results history,\nby id (`raybench history` lists them)")->type_name("FILE");
   compare->add_option("--threshold", compare_threshold, "Exit 1 when a row is worse than A beyond noise\nby more than PCT percent")
       ->type_name("PCT")->check(CLI::Range(0.0, 1e6));
   compare->add_option("--alpha", co.alpha, "Significance level of the U test")->capture_default_str()->check(CLI::Range(1e-9, 0.5));

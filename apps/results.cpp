@@ -86,6 +86,7 @@ Figure fig(std::string section, std::string name, std::string metric, std::strin
   f.timing = timing;
   f.samples = std::move(samples);
   f.value = f.samples.empty() ? value : stats::median(f.samples);
+  f.judged = judged_metric(f.metric);
   return f;
 }
 
@@ -145,14 +146,9 @@ std::vector<double> mrays(const json& t, const char* seconds_key) {
 void trace_figures(const json& t, const std::string& section, std::vector<Figure>& out) {
   const std::string n = trace_row_name(t);
   out.push_back(fig(section, n, "mrays_per_s", "Mrays/s", 1, 1, true, num(t, "mrays_per_s"), mrays(t, "seconds")));
-  if (std::isfinite(num(t, "embree_mrays_per_s"))) {
+  if (std::isfinite(num(t, "embree_mrays_per_s")))
     out.push_back(fig(section, n, "embree_mrays_per_s", "Mrays/s", 1, 1, true, num(t, "embree_mrays_per_s"), mrays(t, "embree_seconds")));
-    out.back().judged = false;  // the yardstick
-  }
-  if (std::isfinite(num(t, "build_ms"))) {
-    out.push_back(fig(section, n, "build_ms", "ms", 1, -1, true, num(t, "build_ms")));
-    out.back().judged = false;  // one build, unless --builds
-  }
+  if (std::isfinite(num(t, "build_ms"))) out.push_back(fig(section, n, "build_ms", "ms", 1, -1, true, num(t, "build_ms")));
   if (std::isfinite(num(t, "mismatch_rate"))) out.push_back(fig(section, n, "mismatch_rate", "%", 100, -1, false, num(t, "mismatch_rate")));
   if (std::isfinite(num(t, "box_tests_per_ray")))
     out.push_back(fig(section, n, "box_tests_per_ray", "tests/ray", 1, -1, false, num(t, "box_tests_per_ray")));
@@ -169,10 +165,7 @@ void render_figures(const json& r, const std::string& section, std::vector<Figur
     for (const auto& x : r["trace_seconds"])
       if (x.is_number() && x.get<double>() > 0) s.push_back(rays / x.get<double>() / 1e6);
   out.push_back(fig(section, n, "mrays_per_s", "Mrays/s", 1, 1, true, num(r, "mrays_per_s"), s));
-  if (std::isfinite(num(r, "build_ms"))) {
-    out.push_back(fig(section, n, "build_ms", "ms", 1, -1, true, num(r, "build_ms")));
-    out.back().judged = false;  // one build
-  }
+  if (std::isfinite(num(r, "build_ms"))) out.push_back(fig(section, n, "build_ms", "ms", 1, -1, true, num(r, "build_ms")));
   if (std::isfinite(rays)) out.push_back(fig(section, n, "total_rays", "rays", 1, 0, false, rays));
   if (r.value("tests_counted", false) && std::isfinite(num(r, "box_tests")))
     out.push_back(fig(section, n, "box_tests", "tests", 1, -1, false, num(r, "box_tests")));
@@ -214,6 +207,8 @@ json config_of(const std::string& kind, const json& doc) {
 }
 
 }  // namespace
+
+bool judged_metric(const std::string& metric) { return metric.rfind("embree_", 0) != 0 && metric != "build_ms"; }
 
 ResultSet figures_of(const std::string& kind, const json& doc) {
   ResultSet r;
@@ -260,10 +255,8 @@ ResultSet load_results(const std::string& path) {
       for (const auto& row : t["by_size"]) {
         const std::string n = str(row, "scene");
         for (const char* k : {"ns_per_ray", "embree_ns_per_ray", "build_ms", "embree_build_ms"})
-          if (std::isfinite(num(row, k))) {
+          if (std::isfinite(num(row, k)))
             r.figures.push_back(fig("trace", n, k, std::string(k).find("ns_") != std::string::npos ? "ns/ray" : "ms", 1, -1, true, num(row, k)));
-            r.figures.back().judged = std::string(k) == "ns_per_ray";  // Embree's are the yardstick; builds measured once
-          }
       }
   }
   if (summary.contains("render"))

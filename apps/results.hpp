@@ -24,7 +24,7 @@ struct Figure {
   // Judged by `compare` (its summary, verdict counts and --threshold): the subject's own figures.
   // Not judged unless asked for by --metric: a yardstick's (Embree's) and a timing measured once
   // where the result has repetitions of its others (a build time): shown beside them.
-  bool judged = true;
+  bool judged = true;  // judged_metric(metric) for every figure a result or the history gives
   double value = std::numeric_limits<double>::quiet_NaN();  // the median of the samples, or the one figure
   std::vector<double> samples;                               // the repetitions (unscaled); empty: one figure
   std::string key() const { return section + "\t" + name + "\t" + metric; }
@@ -37,6 +37,10 @@ struct ResultSet {
   nlohmann::json config;   // what the run was asked to do, where the result says (seed, mode, repetitions)
   std::vector<Figure> figures;
 };
+
+// Whether compare judges a metric by default: not a yardstick's (Embree's: embree_*) nor a build
+// time (one build per run unless asked otherwise).
+bool judged_metric(const std::string& metric);
 
 // Reads a JSON file; Google Benchmark's bare NaN / Infinity tokens become null. Throws
 // std::runtime_error("PATH: reason"), with the system's reason when it cannot be read.

@@ -118,6 +118,23 @@ TEST(History, BinaryKeepsRunsAndPlotsAMetric) {
   EXPECT_EQ(series["series"].size(), 2u);  // two benchmarks, each in two runs
   EXPECT_EQ(series["runs"].size(), 2u);
 
+  // Two runs of the history compared by id: the two bench runs (1 and 2), figures and repetitions as
+  // stored; a bench run against the trace run is refused (other kinds); ids must be ids.
+  r = run_in(s.dir, "compare --history h.sqlite 1 2 --json -");
+  EXPECT_EQ(r.status, 0) << r.err;
+  const json cmp = r.json();
+  EXPECT_EQ(cmp["kind"], "bench");
+  EXPECT_EQ(cmp["rows"].size(), 2u);
+  EXPECT_EQ(cmp["rows"][0]["a_samples"].size(), 2u);
+  EXPECT_TRUE(has(cmp["a"]["source"].get<std::string>(), "h.sqlite run 1")) << cmp["a"];
+  EXPECT_EQ(run_in(s.dir, "compare --history h.sqlite 1 3").status, 1);
+  r = run_in(s.dir, "compare --history h.sqlite 1 x");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(has(r.err, "run ids")) << r.err;
+  r = run_in(s.dir, "compare --history h.sqlite 1 99");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(has(r.err, "no run 99")) << r.err;
+
   r = run_in(s.dir, "history --history h.sqlite --metric nosuch");
   EXPECT_EQ(r.status, 2);
   EXPECT_TRUE(has(r.err, "stored metrics:")) << r.err;
