@@ -328,7 +328,7 @@ std::string pgo_section(const fs::path& out) {
   std::string body;
   std::ifstream f;
   if (readable_back((out / "pgo.md").string())) f.open(out / "pgo.md");  // never block on a FIFO there
-  if (f) {
+  if (f.is_open()) {  // (a stream never opened is not in a failed state)
     std::stringstream ss;
     ss << f.rdbuf();
     body = ss.str();

@@ -170,16 +170,6 @@ Verdict verdict(const RatioInterval& r, double target) {
   return Verdict::undecided;
 }
 
-const char* verdict_name(Verdict v) {
-  switch (v) {
-    case Verdict::met: return "met";
-    case Verdict::not_met: return "not met";
-    case Verdict::undecided: return "undecided";
-    case Verdict::not_measured: return "not measured";
-  }
-  return "?";
-}
-
 nlohmann::json interval_json(const RatioInterval& r) {
   auto num = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); };
   return {{"ratio", num(r.ratio)}, {"lo", num(r.lo)}, {"hi", num(r.hi)}, {"coverage", num(r.coverage)}, {"rounds", r.n},

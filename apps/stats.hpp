@@ -69,7 +69,6 @@ std::string interval_text(const RatioInterval& r);
 // it lies below (hi < target), undecided when it straddles it; not measured without an interval.
 enum class Verdict { met, not_met, undecided, not_measured };
 Verdict verdict(const RatioInterval& r, double target);
-const char* verdict_name(Verdict v);  // "met", "not met", "undecided", "not measured"
 
 // The smallest two-sided p-value the test can give for samples of sizes n1 and n2 without ties
 // (every value of one sample above every value of the other): with 3 and 3 repetitions it is 0.1,

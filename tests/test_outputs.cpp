@@ -377,6 +377,8 @@ TEST(Outputs, AReportFollowsTheRuleForEveryFileItWrites) {
   }
   EXPECT_EQ(node(s / "rep/index.md"), link);
   EXPECT_TRUE(has(slurp(s / "kept.md"), "# ")) << "the link's target holds the report";
+  // With no pgo.md in the folder, the PGO section says how to measure it.
+  EXPECT_TRUE(has(slurp(s / "kept.md"), "Profile-guided optimisation\n\nNot measured for this report")) << "the PGO placeholder";
   EXPECT_EQ(node(s / "rep/index.html"), fifo);
   EXPECT_TRUE(has(page, "<html") && has(page, "</html>")) << page.substr(0, 200);
   if (!dev.empty()) {
