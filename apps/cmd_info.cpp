@@ -56,7 +56,8 @@ json scene_info(const rb::scene::Scene& s) {
   j["materials"] = s.materials.size();
   j["primitives"] = s.primitive_count();
   // Every kind of the table (tracer/kinds.hpp), with the kernel batch the tracer stores for it:
-  // the bytes of its primitives in float (and in double where the plan stores the kind in double).
+  // the bytes of its primitives in float (and in double where the plan stores the kind, or the
+  // primitives it keeps apart, in double).
   const tracer::Profile profile = tracer::make_profile(s);
   const tracer::Plan plan = tracer::make_plan(s, profile, tracer::Model::automatic);
   j["input_precision"] = profile.input.summary();
@@ -74,17 +75,23 @@ json scene_info(const rb::scene::Scene& s) {
     } else if constexpr (std::is_same_v<K, kinds::PolygonKind>) {
       k["vertices"] = s.poly_verts.size();
     }
+    json batches = json::array();
     if constexpr (K::custom) {
       batch = K::batch_bytes(s, what);
+      batches.push_back({{"batch", what}, {"bytes", batch}});
     } else {
       // One slot per primitive (the BVH's leaves pad each group of 8; `trace` reports that).
       const bool d = kp.f64_storage;
-      batch = n * (d ? sizeof(typename K::template Prim<double>) : sizeof(typename K::template Prim<float>));
-      what = fmt::format("PrimSoA<{}> in {}", K::name, d ? "double" : "float");
+      const std::size_t apart = kp.split.size();
+      batch = (n - apart) * (d ? sizeof(typename K::template Prim<double>) : sizeof(typename K::template Prim<float>));
+      batches.push_back({{"batch", fmt::format("PrimSoA<{}> in {}", K::name, d ? "double" : "float")}, {"bytes", batch}});
+      if (apart)
+        batches.push_back({{"batch", fmt::format("PrimSoA<{}> in double: the {} stored apart", K::name, apart)},
+                           {"bytes", apart * sizeof(typename K::template Prim<double>)}});
     }
     const std::size_t input = K::input_bytes(s);
     k["input_bytes"] = input;
-    k["batches"] = json::array({{{"batch", what}, {"bytes", batch}}});
+    k["batches"] = batches;
     k["plan"] = fmt::format("{} in {}{}", K::methods[std::size_t(kp.method)].name, kp.f64 ? "double" : "float",
                             kp.f64_storage ? " (stored in double)" : "");
     k["classes"] = kp.classes_text();
