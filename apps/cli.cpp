@@ -10,6 +10,7 @@
 #include <cstring>
 #include <fcntl.h>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <sys/stat.h>
 #include <thread>
@@ -109,6 +110,25 @@ double load_average() {
   double l = -1;
   if (!(f >> l)) return -1;
   return l;
+}
+
+CpuTimes cpu_times() {
+  std::ifstream f("/proc/stat");
+  std::string cpu;
+  CpuTimes t;
+  if (!(f >> cpu) || cpu != "cpu") return t;
+  // user nice system idle iowait irq softirq steal (guest and guest_nice are inside user and nice)
+  unsigned long long v[8] = {};
+  for (auto& x : v)
+    if (!(f >> x)) return {};
+  for (auto x : v) t.total += x;
+  t.steal = v[7];
+  return t;
+}
+
+double steal_share(const CpuTimes& before, const CpuTimes& after) {
+  if (after.total <= before.total || after.steal < before.steal) return std::numeric_limits<double>::quiet_NaN();
+  return double(after.steal - before.steal) / double(after.total - before.total);
 }
 
 std::string busy_warning(double load, int threads) {

@@ -53,6 +53,14 @@ int resolve_threads(int requested, std::string* warning);
 
 // The 1-minute load average (/proc/loadavg), or -1 when unknown.
 double load_average();
+// The machine's CPU time so far (/proc/stat, all CPUs, in clock ticks): in total, and stolen by the
+// hypervisor (time a virtual CPU was ready but another guest ran). Zeros when unknown.
+struct CpuTimes {
+  unsigned long long total = 0, steal = 0;
+};
+CpuTimes cpu_times();
+// The share of CPU time stolen between two readings (NaN when unknown or no time passed).
+double steal_share(const CpuTimes& before, const CpuTimes& after);
 // A warning when other work ran beside a run that used `threads` threads: the load average
 // (read after the run, so that it covers it) exceeded those threads by more than 0.75. "" else.
 std::string busy_warning(double load, int threads);

@@ -386,6 +386,14 @@ TEST(Cli, TraceGivesMedianRangeAndCvAfterWarmupBesideEmbree) {
   EXPECT_DOUBLE_EQ(v["hi"].get<double>(), q[2]);
   EXPECT_DOUBLE_EQ(v["coverage"].get<double>(), 0.75);
   EXPECT_TRUE(has(r.out, "[range of 3: ")) << r.out;
+  // The machine around the rounds: load average before and after, the share of CPU time stolen.
+  const auto& m = j["machine_load"];
+  EXPECT_TRUE(m["load_average_before"].is_number() && m["load_average_after"].is_number()) << m;
+  if (!m["steal_share"].is_null()) {
+    EXPECT_GE(m["steal_share"].get<double>(), 0.0);
+    EXPECT_LE(m["steal_share"].get<double>(), 1.0);
+  }
+  EXPECT_TRUE(has(r.out, "machine    load average ")) << r.out;
 }
 
 TEST(Cli, TraceTimesManyBuildsAsTheReportDoes) {
