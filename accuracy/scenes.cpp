@@ -3,7 +3,8 @@
 // thin torus from 500 sizes, cylinders seen from 1e4 radii, a scene mixing scales, scanned-like
 // meshes, small meshes scattered over a wide world, and a plain one), and real meshes (the Stanford
 // bunny and the 202k dragon from the embedded data, the scanned-like mesh, long thin pipes as a CAD
-// export tessellates them) as they are, moved far and scaled, traced under each model (tracer/plan.hpp: fast, auto, exact) and checked ray by ray against an
+// export tessellates them) as they are, moved far and scaled, traced under each model
+// (tracer/plan.hpp: fast, auto, exact) and checked ray by ray against an
 // exact reference: the scene's own double geometry, every primitive against the ray in long double
 // (a brute-force loop over the scene). A model's ray is the float ray it traces, lifted to world
 // coordinates exactly (its frame origin plus its float origin, its float direction): the reference
@@ -148,49 +149,32 @@ struct SceneCase {
 };
 
 const std::vector<SceneCase>& scene_case_table() {
-  static const std::vector<SceneCase> t = [] {
-    std::vector<SceneCase> v = {
-        {"ball_ground", "a ball resting on a floor near the origin, a second ball, one light (needs nothing special)", "ball_ground"},
-        {"ball_ground_far", "the same scene 6.4e6 from the origin", "ball_ground_far"},
-        {"planet", "the balls on a planet of radius 6.4e6, the camera 4 above its surface", "planet"},
-        {"mesh_spheres_1e3", "a closed mesh (1,280 triangles), four spheres and a floor, 1e3 from the origin", "mesh_spheres_1e3"},
-        {"mesh_spheres_1e5", "the same 1e5 from the origin", "mesh_spheres_1e5"},
-        {"mesh_spheres_1e7", "the same 1e7 from the origin", "mesh_spheres_1e7"},
-        {"far_spheres", "64 small spheres (radius 0.01..0.1) seen from 5e3 away", "far_spheres"},
-        {"thin_torus", "two tori with tubes 100 times thinner than their rings, seen from 500 sizes", "thin_torus"},
-        {"far_cylinders", "NFF cylinders and cone frusta seen from 1e4 radii", "far_cylinders"},
-        {"mixed_scales", "a planet, a moon 3.8e8 away, a mesh, spheres and a cylinder on the planet", "mixed_scales"},
-        {"scanned", "a scanned-like mesh (20,480 triangles, float coordinates) with 3 % slivers and 100 collapsed triangles", "scanned"},
-        {"scanned_double", "the same mesh with its coordinates in double", "scanned_double"},
-        {"scattered", "230 small meshes, 30 of them in a cluster 3.7e4 from the origin and the rest within 800 of it", "scattered"},
-        {"pipes", "long thin pipes as a CAD export tessellates them (facets 1e4 times longer than wide)", "pipes"},
-    };
-    SceneCase c;
-    c.precision = "pipes", c.move = 1e4, c.name = "pipes_far_1e4", c.what = "the pipes 1e4 from the origin";
-    v.push_back(c);
-    c.precision = "scanned_double", c.move = 1e5, c.name = "scanned_far_1e5", c.what = "the scanned-like mesh in double, 1e5 from the origin";
-    v.push_back(c);
-    c = {};
-    c.mesh = "stanford-bunny.obj";
-    c.name = "bunny", c.what = "the Stanford bunny (69,451 triangles)";
-    v.push_back(c);
-    c.name = "bunny_far_1e4", c.what = "the bunny 1e4 from the origin", c.move = 1e4;
-    v.push_back(c);
-    c.name = "bunny_far_1e7", c.what = "the bunny 1e7 from the origin", c.move = 1e7;
-    v.push_back(c);
-    c.move = 0;
-    c.name = "bunny_scaled_1e-4", c.what = "the bunny scaled by 1e-4", c.scale = 1e-4;
-    v.push_back(c);
-    c.name = "bunny_scaled_1e4", c.what = "the bunny scaled by 1e4", c.scale = 1e4;
-    v.push_back(c);
-    c = {};
-    c.mesh = "dragon_vrip_res2_bin.ply", c.full_only = true;
-    c.name = "dragon", c.what = "the Stanford dragon (202,520 triangles; --full)";
-    v.push_back(c);
-    c.name = "dragon_far_1e6", c.what = "the dragon 1e6 from the origin (--full)", c.move = 1e6;
-    v.push_back(c);
-    return v;
-  }();
+  static const std::vector<SceneCase> t = {
+      {"ball_ground", "a ball resting on a floor near the origin, a second ball, one light (needs nothing special)", "ball_ground"},
+      {"ball_ground_far", "the same scene 6.4e6 from the origin", "ball_ground_far"},
+      {"planet", "the balls on a planet of radius 6.4e6, the camera 4 above its surface", "planet"},
+      {"mesh_spheres_1e3", "a closed mesh (1,280 triangles), four spheres and a floor, 1e3 from the origin", "mesh_spheres_1e3"},
+      {"mesh_spheres_1e5", "the same 1e5 from the origin", "mesh_spheres_1e5"},
+      {"mesh_spheres_1e7", "the same 1e7 from the origin", "mesh_spheres_1e7"},
+      {"far_spheres", "64 small spheres (radius 0.01..0.1) seen from 5e3 away", "far_spheres"},
+      {"thin_torus", "two tori with tubes 100 times thinner than their rings, seen from 500 sizes", "thin_torus"},
+      {"far_cylinders", "NFF cylinders and cone frusta seen from 1e4 radii", "far_cylinders"},
+      {"mixed_scales", "a planet, a moon 3.8e8 away, a mesh, spheres and a cylinder on the planet", "mixed_scales"},
+      {"scanned", "a scanned-like mesh (20,480 triangles, float coordinates) with 3 % slivers and 100 collapsed triangles", "scanned"},
+      {"scanned_double", "the same mesh with its coordinates in double", "scanned_double"},
+      {"scattered", "230 small meshes, 30 of them in a cluster 3.7e4 from the origin and the rest within 800 of it", "scattered"},
+      {"pipes", "long thin pipes as a CAD export tessellates them (facets 1e4 times longer than wide)", "pipes"},
+      {.name = "pipes_far_1e4", .what = "the pipes 1e4 from the origin", .precision = "pipes", .move = 1e4},
+      {.name = "scanned_far_1e5", .what = "the scanned-like mesh in double, 1e5 from the origin", .precision = "scanned_double", .move = 1e5},
+      {.name = "bunny", .what = "the Stanford bunny (69,451 triangles)", .mesh = "stanford-bunny.obj"},
+      {.name = "bunny_far_1e4", .what = "the bunny 1e4 from the origin", .mesh = "stanford-bunny.obj", .move = 1e4},
+      {.name = "bunny_far_1e7", .what = "the bunny 1e7 from the origin", .mesh = "stanford-bunny.obj", .move = 1e7},
+      {.name = "bunny_scaled_1e-4", .what = "the bunny scaled by 1e-4", .mesh = "stanford-bunny.obj", .scale = 1e-4},
+      {.name = "bunny_scaled_1e4", .what = "the bunny scaled by 1e4", .mesh = "stanford-bunny.obj", .scale = 1e4},
+      {.name = "dragon", .what = "the Stanford dragon (202,520 triangles; --full)", .mesh = "dragon_vrip_res2_bin.ply", .full_only = true},
+      {.name = "dragon_far_1e6", .what = "the dragon 1e6 from the origin (--full)", .mesh = "dragon_vrip_res2_bin.ply", .move = 1e6,
+       .full_only = true},
+  };
   return t;
 }
 

@@ -351,9 +351,7 @@ void organise(Document& d, const std::vector<Goal>& goals, const fs::path& out, 
           for (const auto& [sid, title] : section_title)
             if (sid == id) sec = fmt::format("[{}](#{})", title, id);
       const std::string fig = g.figure.empty() ? "-" : fmt::format("[chart]({})", g.figure);
-      t.table.rows.push_back({g.goal, g.measured,
-                              g.met == kGoalMet ? "yes" : g.met == kGoalNotMet ? "**no**" : g.met == kGoalUndecided ? "undecided" : "-", fig,
-                              sec});
+      t.table.rows.push_back({g.goal, g.measured, goal_cell(g.met), fig, sec});
       (g.met == kGoalMet ? met : g.met == kGoalNotMet ? not_met : g.met == kGoalUndecided ? undecided : unmeasured)++;
     }
     top.push_back({Block::Kind::text, 0,

@@ -42,6 +42,10 @@ inline constexpr int kGoalNotMeasured = -1, kGoalNotMet = 0, kGoalMet = 1, kGoal
 inline const char* goal_word(int met) {
   return met == kGoalMet ? "met" : met == kGoalNotMet ? "not met" : met == kGoalUndecided ? "undecided" : "not measured";
 }
+// The same in a table's "met" column (markdown).
+inline const char* goal_cell(int met) {
+  return met == kGoalMet ? "yes" : met == kGoalNotMet ? "**no**" : met == kGoalUndecided ? "undecided" : "-";
+}
 
 struct Goal {
   std::string section;  // the start of the title of the section that measures it

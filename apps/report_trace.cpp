@@ -259,10 +259,7 @@ std::string report_section_tracing(const ReportOptions& o, const fs::path& out, 
           "| goal | measured | met |\n|---|---|---|\n";
     for (const auto& g : goal_rows)
       md += fmt::format("| {} | {} | {} |\n", g["goal"].get<std::string>(), g["measured"].get<std::string>(),
-                        g["met"] == doc::kGoalNotMeasured ? "-"
-                        : g["met"] == doc::kGoalMet       ? "yes"
-                        : g["met"] == doc::kGoalUndecided ? "undecided"
-                                                          : "**no**");
+                        doc::goal_cell(g["met"].get<int>()));
     md += "\n";
   }
 

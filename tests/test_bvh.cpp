@@ -2,7 +2,7 @@
 // rays, watertightness of the robust traversal, and hostile inputs.
 #include "bench/trace.hpp"
 #include "tracer/accel.hpp"
-#include "tracer/leaves.hpp"
+#include "tracer/mesh_leaves.hpp"
 #include "scene/sources.hpp"
 #include "soa/groups.hpp"
 

@@ -9,7 +9,7 @@
 #pragma once
 
 #include "bvh/bvh.hpp"
-#include "tracer/leaves.hpp"
+#include "tracer/mesh_leaves.hpp"
 #include "tracer/plan.hpp"
 
 #include <cstdint>

@@ -102,18 +102,13 @@ namespace {
 
 constexpr double kTauEye = 1.0 / 16;  // the eye's rounding shifts the view by at most 1/16 of a pixel
 
-bool supports_f64_storage(Kind k) {
+// Whether method m of kind k stores its primitives in double; m < 0: any of the kind's methods.
+bool stores_double(Kind k, int m = -1) {
   bool s = false;
   kinds::AllKinds::each([&]<class K>() {
-    if (K::id == k)
-      for (const auto& m : K::methods) s = s || m.f64_storage;
-  });
-  return s;
-}
-bool method_f64_storage(Kind k, int m) {
-  bool s = false;
-  kinds::AllKinds::each([&]<class K>() {
-    if (K::id == k && m >= 0 && m < int(K::methods.size())) s = K::methods[std::size_t(m)].f64_storage;
+    if (K::id != k) return;
+    for (std::size_t i = 0; i < K::methods.size(); ++i)
+      if (m < 0 || int(i) == m) s = s || K::methods[i].f64_storage;
   });
   return s;
 }
@@ -188,7 +183,7 @@ Plan make_plan(const scene::Scene& s, const Profile& p, Model m) {
     // rest stays in float, so the frame is judged by the rest.
     auto splits = [&](const FrameError& e, int k) {
       const KindClasses& c = e.classes[std::size_t(k)];
-      return m != Model::exact && c.coarse > 0 && !c.negligible && supports_f64_storage(Kind(k)) &&
+      return m != Model::exact && c.coarse > 0 && !c.negligible && stores_double(Kind(k)) &&
              double(c.coarse) <= kSplitShare * double(p.kinds[std::size_t(k)].count);
     };
     auto split_count = [&](const FrameError& e) {
@@ -204,10 +199,10 @@ Plan make_plan(const scene::Scene& s, const Profile& p, Model m) {
     for (int k = 0; k < kKinds; ++k) {
       double best = 1e300;
       for (const auto& c : cand) best = std::min(best, c.e.contact[std::size_t(k)]);
-      store64[std::size_t(k)] = p.kinds[std::size_t(k)].count > 0 && best > kFloatTolerance && supports_f64_storage(Kind(k));
+      store64[std::size_t(k)] = p.kinds[std::size_t(k)].count > 0 && best > kFloatTolerance && stores_double(Kind(k));
     }
     if (m == Model::exact)
-      for (int k = 0; k < kKinds; ++k) store64[std::size_t(k)] = p.kinds[std::size_t(k)].count > 0 && supports_f64_storage(Kind(k));
+      for (int k = 0; k < kKinds; ++k) store64[std::size_t(k)] = p.kinds[std::size_t(k)].count > 0 && stores_double(Kind(k));
     auto score = [&](const Candidate& c) { return std::max(c.e.worst(store64) / kFloatTolerance, c.e.eye / kTauEye); };
     std::size_t pick = 0;
     if (m == Model::exact || score(cand[0]) > 1) {
@@ -246,7 +241,7 @@ Plan make_plan(const scene::Scene& s, const Profile& p, Model m) {
       KindPlan& kp = plan.kinds[std::size_t(k)];
       const KindProfile& kpro = p.kinds[std::size_t(k)];
       if (!kpro.count) continue;
-      const bool need64 = m == Model::exact ? store64[std::size_t(k)] : fe.contact[std::size_t(k)] > kFloatTolerance && supports_f64_storage(Kind(k));
+      const bool need64 = m == Model::exact ? store64[std::size_t(k)] : fe.contact[std::size_t(k)] > kFloatTolerance && stores_double(Kind(k));
       const auto& opts = plan_options(Kind(k));
       const PlanOption* chosen = nullptr;
       if (m == Model::exact) {
@@ -286,7 +281,7 @@ Plan make_plan(const scene::Scene& s, const Profile& p, Model m) {
         // The split-off primitives run the cheapest option in double whose method stores double and
         // whose lab conditions cover the kind (the most accurate such when none does).
         const PlanOption* o64 = nullptr;
-        auto stores64 = [&](const PlanOption& o) { return o.f64 && method_f64_storage(Kind(k), o.method); };
+        auto stores64 = [&](const PlanOption& o) { return o.f64 && stores_double(Kind(k), o.method); };
         for (const auto& o : opts)
           if (!o64 && stores64(o) && covers(o, kpro)) o64 = &o;
         for (auto o = opts.rbegin(); !o64 && o != opts.rend(); ++o)

@@ -41,11 +41,17 @@ double near_dist(const scene::Bounds& b, const Vec3d& p) {
                 std::max({b.lo.z - p.z, 0.0, p.z - b.hi.z})};
   return std::sqrt(dot(d, d));
 }
+// The float step at a primitive's largest coordinate in the frame at `origin`.
+double step_at(const scene::Bounds& b, const Vec3d& origin) {
+  return b.empty() ? 0 : float_step(std::max(max_abs(b.lo - origin), max_abs(b.hi - origin)));
+}
+// No area or no size: degenerate in every frame.
+bool no_area(const scene::Bounds& b, const kinds::Feature& f) { return b.empty() || !(f.size > 0) || !(f.extent > 0) || f.flat; }
 // No area or no size, or smaller than one float step where it lies in the frame at `origin` (`step`:
-// the float step at its largest coordinate there).
+// step_at there): left out of the profile's figures.
 bool degenerate_at(const scene::Bounds& b, const kinds::Feature& f, const Vec3d& origin, double& step) {
-  step = b.empty() ? 0 : float_step(std::max(max_abs(b.lo - origin), max_abs(b.hi - origin)));
-  return b.empty() || !(f.size > 0) || !(f.extent > 0) || f.flat || !(f.extent > step);
+  step = step_at(b, origin);
+  return no_area(b, f) || !(f.extent > step);
 }
 
 // The significant digits of x's shortest decimal form and the place of its last one: x's text
@@ -214,8 +220,8 @@ FrameError frame_error(const scene::Scene& s, const Profile& p, const Vec3d& ori
       // The float step at the largest coordinate the primitive stores in this frame. A primitive with
       // no area or no size is degenerate; one smaller than that step but with an area in the input
       // is not: float would collapse it, double keeps it (coarse, unless the input held it as float).
-      double step = 0;
-      if (degenerate_at(b, f, origin, step) && (b.empty() || !(f.size > 0) || !(f.extent > 0) || f.flat)) {
+      const double step = step_at(b, origin);
+      if (no_area(b, f)) {
         if (c.degenerate++ == 0 || f.extent < c.worst_degenerate_extent) c.worst_degenerate = i, c.worst_degenerate_extent = f.extent;
         return;
       }

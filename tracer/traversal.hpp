@@ -5,7 +5,7 @@
 #pragma once
 
 #include "bvh/traverse.hpp"
-#include "tracer/leaves.hpp"
+#include "tracer/mesh_leaves.hpp"
 
 namespace rb::tracer {
 
