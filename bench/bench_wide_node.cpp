@@ -1,10 +1,10 @@
-// Kernel benchmark of the 8-wide BVH node's slab test (bvh/traverse.hpp): 256 rays x 64 nodes of 8
+// Kernel benchmark of the 8-wide BVH node's slab test (bvh/slab.hpp): 256 rays x 64 nodes of 8
 // random child boxes (all L1-resident), every ray against every node, fast (FMA form) and robust
 // (Ize 2013). Counter `box_tests_per_s`: ray-box tests per second (8 per node test), one thread.
 // Named with three parts (wide_node_slab/VARIANT/l1) so the scalar-vs-SIMD table leaves it out.
 #include "bench/harness.hpp"
 #include "bench/register.hpp"
-#include "bvh/traverse.hpp"
+#include "bvh/slab.hpp"
 
 #include <benchmark/benchmark.h>
 

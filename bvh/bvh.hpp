@@ -1,7 +1,7 @@
 // The BVH as plain data: a binary tree of slabs (BNode) and the 8-wide tree collapsed from it
 // (WNode, SoA child boxes). Builders (bvh/build.cpp) and the traversal (bvh/traverse.hpp) are
 // separate, and neither knows what a primitive is: the builder sees boxes with a small kind tag,
-// the traversal calls a leaf source (bvh/traverse.hpp) with a leaf's reference.
+// the traversal calls a leaf source (bvh/traverse.hpp says what one provides) with a leaf's reference.
 //
 // Node byte budgets: BNode 32 bytes (box 24 + child-or-leaf 4 + count/kind 4); WNode 224 bytes
 // (six arrays of 8 floats: lo_x hi_x lo_y hi_y lo_z hi_z, then 8 child references).
@@ -129,7 +129,7 @@ struct Bvh8 {
 // Throws std::length_error when the tree is deeper than kMaxTreeDepth.
 Bvh8 collapse8(const Bvh2& b);
 
-// Widens every child box of the wide tree outward so that the fast slab test of bvh/traverse.hpp
+// Widens every child box of the wide tree outward so that the fast slab test of bvh/slab.hpp
 // (t = box * (1/d) - o * (1/d), one FMA) is conservative for every ray whose origin has
 // max(|o.x|, |o.y|, |o.z|) <= origin_bound: it never culls a box the exact ray meets. Each
 // coordinate c moves out by 4 u (|c| + origin_bound) (u = 2^-24), rounded up (derivation in

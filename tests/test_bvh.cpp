@@ -1,6 +1,7 @@
 // The BVH against the loop over all objects (the oracle), its boxes, packets against single
 // rays, watertightness of the robust traversal, and hostile inputs.
 #include "bench/trace.hpp"
+#include "bvh/slab.hpp"
 #include "tracer/accel.hpp"
 #include "tracer/mesh_leaves.hpp"
 #include "scene/sources.hpp"

@@ -9,6 +9,7 @@
 #pragma once
 
 #include "bvh/bvh.hpp"
+#include "soa/rays.hpp"
 #include "tracer/mesh_leaves.hpp"
 #include "tracer/plan.hpp"
 

@@ -9,13 +9,13 @@
 //                      frame origin in double, never rounded to float).
 // A kind has a second batch when the plan stores some of its primitives apart, in double
 // (KindPlan::split): leaves of kind k carry the tag k, leaves of its apart batch the tag kKinds + k.
-// The leaf sources that bvh/traverse.hpp instantiates: TableLeaves here (any scene: one function
+// The leaf sources that the walks of bvh/traverse.hpp instantiate: TableLeaves here (any scene: one function
 // pointer per tag, chosen once per scene) and MeshLeaves in tracer/mesh_leaves.hpp (a
 // triangle-only scene traced with Woop in float: the kernel inlined into the traversal loop;
 // triangles stored apart in double by the double kernel).
 #pragma once
 
-#include "bvh/traverse.hpp"
+#include "bvh/hit.hpp"
 #include "core/spawn.hpp"
 #include "soa/groups.hpp"
 #include "tracer/kinds.hpp"
@@ -41,14 +41,11 @@ static_assert(kLeafKinds <= bvh::kMaxKinds);
 inline constexpr int apart_tag(Kind k) { return kKinds + int(k); }
 inline constexpr Kind tag_kind(int tag) { return Kind(tag % kKinds); }
 
-// ---- f8 <-> two d4 halves ------------------------------------------------------------------------
+// ---- the double kernels on float rays -----------------------------------------------------------
 namespace detail {
-RB_INLINE d4 lo_d4(const f8& x) { return d4(_mm256_cvtps_pd(_mm256_castps256_ps128(x))); }
-RB_INLINE d4 hi_d4(const f8& x) { return d4(_mm256_cvtps_pd(_mm256_extractf128_ps(x, 1))); }
-RB_INLINE f8 join_f8(const d4& lo, const d4& hi) { return f8(_mm256_set_m128(_mm256_cvtpd_ps(hi), _mm256_cvtpd_ps(lo))); }
-RB_INLINE unsigned bits4(const d4_mask& m) { return unsigned(_mm256_movemask_pd(m)); }
 template <class D>
 RB_INLINE Vec3<D> half3(const Vec3<f8>& v, bool hi) {
+  using lanes::hi_d4, lanes::lo_d4;
   return hi ? Vec3<D>{hi_d4(v.x), hi_d4(v.y), hi_d4(v.z)} : Vec3<D>{lo_d4(v.x), lo_d4(v.y), lo_d4(v.z)};
 }
 // The double kernels' tmax for a closest t so far of `t` (float): the next float up, so that every
@@ -60,6 +57,7 @@ inline f8 tmax64(const f8& t) {
   return xsimd::min(f8(spawn::step_floats8(t, _mm256_set1_epi32(1))), f8(std::numeric_limits<float>::max()));
 }
 RB_INLINE Ray<d4> half_ray(const Ray<f8>& r, const f8& tmax, bool hi) {
+  using lanes::hi_d4, lanes::lo_d4;
   return {half3<d4>(r.o, hi), half3<d4>(r.d, hi), half3<d4>(r.rd, hi), hi ? hi_d4(r.tmin) : lo_d4(r.tmin), hi ? hi_d4(tmax) : lo_d4(tmax)};
 }
 }  // namespace detail
@@ -190,7 +188,7 @@ RB_INLINE bool std_single64(const StdBatch<K>& b, std::size_t base, const Ray<fl
     if constexpr (Store64) p = b.f64.template load<d4>(s);
     else p = b.f32.template load<d4>(s);
     const Hit<d4> hit = K::template hit<M>(rd, pre, p);
-    const unsigned bits = detail::bits4(hit.mask);
+    const unsigned bits = lanes::bits(hit.mask);
     if (!bits) continue;
     alignas(32) double t[4];
     hit.t.store_aligned(t);
@@ -238,13 +236,13 @@ RB_INLINE void std_packet64(const StdBatch<K>& b, std::size_t base, bvh::PacketR
       const f8 tmax = detail::tmax64(p.tbest[k]);
       const Ray<d4> lo = detail::half_ray(p.r[k], tmax, false), hi = detail::half_ray(p.r[k], tmax, true);
       const Hit<d4> hl = K::template hit<M>(lo, K::pre(lo), prim), hh = K::template hit<M>(hi, K::pre(hi), prim);
-      unsigned bits = detail::bits4(hl.mask) | detail::bits4(hh.mask) << 4;
+      unsigned bits = lanes::bits(hl.mask) | lanes::bits(hh.mask) << 4;
       if (!bits) continue;
       // The kernel ran up to the next float above tbest: keep the hits whose float t is within it.
-      const f8 t = detail::join_f8(hl.t, hh.t);
-      bits &= bvh::detail::movemask(t <= p.tbest[k]);
+      const f8 t = lanes::join_f8(hl.t, hh.t);
+      bits &= lanes::bits(t <= p.tbest[k]);
       if (!bits) continue;
-      bvh::packet_update<Any>(p, k, bvh::detail::lanes_of(bits), t, code);
+      bvh::packet_update<Any>(p, k, lanes::of(bits), t, code);
     }
   }
 }
@@ -290,8 +288,7 @@ std::array<LeafFns, kKinds> leaf_table(const std::array<LeafChoice, kKinds>& c);
 template <class B>
 inline std::uint32_t real_slots(const B& b, std::size_t base) {
   if (base + 8 <= b.id.size()) {
-    const __m256i ids = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(b.id.data() + base));
-    return 8u - unsigned(__builtin_popcount(unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(ids, _mm256_set1_epi32(-1)))))));
+    return 8u - unsigned(__builtin_popcount(lanes::equal_bits(b.id.data() + base, UINT32_MAX)));
   }
   std::uint32_t n = 0;
   for (std::size_t j = base; j < b.id.size(); ++j) n += b.id[j] != UINT32_MAX;

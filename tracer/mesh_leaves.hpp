@@ -180,7 +180,7 @@ struct MeshLeaves {
     prefetch_ids(*tri, base);
     for (int q = 0; q < p.n; ++q) {
       const int g = p.list[q];
-      unsigned bits = bvh::detail::movemask(p.active[g]);
+      unsigned bits = lanes::bits(p.active[g]);
       if (!bits) continue;
       alignas(32) float tb[8], tm[8];
       p.tbest[g].store_aligned(tb);
@@ -208,7 +208,7 @@ struct MeshLeaves {
         bvh::HitRec h{tb[l], p.prim[8 * g + l]};
         if (!bvh::take_nearest(hit.t, h, [&](int lane) { return kinds::code(kinds::TriangleKind::id, tri->id[base + std::size_t(lane)]); }))
           continue;
-        const f8_mask one_lane = bvh::detail::lanes_of(1u << l);
+        const f8_mask one_lane = lanes::of(1u << l);
         tb[l] = h.t;
         p.prim[8 * g + l] = h.prim;
         p.improved = true;

@@ -12,7 +12,7 @@
 //          double (double storage where the kind has it), the error-bound spawn offset.
 #pragma once
 
-#include "bvh/traverse.hpp"
+#include "bvh/hit.hpp"
 #include "tracer/kinds.hpp"
 #include "tracer/profile.hpp"
 

@@ -4,7 +4,7 @@
 // tracer's frame (CsgIn::in_frame: the placement composed in double relative to the origin).
 #pragma once
 
-#include "bvh/traverse.hpp"
+#include "bvh/hit.hpp"
 #include "kernels/csg.hpp"
 #include "scene/csg.hpp"
 

@@ -4,7 +4,7 @@
 // leaf-ordered polygons; each leaf slot keeps its slot in it.
 #pragma once
 
-#include "bvh/traverse.hpp"
+#include "bvh/hit.hpp"
 #include "kernels/polygon.hpp"
 
 #include <vector>

@@ -1,0 +1,146 @@
+// Lane-level operations on the 8-lane float batch (and its halves as 4-lane doubles) that xsimd
+// 8.1 does not offer: masks as bit sets, horizontal minimum and maximum, a lane read from the
+// register, the integer order of float bits, a sort of 8 keys and the compaction of selected lanes.
+// The traversal (bvh/) and the leaf functions (tracer/) use these instead of raw intrinsics; the
+// number layer proper (core/num.hpp) stays what kernels call.
+#pragma once
+
+#include "core/num.hpp"
+
+#include <immintrin.h>
+
+#include <cstdint>
+#include <limits>
+
+namespace rb::lanes {
+
+// ---- masks as bit sets ---------------------------------------------------------------------------
+// Bit l set when lane l of the mask is.
+RB_INLINE unsigned bits(const f8_mask& m) { return unsigned(_mm256_movemask_ps(m)); }
+RB_INLINE unsigned bits(const d4_mask& m) { return unsigned(_mm256_movemask_pd(m)); }
+// Bit l set when lane l's sign bit is (-0.0 and negative NaNs included).
+RB_INLINE unsigned sign_bits(const f8& x) { return unsigned(_mm256_movemask_ps(x)); }
+// All ones in lane l when bit l of `b` is set (as integers, and as the float mask kernels take).
+RB_INLINE __m256i int_lanes(unsigned b) {
+  const __m256i lane = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+  return _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(b)), lane), lane);
+}
+RB_INLINE f8_mask of(unsigned b) { return f8_mask(_mm256_castsi256_ps(int_lanes(b))); }
+// Bit l set when lane l of the 8 integers at p (32-byte aligned or not) equals v.
+RB_INLINE unsigned equal_bits(const std::uint32_t* p, std::uint32_t v) {
+  const __m256i x = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(p));
+  return unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(x, _mm256_set1_epi32(int(v))))));
+}
+
+// Bit l set when the top bit of the l-th of 8 integers at p (32-byte aligned) is.
+RB_INLINE unsigned top_bits(const std::uint32_t* p) { return unsigned(_mm256_movemask_ps(_mm256_load_ps(reinterpret_cast<const float*>(p)))); }
+
+// ---- horizontal reductions and lane reads --------------------------------------------------------
+// The smallest lane and its index (the lowest such lane); `ties` gets every lane holding that value.
+RB_INLINE int argmin(const f8& t, float& best, unsigned& ties) {
+  const __m256 v = t;
+  __m256 m = _mm256_min_ps(v, _mm256_permute_ps(v, 0xB1));
+  m = _mm256_min_ps(m, _mm256_permute_ps(m, 0x4E));
+  m = _mm256_min_ps(m, _mm256_permute2f128_ps(m, m, 1));
+  best = _mm256_cvtss_f32(m);
+  ties = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(v, m, _CMP_EQ_OQ)));
+  return ties ? __builtin_ctz(ties) : 0;
+}
+RB_INLINE float hmin(const f8& t) {
+  float b;
+  unsigned ties;
+  argmin(t, b, ties);
+  return b;
+}
+RB_INLINE float hmax(const f8& t) {
+  const __m256 v = t;
+  __m256 m = _mm256_max_ps(v, _mm256_permute_ps(v, 0xB1));
+  m = _mm256_max_ps(m, _mm256_permute_ps(m, 0x4E));
+  m = _mm256_max_ps(m, _mm256_permute2f128_ps(m, m, 1));
+  return _mm256_cvtss_f32(m);
+}
+// Lane k of t, read from the register (a store and a load right after it would wait on the store).
+RB_INLINE float at(const f8& t, int k) {
+  return _mm256_cvtss_f32(_mm256_permutevar8x32_ps(t, _mm256_castsi128_si256(_mm_cvtsi32_si128(k))));
+}
+
+// ---- float bits as integers ----------------------------------------------------------------------
+// Non-negative floats order as their bits do as signed integers, and a negative float's bits are a
+// negative integer below all of them: a maximum or minimum of distances on the integer unit (one
+// cycle instead of four) is right wherever one operand of a maximum is >= 0 (see bvh/slab.hpp).
+RB_INLINE __m256i as_int(const f8& x) { return _mm256_castps_si256(x); }
+RB_INLINE f8 as_float(__m256i x) { return f8(_mm256_castsi256_ps(x)); }
+RB_INLINE __m256i int_max(__m256i a, __m256i b) { return _mm256_max_epi32(a, b); }
+RB_INLINE __m256i int_min(__m256i a, __m256i b) { return _mm256_min_epi32(a, b); }
+// Bit l set when lane l of a is not greater than lane l of b (as integers).
+RB_INLINE unsigned int_le_bits(__m256i a, __m256i b) {
+  return ~unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpgt_epi32(a, b)))) & 0xFFu;
+}
+// Bit l set when a <= b in lane l (floats; false where either is NaN).
+RB_INLINE unsigned le_bits(const f8& a, const f8& b) { return unsigned(_mm256_movemask_ps(_mm256_cmp_ps(a, b, _CMP_LE_OQ))); }
+// Bit l set when !(a > b) in lane l (true where either is NaN).
+RB_INLINE unsigned not_gt_bits(const f8& a, const f8& b) { return unsigned(_mm256_movemask_ps(_mm256_cmp_ps(a, b, _CMP_NGT_UQ))); }
+// Float bits in an integer of the same order for every float (negative floats' magnitude flipped).
+RB_INLINE __m256i ordered(__m256i b) { return _mm256_xor_si256(b, _mm256_srli_epi32(_mm256_srai_epi32(b, 31), 1)); }
+
+// ---- sorting and compacting 8 lanes --------------------------------------------------------------
+namespace detail {
+// One layer of compare-exchanges: p = the partners, take_max = lanes that keep the larger key.
+RB_INLINE __m256i exchange(__m256i v, __m256i p, __m256i take_max) {
+  return _mm256_blendv_epi8(_mm256_min_epi32(v, p), _mm256_max_epi32(v, p), take_max);
+}
+}  // namespace detail
+// 8 signed integer keys sorted descending in one register: Batcher's odd-even merge sort, 19
+// comparators in 6 layers.
+RB_INLINE __m256i sort_descending(__m256i v) {
+  using detail::exchange;
+  // (0,1)(2,3)(4,5)(6,7)
+  v = exchange(v, _mm256_shuffle_epi32(v, 0xB1), _mm256_setr_epi32(-1, 0, -1, 0, -1, 0, -1, 0));
+  // (0,2)(1,3)(4,6)(5,7)
+  v = exchange(v, _mm256_shuffle_epi32(v, 0x4E), _mm256_setr_epi32(-1, -1, 0, 0, -1, -1, 0, 0));
+  // (1,2)(5,6)
+  v = exchange(v, _mm256_shuffle_epi32(v, 0xD8), _mm256_setr_epi32(0, -1, 0, 0, 0, -1, 0, 0));
+  // (0,4)(1,5)(2,6)(3,7)
+  v = exchange(v, _mm256_permute2x128_si256(v, v, 1), _mm256_setr_epi32(-1, -1, -1, -1, 0, 0, 0, 0));
+  // (2,4)(3,5)
+  v = exchange(v, _mm256_permutevar8x32_epi32(v, _mm256_setr_epi32(0, 1, 4, 5, 2, 3, 6, 7)), _mm256_setr_epi32(0, 0, -1, -1, 0, 0, 0, 0));
+  // (1,2)(3,4)(5,6)
+  v = exchange(v, _mm256_permutevar8x32_epi32(v, _mm256_setr_epi32(0, 2, 1, 4, 3, 6, 5, 7)), _mm256_setr_epi32(0, -1, 0, -1, 0, -1, 0, 0));
+  return v;
+}
+// Keys made of an ordered float (its 3 low bits replaced by the lane's index) for the lanes of
+// `b`, the smallest integer elsewhere: sorted, the indices come out in the floats' order.
+RB_INLINE __m256i indexed_keys(__m256i key, unsigned b) {
+  key = _mm256_or_si256(_mm256_and_si256(key, _mm256_set1_epi32(~7)), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+  return _mm256_blendv_epi8(_mm256_set1_epi32(std::numeric_limits<int>::min()), key, int_lanes(b));
+}
+RB_INLINE __m256i low3(__m256i v) { return _mm256_and_si256(v, _mm256_set1_epi32(7)); }
+
+// The lanes of the set bits of a byte, lowest first (the rest 0): a permute by this table moves
+// the selected lanes of a register to its front.
+struct Compaction {
+  alignas(32) std::uint32_t idx[256][8];
+  constexpr Compaction() : idx{} {
+    for (unsigned b = 0; b < 256; ++b) {
+      unsigned k = 0;
+      for (unsigned s = 0; s < 8; ++s)
+        if (b >> s & 1u) idx[b][k++] = s;
+    }
+  }
+};
+inline constexpr Compaction kCompaction{};
+RB_INLINE __m256i compaction(unsigned b) { return _mm256_load_si256(reinterpret_cast<const __m256i*>(kCompaction.idx[b])); }
+// 8 integers or floats permuted: lane l of the result is lane idx[l] of v.
+RB_INLINE __m256i permute(__m256i v, __m256i idx) { return _mm256_permutevar8x32_epi32(v, idx); }
+RB_INLINE __m256 permute(__m256 v, __m256i idx) { return _mm256_permutevar8x32_ps(v, idx); }
+RB_INLINE __m256i load8(const std::uint32_t* p) { return _mm256_loadu_si256(reinterpret_cast<const __m256i*>(p)); }
+RB_INLINE __m256i load8_aligned(const std::uint32_t* p) { return _mm256_load_si256(reinterpret_cast<const __m256i*>(p)); }
+RB_INLINE void store8(std::uint32_t* p, __m256i v) { _mm256_storeu_si256(reinterpret_cast<__m256i*>(p), v); }
+RB_INLINE void store8_aligned(std::uint32_t* p, __m256i v) { _mm256_store_si256(reinterpret_cast<__m256i*>(p), v); }
+
+// ---- 8 floats <-> two halves of 4 doubles --------------------------------------------------------
+RB_INLINE d4 lo_d4(const f8& x) { return d4(_mm256_cvtps_pd(_mm256_castps256_ps128(x))); }
+RB_INLINE d4 hi_d4(const f8& x) { return d4(_mm256_cvtps_pd(_mm256_extractf128_ps(x, 1))); }
+RB_INLINE f8 join_f8(const d4& lo, const d4& hi) { return f8(_mm256_set_m128(_mm256_cvtpd_ps(hi), _mm256_cvtpd_ps(lo))); }
+
+}  // namespace rb::lanes
