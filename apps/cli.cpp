@@ -18,31 +18,6 @@
 
 namespace rb::app {
 
-std::size_t edit_distance(const std::string& a, const std::string& b) {
-  const std::size_t n = a.size(), m = b.size();
-  std::vector<std::vector<std::size_t>> d(n + 1, std::vector<std::size_t>(m + 1));
-  for (std::size_t i = 0; i <= n; ++i) d[i][0] = i;
-  for (std::size_t j = 0; j <= m; ++j) d[0][j] = j;
-  for (std::size_t i = 1; i <= n; ++i)
-    for (std::size_t j = 1; j <= m; ++j) {
-      const std::size_t cost = a[i - 1] == b[j - 1] ? 0 : 1;
-      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
-      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
-    }
-  return d[n][m];
-}
-
-std::string closest_name(const std::string& word, const std::vector<std::string>& names) {
-  const std::size_t limit = word.size() <= 4 ? 1 : word.size() <= 8 ? 2 : 3;
-  std::string best;
-  std::size_t best_d = limit + 1;
-  for (const auto& n : names) {
-    const std::size_t d = edit_distance(word, n);
-    if (d < best_d) best_d = d, best = n;
-  }
-  return best;
-}
-
 std::string error_line(const std::string& command, const std::string& input, const std::string& reason) {
   std::string r = reason;
   for (std::size_t p; (p = r.find('\n')) != std::string::npos;) r.replace(p, 1, "; ");

@@ -5,6 +5,8 @@
 // No CLI11 here: apps/raybench.cpp parses, these are plain functions (and tested as such).
 #pragma once
 
+#include "core/suggest.hpp"
+
 #include <regex>
 #include <stdexcept>
 #include <string>
@@ -23,11 +25,10 @@ struct NothingToDo : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Optimal string alignment distance (insertions, deletions, substitutions, adjacent swaps).
-std::size_t edit_distance(const std::string& a, const std::string& b);
-// The name of `names` closest to `word`, or "" when none is close enough to be a likely typo
-// (distance at most 1 for words of up to 4 letters, 2 up to 8, 3 beyond).
-std::string closest_name(const std::string& word, const std::vector<std::string>& names);
+// Did-you-mean for commands, options and values (core/suggest.hpp).
+using rb::closest_name;
+using rb::did_you_mean;
+using rb::edit_distance;
 
 // "raybench COMMAND: INPUT: REASON", naming the input once even when REASON already starts with it
 // (the scene loaders' messages name the file and line themselves). Newlines become "; ".

@@ -175,6 +175,7 @@ int run_info_command(const std::string& scene, const JsonOut& out) {
       std::cerr << error_line("info", scene, why) << "\n";
       return kExitError;
     }
+  bool empty = false;
   try {
     const auto t0 = std::chrono::steady_clock::now();
     const rb::scene::Scene s = rb::scene::load_scene(scene);
@@ -182,12 +183,17 @@ int run_info_command(const std::string& scene, const JsonOut& out) {
     j = scene_info(s);
     j["source"] = scene;
     j["load_ms"] = ms;
+    empty = s.primitive_count() == 0;
   } catch (const std::exception& e) {
     // Loader errors name the file and line; a generator's name the scene.
     std::cerr << error_line("info", scene, e.what()) << "\n";
     return kExitError;
   }
-  return write_result("info", out, [&] { return fit_columns(scene_info_text(j), 12); }, [&] { return j; }, "the scene description");
+  const int rc = write_result("info", out, [&] { return fit_columns(scene_info_text(j), 12); }, [&] { return j; }, "the scene description");
+  if (rc != kExitOk || !empty) return rc;
+  // Described, but nothing to trace or render: the convention's "nothing to do".
+  std::cerr << error_line("info", scene, "the scene has no primitives") << "\n";
+  return kExitNothing;
 }
 
 int run_dump_scene_command(const std::string& scene, const std::string& file) {

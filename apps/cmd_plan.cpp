@@ -1,6 +1,7 @@
 // `raybench plan SCENE`: the scene's numerical profile and how the tracer models it (tracer/plan.hpp),
 // each choice with its reason and the lab cases it rests on; --verify runs those cases.
 #include "accuracy/lab.hpp"
+#include "apps/cli.hpp"
 #include "apps/commands.hpp"
 #include "scene/sources.hpp"
 #include "tracer/plan.hpp"
@@ -27,19 +28,20 @@ std::string profile_text(const tracer::Profile& p) {
                    g(p.camera.y), g(p.camera.z), p.stated_camera ? " (stated: the scene has none)" : "", g(p.camera_distance),
                    g(p.light_distance_max), g(p.object_min));
   o += fmt::format("input   {}\n", p.input.summary());
-  o += fmt::format("{:<9}{:>9} {:>21} {:>9} {:>10} {:>10} {:>10}\n", "kind", "count", "size min..max", "aspect", "coord max", "seen from",
+  o += fmt::format("{:<9}{:>8} {:>19} {:>8} {:>10} {:>10} {:>10}\n", "kind", "count", "size min..max", "aspect", "coord max", "seen from",
                    "step/size");
   for (int k = 0; k < kinds::kKinds; ++k) {
     const tracer::KindProfile& q = p.kinds[std::size_t(k)];
     if (!q.count) continue;
-    o += fmt::format("{:<9}{:>9} {:>21} {:>9} {:>10} {:>10} {:>10}\n", kinds::kind_name(kinds::Kind(k)), q.count,
+    o += fmt::format("{:<9}{:>8} {:>19} {:>8} {:>10} {:>10} {:>10}\n", kinds::kind_name(kinds::Kind(k)), q.count,
                      g(q.size_min) + ".." + g(q.size_max), g(q.aspect_max), g(q.coord_max), g(q.far_ratio), g(q.world_step_ratio));
     if (q.degenerate)
       o += fmt::format("{:<9}{:>9} of them degenerate (no area, or under one float step where they lie): left out of the figures\n", "",
                        q.degenerate);
   }
-  o += "        (seen from: the farthest ray origin over the primitive's size; step/size: the float step at the kind's largest\n"
-       "         coordinate over its smallest size, in world coordinates)\n";
+  o += "        (seen from: the farthest ray origin over the primitive's size; step/size:\n"
+       "         the float step at the kind's largest coordinate over its smallest size,\n"
+       "         in world coordinates)\n";
   return o;
 }
 
@@ -95,7 +97,7 @@ int run_plan_command(const std::string& scene, const std::string& model, bool do
     std::cerr << "raybench plan: " << (what.find(scene) == std::string::npos ? scene + ": " : "") << what << "\n";
     return 1;
   }
-  return write_result("plan", out.json, out.file, [&] { return text; }, [&] { return j; });
+  return write_result("plan", out.json, out.file, [&] { return fit_columns(text, 9); }, [&] { return j; });
 }
 
 }  // namespace rb::app

@@ -49,11 +49,11 @@ int run_dump_scene_command(const std::string& scene, const std::string& file);  
 int run_trace_command(const TraceRunOptions& o, const JsonOut& out);              // cmd_trace.cpp: raybench trace SCENE
 int run_render_command(const RenderRunOptions& o, const JsonOut& out);            // cmd_render.cpp: raybench render SCENE
 int run_accuracy_command(const acc::Options& o, bool list, const JsonOut& out);   // cmd_accuracy.cpp: raybench accuracy
-int run_csg_command(int repetitions, std::size_t rays, bool markdown, const JsonOut& out);  // report_csg.cpp: raybench csg
+int run_csg_command(int repetitions, std::size_t rays, bool markdown, const std::string& filter, const JsonOut& out);  // report_csg.cpp: raybench csg
 int run_compare_command(const std::string& a, const std::string& b, const CompareOptions& o, bool markdown,
                         const JsonOut& out);                                        // cmd_compare.cpp: raybench compare A B
 int run_history_command(const HistoryOptions& o, const JsonOut& out);              // cmd_history.cpp: raybench history
-int run_ops_command(bool notes, const JsonOut& out);                               // cmd_ops.cpp: raybench ops
+int run_ops_command(bool notes, const std::string& filter, const JsonOut& out);                               // cmd_ops.cpp: raybench ops
 struct BenchOptions;                                                                // apps/report.hpp
 int run_bench_command(const BenchOptions& o, bool list, const JsonOut& out);      // cmd_bench.cpp: raybench bench
 int run_machine_command(const JsonOut& out);                                       // cmd_ops.cpp: raybench machine

@@ -34,11 +34,60 @@ namespace {
 
 using rb::app::JsonOut;
 
-// --json [FILE|-]: no FILE or '-' writes to stdout (put it after the positional arguments).
+// --json [FILE|-]: no FILE or '-' writes to stdout.
 CLI::Option* add_json(CLI::App* sub, std::string& file, const std::string& what) {
   return sub->add_option("--json", file, what)->expected(0, 1)->type_name("[FILE|-]");
 }
 JsonOut json_out(CLI::App* sub, const std::string& file) { return {sub->count("--json") > 0, file, {}}; }
+
+// A command's positional arguments, and its options whose FILE is optional (--json, --dump-json).
+// The parser gives such an option the next word, so `trace --json csg:die` would read the scene
+// as the JSON file and then miss the scene. The positionals are therefore not required by the
+// parser: when some are missing and such an option took a word, that word was the positional
+// given at its place (the option then writes to stdout); what is still missing is an error.
+struct Positionals {
+  CLI::App* sub;
+  std::vector<std::pair<std::string, std::string*>> args;          // name, value, in order
+  std::vector<std::pair<std::string, std::string*>> optional_file;  // option, its FILE
+};
+CLI::Option* add_positional(Positionals& p, const std::string& name, std::string& value, const std::string& what) {
+  p.args.emplace_back(name, &value);
+  return p.sub->add_option(name, value, what);
+}
+// "" when every positional is there (after taking back the swallowed ones), else the error.
+std::string complete_positionals(const Positionals& p) {
+  std::vector<std::string> given;
+  for (const auto& [name, v] : p.args)
+    if (!v->empty()) given.push_back(*v);
+  for (const auto& [opt, file] : p.optional_file) {
+    if (given.size() == p.args.size()) break;
+    if (!p.sub->count(opt) || file->empty() || *file == "-") continue;
+    std::size_t before = 0;  // positional words parsed before the option
+    for (const CLI::Option* o : p.sub->parse_order()) {
+      if (o->check_name(opt)) break;
+      before += o->get_positional();
+    }
+    given.insert(given.begin() + std::ptrdiff_t(std::min(before, given.size())), *file);
+    file->clear();
+  }
+  for (std::size_t i = 0; i < p.args.size(); ++i) {
+    if (i >= given.size()) return p.args[i].first + " is required";
+    *p.args[i].second = given[i];
+  }
+  return "";
+}
+
+// A value from a fixed set of names; anything else is refused with the names and the closest one.
+CLI::Validator one_of(std::vector<std::string> names) {
+  std::string list;
+  for (const auto& n : names) list += (list.empty() ? "" : ",") + n;
+  return CLI::Validator(
+      [names, list](std::string& s) -> std::string {
+        if (std::find(names.begin(), names.end(), s) != names.end()) return "";
+        return "'" + s + "' is not one of " + list + rb::did_you_mean(s, names);
+      },
+      "{" + list + "}");
+}
 
 // A count given as an integer or in scientific notation (4e9, 1e6), refused outside 1..max with
 // the bound named before anything is allocated; passed on as the integer.
@@ -135,10 +184,11 @@ int main(int argc, char** argv) {
       "`raybench compare A B`; each run is kept in results/history.sqlite.");
 
   // ---- ops ----
-  std::string ops_json;
+  std::string ops_json, ops_filter;
   bool ops_notes = false;
   auto* ops = app.add_subcommand("ops", "Operations per intersection, lecture vs measured");
   ops->add_flag("--notes", ops_notes, "Under every row, the reason for each difference");
+  ops->add_option("--filter", ops_filter, "Only the rows whose kernel/method/case matches\nthis regex (e.g. sphere/, /miss$)");
   add_json(ops, ops_json, "Write the rows as JSON to FILE (no FILE: stdout)");
   ops->footer(
       "For every kernel and method: the lecture's operation counts beside those\n"
@@ -168,7 +218,8 @@ int main(int argc, char** argv) {
   // ---- info ----
   std::string info_scene, info_json, info_dump;
   auto* info = app.add_subcommand("info", "Describe a scene: counts, bounds, memory");
-  info->add_option("scene", info_scene, "A scene (see below)")->required();
+  Positionals info_args{info, {}, {{"--json", &info_json}, {"--dump-json", &info_dump}}};
+  add_positional(info_args, "scene", info_scene, "A scene (see below)");
   add_json(info, info_json, "Write the description as JSON to FILE\n(no FILE: stdout)");
   info->add_option("--dump-json", info_dump, "Write the scene itself in the JSON scene\nformat to FILE (no FILE: stdout), a start\nfor a scene of your own (docs/SCENE_FORMAT.md)")
       ->expected(0, 1)
@@ -212,8 +263,9 @@ int main(int argc, char** argv) {
   TraceRunOptions to;
   std::string trace_json, trace_history;
   auto* trace = app.add_subcommand("trace", "Trace a scene through the BVH beside Embree");
-  trace->add_option("scene", to.scene, "A scene, as `raybench info` takes it")->required();
-  trace->add_option("--rays", to.ray_set, "Ray set")->check(CLI::IsMember({"primary", "shadow", "diffuse", "random"}))->capture_default_str();
+  Positionals trace_args{trace, {}, {{"--json", &trace_json}}};
+  add_positional(trace_args, "scene", to.scene, "A scene, as `raybench info` takes it");
+  trace->add_option("--rays", to.ray_set, "Ray set")->check(one_of({"primary", "shadow", "diffuse", "random"}))->capture_default_str();
   trace->add_option("--threads", to.threads, "Threads for tracing and both builds\n(0: every hardware thread)")
       ->check(CLI::Range(0, 256))->capture_default_str();
   trace->add_option("--packet", to.packet, "Rays per packet: 1 (single rays), 8, 16,\n64 or 256 (coherent packets)")
@@ -223,9 +275,9 @@ int main(int argc, char** argv) {
       ->transform(count_up_to(std::size_t(1) << 28, "rays"))->capture_default_str();
   trace->add_option("--seed", to.seed, "Seed of the ray set")->capture_default_str();
   trace->add_option("--model", to.model, "How the scene is modelled: auto (what it\nneeds: `raybench plan`), fast or exact")
-      ->check(CLI::IsMember({"auto", "fast", "exact"}))->capture_default_str();
+      ->check(one_of({"auto", "fast", "exact"}))->capture_default_str();
   trace->add_option("--slab", to.slab, "Slab test: plan (the model's), conservative,\nfast or robust")
-      ->check(CLI::IsMember({"plan", "conservative", "fast", "robust"}))->capture_default_str();
+      ->check(one_of({"plan", "conservative", "fast", "robust"}))->capture_default_str();
   trace->add_option("-r,--repetitions", to.repetitions, "Timed rounds, engines alternating (the median is\nquoted; from 6 rounds raybench / Embree has a\n95 % interval)")
       ->check(CLI::Range(1, 100))->capture_default_str();
   trace->add_option("--warmup", to.warmup, "Untimed runs per engine before the timed ones")->check(CLI::Range(0, 100))->capture_default_str();
@@ -239,7 +291,7 @@ int main(int argc, char** argv) {
   trace->add_option("--builder", to.builder,
                     "The tree raybench traces: sah (its own) or\nEmbree's builder (embree: medium quality,\n"
                     "embree-high: high, with spatial splits of\ntriangles); with Embree's the SAH tree is\ntimed beside it")
-      ->check(CLI::IsMember({"sah", "embree", "embree-high"}))->capture_default_str();
+      ->check(one_of({"sah", "embree", "embree-high"}))->capture_default_str();
   add_json(trace, trace_json, "Write the result as JSON to FILE\n(no FILE: stdout instead of the table)");
   trace->add_option("--history", trace_history, "Keep the run in this results history\n(default: $RAYBENCH_HISTORY)")->type_name("FILE");
   trace->footer(
@@ -262,10 +314,11 @@ int main(int argc, char** argv) {
   rdo.repetitions = 5;  // 4 or more on each side let `compare`'s U test reach p < 0.05
   std::string render_json, render_history;
   auto* render = app.add_subcommand("render", "Render a scene with the recursive ray tracer");
-  render->add_option("scene", rdo.scene, "A scene, as `raybench info` takes it")->required();
+  Positionals render_args{render, {}, {{"--json", &render_json}}};
+  add_positional(render_args, "scene", rdo.scene, "A scene, as `raybench info` takes it");
   render->add_option("-o,--out", rdo.out, "PNG file to write (default: SCENE.png in the\ncurrent folder; '-': stdout, the table then to\nstderr)")->type_name("FILE");
-  render->add_option("--width", rdo.width, "Image width in pixels (default 512, or the\nNFF file's resolution)")->check(CLI::Range(1, 16384));
-  render->add_option("--height", rdo.height, "Image height in pixels (default: the width)")->check(CLI::Range(1, 16384));
+  render->add_option("--width", rdo.width, "Image width in pixels (default 512, or the\nscene camera's resolution)")->check(CLI::Range(1, 16384));
+  render->add_option("--height", rdo.height, "Image height in pixels (default: from the width\nby the scene camera's aspect ratio, or the width)")->check(CLI::Range(1, 16384));
   render->add_option("--depth", rdo.depth, "Maximum ray tree depth (the eye ray is 1)")->check(CLI::Range(1, 64))->capture_default_str();
   render->add_option("--threads", rdo.threads, "TBB threads per MPI rank\n(0: every hardware thread)")->check(CLI::Range(0, 256))->capture_default_str();
   render->add_flag("--spd", rdo.spd, "Haines' SPD protocol, his counts beside ours");
@@ -283,7 +336,7 @@ int main(int argc, char** argv) {
       ->type_name("auto|1|8")
       ->default_str("auto");
   render->add_option("--model", rdo.model, "How the scene is modelled: auto (what it\nneeds: `raybench plan`), fast or exact")
-      ->check(CLI::IsMember({"auto", "fast", "exact"}))->capture_default_str();
+      ->check(one_of({"auto", "fast", "exact"}))->capture_default_str();
   render->add_option("-r,--repetitions", rdo.repetitions, "Timed renders (the median is quoted)")->check(CLI::Range(1, 100))->capture_default_str();
   render->add_option("--warmup", rdo.warmup, "Untimed renders before the timed ones")->check(CLI::Range(0, 100))->capture_default_str();
   add_json(render, render_json, "Write the result as JSON to FILE\n(no FILE: stdout instead of the summary)");
@@ -321,11 +374,12 @@ int main(int argc, char** argv) {
   int csg_reps = 5;
   std::size_t csg_rays = std::size_t(1) << 15;
   bool csg_markdown = false;
-  std::string csg_json;
+  std::string csg_json, csg_filter;
   auto* csg = app.add_subcommand("csg", "CSG queries per second, scalar vs 8-ray packets");
   csg->add_option("-r,--repetitions", csg_reps, "Timed runs (the median is quoted)")->check(CLI::Range(1, 100))->capture_default_str();
   csg->add_option("--rays", csg_rays, "Rays per scene")->check(CLI::Range(std::size_t(8), std::size_t(1) << 24))->capture_default_str();
   csg->add_flag("--markdown", csg_markdown, "The report's CSG section (markdown, with the\noperations per query) instead of the table");
+  csg->add_option("--filter", csg_filter, "Only the scenes whose csg:NAME matches this\nregex (e.g. die, ^csg:lens$)");
   add_json(csg, csg_json, "Write the figures as JSON to FILE\n(no FILE: stdout instead of the table)");
 
   // ---- compare ----
@@ -334,8 +388,9 @@ int main(int argc, char** argv) {
   double compare_threshold = -1, compare_noise = 5;
   bool compare_markdown = false;
   auto* compare = app.add_subcommand("compare", "Compare two results: ratios and U-test p-values");
-  compare->add_option("A", compare_a, "The baseline: a JSON result or a report folder\n(with --history: a run id)")->required();
-  compare->add_option("B", compare_b, "The result to compare with it, of the same kind\n(with --history: a run id)")->required();
+  Positionals compare_args{compare, {}, {{"--json", &compare_json}}};
+  add_positional(compare_args, "A", compare_a, "The baseline: a JSON result or a report folder\n(with --history: a run id)");
+  add_positional(compare_args, "B", compare_b, "The result to compare with it, of the same kind\n(with --history: a run id)");
   compare->add_option("--history", co.history, "A and B are two runs of this results history,\nby id (`raybench history` lists them)")->type_name("FILE");
   compare->add_option("--threshold", compare_threshold, "Exit 1 when a row is worse than A beyond noise\nby more than PCT percent")
       ->type_name("PCT")->check(CLI::Range(0.0, 1e6));
@@ -384,9 +439,10 @@ int main(int argc, char** argv) {
   std::string plan_scene, plan_json, plan_model = "auto";
   bool plan_verify = false;
   auto* plan = app.add_subcommand("plan", "How a scene is modelled for tracing, and why");
-  plan->add_option("scene", plan_scene, "A scene, as `raybench info` takes it")->required();
+  Positionals plan_args{plan, {}, {{"--json", &plan_json}}};
+  add_positional(plan_args, "scene", plan_scene, "A scene, as `raybench info` takes it");
   plan->add_option("--model", plan_model, "auto (what the scene needs), fast or exact")
-      ->check(CLI::IsMember({"auto", "fast", "exact"}))->capture_default_str();
+      ->check(one_of({"auto", "fast", "exact"}))->capture_default_str();
   plan->add_flag("--verify", plan_verify, "Run the lab cases every choice rests on and\nshow their failure figures (a few seconds)");
   add_json(plan, plan_json, "Write the profile and the plan as JSON to\nFILE (no FILE: stdout instead of the text)");
   plan->footer(
@@ -408,8 +464,7 @@ int main(int argc, char** argv) {
   if (argc > 1 && argv[1][0] != '-') {
     sub_name = argv[1];
     if (std::find(commands.begin(), commands.end(), sub_name) == commands.end()) {
-      const std::string near = closest_name(sub_name, commands);
-      std::cerr << "raybench: '" << sub_name << "' is not a command" << (near.empty() ? "" : "; did you mean '" + near + "'?")
+      std::cerr << "raybench: '" << sub_name << "' is not a command" << did_you_mean(sub_name, commands)
                 << " (raybench --help lists them)\n";
       return kExitError;
     }
@@ -433,8 +488,7 @@ int main(int argc, char** argv) {
       for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a.rfind("--", 0) == 0 && msg.find(a) != std::string::npos) {
-          const std::string near = closest_name(a.substr(0, a.find('=')), opts);
-          if (!near.empty()) msg += "; did you mean " + near + "?";
+          msg += did_you_mean(a.substr(0, a.find('=')), opts);
           break;
         }
       }
@@ -442,6 +496,14 @@ int main(int argc, char** argv) {
     std::cerr << error_line(sub_name.empty() ? "" : sub_name, "", msg) << " (raybench " << (sub_name.empty() ? "" : sub_name + " ")
               << "--help)\n";
     return kExitError;
+  }
+
+  for (const Positionals* p : {&info_args, &trace_args, &render_args, &compare_args, &plan_args}) {
+    if (!*p->sub) continue;
+    if (const std::string why = complete_positionals(*p); !why.empty()) {
+      std::cerr << error_line(p->sub->get_name(), "", why) << " (raybench " << p->sub->get_name() << " --help)\n";
+      return kExitError;
+    }
   }
 
   // Every output is checked before the work starts: a long run must not end in "cannot write".
@@ -501,7 +563,7 @@ int main(int argc, char** argv) {
         std::cerr << "kept as run " << id << " in the results history " << hist->path() << "\n";
       }
     } else if (*ops) {
-      rc = run_ops_command(ops_notes, json_out(ops, ops_json));
+      rc = run_ops_command(ops_notes, ops_filter, json_out(ops, ops_json));
     } else if (*bench) {
       if (!bench_list && !open_history(bench_history, "")) return kExitError;
       JsonOut out = json_out(bench, bench_json);
@@ -539,7 +601,7 @@ int main(int argc, char** argv) {
       out.record = recorder("accuracy");
       rc = run_accuracy_command(ao, accuracy_list, out);
     } else if (*csg) {
-      rc = run_csg_command(csg_reps, csg_rays, csg_markdown, json_out(csg, csg_json));
+      rc = run_csg_command(csg_reps, csg_rays, csg_markdown, csg_filter, json_out(csg, csg_json));
     } else if (*compare) {
       co.threshold = compare_threshold >= 0 ? compare_threshold / 100 : -1;
       co.noise = compare_noise / 100;

@@ -66,10 +66,14 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
   }
   const double build_ms = accel.build_ms;
 
+  // The image size: as given; the camera's own when neither is given; one of them given, the other
+  // from the camera's aspect ratio (square without one).
   int w = o.width, h = o.height;
-  if (!o.spd && w == 0 && h == 0 && s.camera.width > 0 && s.camera.height > 0) w = s.camera.width, h = s.camera.height;
-  if (w == 0) w = h > 0 ? h : 512;
-  if (h == 0) h = w;
+  const bool aspect = !o.spd && s.camera.width > 0 && s.camera.height > 0;
+  if (aspect && w == 0 && h == 0) w = s.camera.width, h = s.camera.height;
+  if (w == 0 && h > 0) w = aspect ? std::max(1, int(std::lround(double(h) * s.camera.width / s.camera.height))) : h;
+  if (w == 0) w = 512;
+  if (h == 0) h = aspect ? std::max(1, int(std::lround(double(w) * s.camera.height / s.camera.width))) : w;
   render::RenderOptions ro;
   if (o.spd) ro = render::spd_options(s, w, h, o.depth);
   else ro.width = w, ro.height = h, ro.depth = o.depth;

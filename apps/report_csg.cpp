@@ -120,9 +120,14 @@ Speed time_queries(const CsgTree& T, const RaySoA& rays, int repetitions) {
 }
 }  // namespace
 
-json measure_csg_speed(int repetitions, std::size_t nrays, ProgressBar* bar = nullptr) {
+json measure_csg_speed(int repetitions, std::size_t nrays, ProgressBar* bar = nullptr, const std::string& filter = "") {
   json out = json::array();
-  const auto names = scene::csg_scene_names();
+  auto names = scene::csg_scene_names();
+  if (!filter.empty()) {
+    const std::regex re = filter_regex(filter);
+    std::erase_if(names, [&](const std::string& n) { return !filter_matches(re, "csg:" + n); });
+    if (names.empty()) throw NothingToDo("--filter '" + filter + "' selects no CSG scene (csg:NAME, e.g. die or ^csg:lens$)");
+  }
   for (const std::string& name : names) {
     if (bar) bar->update(double(out.size()) / double(names.size()), "csg:" + name);
     const scene::Scene sc = scene::csg_scene(name);
@@ -217,9 +222,9 @@ std::string csg_text(const json& speed) {
 }
 }  // namespace
 
-int run_csg_command(int repetitions, std::size_t rays, bool markdown, const JsonOut& out) {
+int run_csg_command(int repetitions, std::size_t rays, bool markdown, const std::string& filter, const JsonOut& out) {
   ProgressBar bar("raybench csg");
-  const json speed = measure_csg_speed(repetitions, rays, &bar);
+  const json speed = measure_csg_speed(repetitions, rays, &bar, filter);
   bar.done();
   return write_result("csg", out, [&] { return markdown ? csg_markdown(speed, opstable::build()) : csg_text(speed); },
                       [&] { return json{{"machine", machine().json()}, {"repetitions", repetitions}, {"rays", rays}, {"rows", speed}}; },

@@ -1,6 +1,7 @@
 // The JSON scene format and the CSG tree builder (scene/csg.hpp).
 #include "scene/csg.hpp"
 #include "scene/parse_util.hpp"
+#include "core/suggest.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -50,12 +51,21 @@ Vec3d nonzero(const json& j, const std::string& path, const char* key) {
   return v;
 }
 
+// Refuses a key of object j that is not one of `keys`, naming the nearest one: a misspelt key
+// ("trnsform", "colour") would otherwise be dropped without a word.
+void only_keys(const json& j, const std::string& path, const std::vector<std::string>& keys) {
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    if (std::find(keys.begin(), keys.end(), it.key()) != keys.end()) continue;
+    std::string list;
+    for (const auto& k : keys) list += (list.empty() ? "" : ", ") + k;
+    fail(path.empty() ? it.key() : path + "." + it.key(), "unknown key (" + list + ")" + did_you_mean(it.key(), keys));
+  }
+}
+
 // "transform": translate * rotate * scale, or a 3x4 matrix.
 Affine3d transform(const json& t, const std::string& path) {
   if (!t.is_object()) fail(path, "expected an object with translate, rotate, scale or matrix");
-  for (auto it = t.begin(); it != t.end(); ++it)
-    if (it.key() != "translate" && it.key() != "rotate" && it.key() != "scale" && it.key() != "matrix")
-      fail(path + "." + it.key(), "unknown key (translate, rotate, scale or matrix)");
+  only_keys(t, path, {"translate", "rotate", "scale", "matrix"});
   Affine3d M;
   if (t.contains("matrix")) {
     if (t.size() != 1) fail(path, "\"matrix\" excludes translate, rotate and scale");
@@ -74,6 +84,7 @@ Affine3d transform(const json& t, const std::string& path) {
       const std::string rp = path + ".rotate";
       const json& r = t["rotate"];
       if (!r.is_object()) fail(rp, "expected {\"axis\": [x,y,z], \"degrees\": d}");
+      only_keys(r, rp, {"axis", "degrees"});
       M = M * Affine3d::rotate(nonzero(r, rp, "axis"), num(r, rp, "degrees") * std::numbers::pi / 180.0);
     }
     if (t.contains("scale")) {
@@ -173,6 +184,26 @@ struct Builder {
     return it->second;
   }
 
+  // The keys a node of this type may have (an unknown type is reported by node()).
+  static std::vector<std::string> node_keys(const std::string& type) {
+    std::vector<std::string> k = {"type", "transform", "material"};
+    auto add = [&](std::initializer_list<const char*> more) {
+      for (const char* m : more) k.emplace_back(m);
+    };
+    if (type == "union" || type == "intersection") add({"children", "left", "right"});
+    else if (type == "difference") add({"left", "right"});
+    else if (type == "sphere") add({"center", "radius"});
+    else if (type == "box") add({"min", "max"});
+    else if (type == "polyhedron") add({"planes"});
+    else if (type == "cylinder") add({"base", "axis", "radius", "height"});
+    else if (type == "cone") add({"apex", "axis", "radius", "height"});
+    else if (type == "torus") add({"center", "axis", "major", "minor"});
+    else if (type == "ellipsoid") add({"center", "radii"});
+    else if (type == "quadric") add({"coefficients"});
+    else return {};
+    return k;
+  }
+
   std::uint32_t add_node(CsgNode n) {
     tree.nodes.push_back(n);
     return std::uint32_t(tree.nodes.size() - 1);
@@ -236,6 +267,7 @@ struct Builder {
     if (!j.is_object()) fail(path, "expected an object with a \"type\"");
     if (!j.contains("type") || !j["type"].is_string()) fail(key_path(path, "type"), "expected a string");
     const std::string type = j["type"].get<std::string>();
+    if (const auto keys = node_keys(type); !keys.empty()) only_keys(j, path, keys);
     if (j.contains("transform")) M = M * transform(j["transform"], key_path(path, "transform"));
     mat = material(j, path, mat);
     if (type == "union" || type == "intersection" || type == "difference") {
@@ -289,6 +321,7 @@ struct Builder {
       for (std::size_t i = 0; i < pl.size(); ++i) {
         const std::string ip = pp + "[" + std::to_string(i) + "]";
         if (!pl[i].is_object()) fail(ip, "expected {\"normal\": [..], \"point\": [..]}");
+        only_keys(pl[i], ip, {"normal", "point"});
         hs.push_back({to_float(nonzero(pl[i], ip, "normal")), to_float(vec(pl[i], ip, "point"))});
       }
       const auto box = polyhedron_box(hs);
@@ -369,7 +402,9 @@ struct Builder {
       return leaf(L, M, ctr - ext, ctr + ext, path);
     }
     fail(key_path(path, "type"), "unknown type \"" + detail::quote(type) +
-                                      "\" (union, intersection, difference, sphere, box, polyhedron, cylinder, cone, torus, ellipsoid, quadric)");
+                                      "\" (union, intersection, difference, sphere, box, polyhedron, cylinder, cone, torus, ellipsoid, quadric)" +
+                                      did_you_mean(type, {"union", "intersection", "difference", "sphere", "box", "polyhedron", "cylinder", "cone",
+                                                          "torus", "ellipsoid", "quadric", "polygon"}));
   }
 
   // The tree's depth in nodes (a balanced union of n children adds log2 n levels to the JSON's).
@@ -386,6 +421,7 @@ struct Builder {
 
 Material parse_material(const json& m, const std::string& path) {
   if (!m.is_object()) fail(path, "expected an object");
+  only_keys(m, path, {"color", "kd", "ks", "shine", "t", "ior"});
   Material mat;
   if (m.contains("color")) mat.color = to_float(vec(m, path, "color"));
   auto opt = [&](const char* k, float& dst) {
@@ -441,12 +477,11 @@ Scene build_scene(const json& root, const std::string& name) {
   Scene s;
   s.name = name;
   if (!root.is_object()) fail("(top level)", "expected an object with \"objects\"");
-  for (auto it = root.begin(); it != root.end(); ++it)
-    if (it.key() != "camera" && it.key() != "background" && it.key() != "lights" && it.key() != "materials" && it.key() != "objects")
-      fail(it.key(), "unknown key (camera, background, lights, materials, objects)");
+  only_keys(root, "", {"camera", "background", "lights", "materials", "objects"});
   if (root.contains("camera")) {
     const json& c = root["camera"];
     if (!c.is_object()) fail("camera", "expected an object");
+    only_keys(c, "camera", {"from", "at", "up", "angle", "hither", "width", "height"});
     if (c.contains("from")) s.camera.from = vec(c, "camera", "from");
     if (c.contains("at")) s.camera.at = vec(c, "camera", "at");
     if (c.contains("up")) s.camera.up = nonzero(c, "camera", "up");
@@ -471,6 +506,7 @@ Scene build_scene(const json& root, const std::string& name) {
     for (std::size_t i = 0; i < l.size(); ++i) {
       const std::string p = "lights[" + std::to_string(i) + "]";
       if (!l[i].is_object()) fail(p, "expected {\"position\": [..], \"color\": [..]}");
+      only_keys(l[i], p, {"position", "color"});
       Light L;
       L.pos = vec(l[i], p, "position");
       if (l[i].contains("color")) L.color = to_float(vec(l[i], p, "color"));
@@ -504,6 +540,7 @@ Scene build_scene(const json& root, const std::string& name) {
     const std::uint32_t mat = b.material(o, p, 0);
     const std::string type = o.is_object() && o.contains("type") && o["type"].is_string() ? o["type"].get<std::string>() : "";
     if (type == "sphere" && !o.contains("transform")) {
+      only_keys(o, p, {"type", "center", "radius", "material"});
       const Vec3d c = vec(o, p, "center");
       const double r = positive(o, p, "radius");
       s.spheres.push_back({c, r, mat});
@@ -512,10 +549,7 @@ Scene build_scene(const json& root, const std::string& name) {
     if (type == "torus" && !o.contains("transform")) {
       // A plain torus (a primitive kind of its own); with a transform it is a one-leaf CSG object.
       // The same checks as the CSG leaf: a ring torus (R > r) with a non-zero axis.
-      for (auto it = o.begin(); it != o.end(); ++it)
-        if (it.key() != "type" && it.key() != "center" && it.key() != "axis" && it.key() != "major" && it.key() != "minor" &&
-            it.key() != "material")
-          fail(p + "." + it.key(), "unknown key (center, axis, major, minor, material)");
+      only_keys(o, p, {"type", "center", "axis", "major", "minor", "material"});
       const Vec3d c = vec(o, p, "center"), w = nonzero(o, p, "axis");
       const double R = positive(o, p, "major"), r = positive(o, p, "minor");
       if (!(R > r)) fail(key_path(p, "minor"), "expected a number below \"major\" (a ring torus)");
@@ -526,6 +560,7 @@ Scene build_scene(const json& root, const std::string& name) {
       continue;
     }
     if (type == "polygon") {
+      only_keys(o, p, {"type", "vertices", "material"});
       const json& v = need(o, p, "vertices");
       const std::string vp = p + ".vertices";
       if (!v.is_array() || v.size() < 3 || v.size() > 100000) fail(vp, "expected an array of 3 to 100000 points");
@@ -759,7 +794,7 @@ std::string csg_scene_json(const std::string& name) {
      "right": {"type": "cylinder", "base": [0, -2, 0], "axis": [0.3, 1, 0], "radius": 0.4, "height": 4}})");
   std::string names;
   for (const auto& n : csg_scene_names()) names += (names.empty() ? "" : ", ") + n;
-  throw SceneError("csg:" + name + ": unknown CSG scene (" + names + ")");
+  throw SceneError("csg:" + name + ": unknown CSG scene (" + names + ")" + did_you_mean(name, csg_scene_names()));
 }
 
 Scene csg_scene(const std::string& name) { return parse_json_scene(csg_scene_json(name), "csg:" + name); }

@@ -13,6 +13,7 @@
 // (40 x 40, centred under the objects) and its checkerboard is the Material checker fields
 // (scene/scene.hpp): cells of 1 unit, floor at y = -1.5 (mid-cell, as the checker requires).
 #include "scene/sources.hpp"
+#include "core/suggest.hpp"
 
 #include <fmt/format.h>
 
@@ -141,7 +142,7 @@ Scene lecture_scene(const std::string& name) {
     if (name == e.name) return e.make();
   std::string known;
   for (const auto& e : kLecture) known += std::string(known.empty() ? "" : " ") + e.name;
-  throw SceneError(fmt::format("lecture:{}: unknown lecture scene (known: {})", name, known));
+  throw SceneError(fmt::format("lecture:{}: unknown lecture scene (known: {}){}", name, known, did_you_mean(name, lecture_scene_names())));
 }
 
 }  // namespace rb::scene

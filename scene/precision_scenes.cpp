@@ -30,6 +30,7 @@
 //                   around, each two triangles the pipe's length (10^4 times longer than wide),
 //                   and end caps as fans (8,192 triangles)
 #include "scene/sources.hpp"
+#include "core/suggest.hpp"
 
 #include <fmt/format.h>
 
@@ -308,7 +309,7 @@ Scene precision_scene(const std::string& name) {
   if (name == "pipes") return pipes_scene();
   std::string all;
   for (const auto& n : precision_scene_names()) all += (all.empty() ? "" : ", ") + n;
-  throw SceneError("precision:" + name + ": unknown scene (" + all + ")");
+  throw SceneError("precision:" + name + ": unknown scene (" + all + ")" + did_you_mean(name, precision_scene_names()));
 }
 
 }  // namespace rb::scene

@@ -163,7 +163,7 @@ TEST(Cli, MisspelledCommandNamesTheClosest) {
   EXPECT_TRUE(has(r.err, "did you mean 'trace'")) << r.err;
   r = run_in(s.dir, "trace x.obj --trheads 2");
   EXPECT_EQ(r.status, 1);
-  EXPECT_TRUE(has(r.err, "did you mean --threads")) << r.err;
+  EXPECT_TRUE(has(r.err, "did you mean '--threads'")) << r.err;
   expect_one_error_line(r, "trace", "");
 }
 
@@ -507,7 +507,8 @@ TEST(Cli, HelpAndTablesFitEightyColumns) {
   std::ofstream(s / "oct.obj") << kOctahedron;
   std::vector<std::string> runs = {"--help", "ops", "ops --notes", "info spd:teapot", "machine", "csg --rays 16 -r 1",
                                    "accuracy --filter '^(box|triangle)/' --rays 16 --no-timing", "accuracy --list",
-                                   "trace oct.obj --count 64 -r 2 --warmup 0", "render spd:balls:1 --width 8 -r 1 --warmup 0 -o b.png"};
+                                   "trace oct.obj --count 64 -r 2 --warmup 0", "render spd:balls:1 --width 8 -r 1 --warmup 0 -o b.png",
+                                   "plan precision:scattered", "plan csg:die"};
   for (const char* c : kCommands) runs.push_back(std::string(c) + " --help");
   for (const auto& args : runs) {
     const Outcome r = run_in(s.dir, args);

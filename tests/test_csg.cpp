@@ -411,7 +411,7 @@ TEST(CsgJson, ErrorsNameFileAndPath) {
   EXPECT_EQ(error_of(R"({"objects": [{"type": "torus", "center": [0,0,0], "axis": [0,0,1], "major": 1, "minor": 2}]})"),
             "scene.json: objects[0].minor: expected a number below \"major\" (a ring torus)");
   EXPECT_EQ(error_of(R"({"objects": 3})"), "scene.json: objects: expected an array");
-  EXPECT_EQ(error_of(R"({"objekts": []})"), "scene.json: objekts: unknown key (camera, background, lights, materials, objects)");
+  EXPECT_EQ(error_of(R"({"objekts": []})"), "scene.json: objekts: unknown key (camera, background, lights, materials, objects); did you mean 'objects'?");
   EXPECT_TRUE(std::regex_search(error_of(R"({"objects": [)"), std::regex("^scene\\.json: malformed JSON at byte 1[34]"))) << error_of(R"({"objects": [)");
   // Too many interval ends: 33 spheres in one union.
   std::string big = R"({"objects": [{"type": "union", "children": [)";

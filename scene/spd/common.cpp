@@ -2,6 +2,7 @@
 // scene builder, the size guard) and the public entry points spd_names / spd_default_size /
 // generate_spd.
 #include "scene/spd.hpp"
+#include "core/suggest.hpp"
 
 #include <cmath>
 #include <fmt/format.h>
@@ -228,8 +229,9 @@ const SpdEntry& find_spd(const std::string& name) {
   for (const auto& e : kSpd)
     if (name == e.name) return e;
   std::string known;
-  for (const auto& e : kSpd) known += std::string(known.empty() ? "" : " ") + e.name;
-  throw SceneError(fmt::format("spd:{}: unknown SPD database (known: {})", name, known));
+  std::vector<std::string> names;
+  for (const auto& e : kSpd) known += std::string(known.empty() ? "" : " ") + e.name, names.emplace_back(e.name);
+  throw SceneError(fmt::format("spd:{}: unknown SPD database (known: {}){}", name, known, did_you_mean(name, names)));
 }
 }  // namespace
 
