@@ -2,7 +2,7 @@
 // docs/DESIGN.md section 15): exit statuses, one error line naming the input and the reason,
 // output paths checked before the work starts, --threads 0, --filter as a regex, the closest name
 // for a misspelling, and the warnings that go with a timed run (busy machine, noisy repetitions).
-// No CLI11 here: apps/raybench.cpp parses, these are plain functions (and tested as such).
+// No CLI11 here: apps/cli/ registers the options, these are plain functions (and tested as such).
 #pragma once
 
 #include "core/suggest.hpp"

@@ -1,9 +1,9 @@
-// Subcommands that live in their own files. The command line itself (CLI11) is parsed in one
-// translation unit only, apps/raybench.cpp: CLI11 is header-only and costs about 6 s of compile
-// time in every file that includes it. Each subcommand here is a plain function of its parsed
-// options. The conventions of every subcommand (apps/cli.hpp): the exit status says how it went (0
-// done, 1 a parse or input error, 2 nothing to do), and each error is one line on stderr that names
-// the input (file, scene, line) it is about and the reason.
+// The work of each subcommand, a plain function of its parsed options. The command line itself
+// (CLI11) is registered in apps/cli/ (one file per subcommand) and parsed in apps/raybench.cpp,
+// compiled as one unit: CLI11 is header-only and costs about 6 s of compile time in every file
+// that includes it. The conventions of every subcommand (apps/cli.hpp): the exit status says how
+// it went (0 done, 1 a parse or input error, 2 nothing to do), and each error is one line on stderr
+// that names the input (file, scene, line) it is about and the reason.
 #pragma once
 
 #include "apps/query.hpp"

@@ -1,5 +1,5 @@
 // The options of one `raybench render` run (also the report's Rendering section,
-// apps/render_run.hpp): a header of its own so that the command line (apps/raybench.cpp) does not
+// apps/render_run.hpp): a header of its own so that the command line (apps/cli/) does not
 // parse the renderer.
 #pragma once
 

@@ -1,5 +1,5 @@
 // The options of one `raybench trace` run (also the report's Tracing section, apps/trace_run.hpp):
-// a header of its own so that the command line (apps/raybench.cpp) does not parse the tracer.
+// a header of its own so that the command line (apps/cli/) does not parse the tracer.
 #pragma once
 
 #include <cstddef>

@@ -1,0 +1,41 @@
+// `raybench bench`: kernel benchmarks: scalar against 8-lane SIMD.
+#include "apps/cli/command.hpp"
+#include "apps/report.hpp"
+
+namespace rb::app::cli {
+namespace {
+
+class BenchCommand final : public Command {
+  BenchOptions bo;
+  std::string bench_history;
+  bool bench_list = false;
+ public:
+  explicit BenchCommand(CLI::App& root) : Command(root, "bench", "Kernel benchmarks: scalar against 8-lane SIMD") {
+    sub_->add_option("--filter", bo.filter, "Only the benchmarks whose name\n(kernel/method/variant/case) matches this regex")
+        ->capture_default_str();
+    sub_->add_option("-r,--repetitions", bo.repetitions, "Repetitions (the median is quoted)")->capture_default_str()->check(CLI::Range(1, 100));
+    sub_->add_option("--min-time", bo.min_time, "Seconds per repetition")->capture_default_str()->check(CLI::Range(0.001, 10.0));
+    sub_->add_option("--seed", bo.seed, "Seed of the rays and primitives\n(0: the report's data)")->capture_default_str();
+    sub_->add_flag("--list", bench_list, "List the benchmarks the filter selects and exit");
+    json_option("Google Benchmark JSON, every repetition, to FILE\n(no FILE: stdout instead of the table)");
+    sub_->add_option("--history", bench_history, "Keep the run in this results history\n(default: $RAYBENCH_HISTORY)")->type_name("FILE");
+    sub_->footer(
+        "Google Benchmark medians, L1-resident, one thread: every kernel x {true scalar,\n"
+        "8 rays x 1 primitive, 1 ray x 8 primitives} x {hit, miss, half}. The table shows\n"
+        "the median tests per second, the coefficient of variation over the repetitions,\n"
+        "operations per test and the SIMD speedup over the scalar form. The --json file\n"
+        "is what Google Benchmark's compare.py and `raybench compare` read.");
+  }
+  int run(Context& c) override {
+    if (!bench_list && !c.open_history("bench", bench_history, "")) return kExitError;
+    JsonOut out = json_out();
+    out.record = c.recorder("bench");
+    return run_bench_command(bo, bench_list, out);
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<Command> make_bench(CLI::App& root) { return std::make_unique<BenchCommand>(root); }
+
+}  // namespace rb::app::cli

@@ -1,0 +1,62 @@
+// `raybench render`: render a scene with the recursive ray tracer.
+#include "apps/cli/command.hpp"
+#include "apps/render_options.hpp"
+
+namespace rb::app::cli {
+namespace {
+
+class RenderCommand final : public Command {
+  RenderRunOptions rdo;
+  std::string render_history;
+ public:
+  explicit RenderCommand(CLI::App& root) : Command(root, "render", "Render a scene with the recursive ray tracer") {
+    rdo.warmup = 1;
+    rdo.repetitions = 5;  // 4 or more on each side let `compare`'s U test reach p < 0.05
+    positional("scene", rdo.scene, "A scene, as `raybench info` takes it");
+    output("-o,--out", rdo.out, "PNG file to write (default: SCENE.png in the\ncurrent folder; '-': stdout, the table then to\nstderr)");
+    sub_->add_option("--width", rdo.width, "Image width in pixels (default 512, or the\nscene camera's resolution)")->check(CLI::Range(1, 16384));
+    sub_->add_option("--height", rdo.height, "Image height in pixels (default: from the width\nby the scene camera's aspect ratio, or the width)")->check(CLI::Range(1, 16384));
+    sub_->add_option("--depth", rdo.depth, "Maximum ray tree depth (the eye ray is 1)")->check(CLI::Range(1, 64))->capture_default_str();
+    sub_->add_option("--threads", rdo.threads, "TBB threads per MPI rank\n(0: every hardware thread)")->check(CLI::Range(0, 256))->capture_default_str();
+    sub_->add_flag("--spd", rdo.spd, "Haines' SPD protocol, his counts beside ours");
+    sub_->add_flag("!--no-counts", rdo.count_tests, "Skip counting box and primitive tests");
+    sub_->add_option("--eye-packet", rdo.eye_packet,
+                       "Eye rays per packet: 1, 8, 16 or 64 (a 16x4\nblock of the image), or auto: the fastest of\n64, 16 and 8 "
+                       "in trial renders before\nthe timed ones")
+        ->transform(packet_size_choice({"auto", "1", "8", "16", "64"}))
+        ->type_name("auto|1|8|16|64")
+        ->default_str("auto");
+    sub_->add_option("--secondary-packet", rdo.secondary_packet,
+                       "Reflection, refraction and shadow rays: 1 one\nby one, 8 sorted by octant into packets, or\nauto: the "
+                       "faster in trial renders")
+        ->transform(packet_size_choice({"auto", "1", "8"}))
+        ->type_name("auto|1|8")
+        ->default_str("auto");
+    sub_->add_option("--model", rdo.model, "How the scene is modelled: auto (what it\nneeds: `raybench plan`), fast or exact")
+        ->check(one_of({"auto", "fast", "exact"}))->capture_default_str();
+    sub_->add_option("-r,--repetitions", rdo.repetitions, "Timed renders (the median is quoted)")->check(CLI::Range(1, 100))->capture_default_str();
+    sub_->add_option("--warmup", rdo.warmup, "Untimed renders before the timed ones")->check(CLI::Range(0, 100))->capture_default_str();
+    json_option("Write the result as JSON to FILE\n(no FILE: stdout instead of the summary)");
+    sub_->add_option("--history", render_history, "Keep the run in this results history\n(default: $RAYBENCH_HISTORY)")->type_name("FILE");
+    sub_->footer(
+        "The recursive ray tracer through the 8-wide BVH: shadows, Lambert and Phong,\n"
+        "reflection, Snell refraction. Writes the image (SCENE.png in the current folder\n"
+        "without -o) and prints rays by kind, box and primitive tests by kind, the time\n"
+        "split and Mrays/s (median of the timed renders, with range and CV).\n"
+        "--spd follows Haines' SPD protocol (513 x 513 corner rays averaged, depth 5,\n"
+        "one-sided opaque surfaces but the teapot's) and shows his published counts\n"
+        "beside ours. Under `mpirun -n N` the tiles are split across the ranks.");
+  }
+  int run(Context& c) override {
+    if (!c.open_history("render", render_history, "")) return kExitError;
+    JsonOut out = json_out();
+    out.record = c.recorder("render");
+    return run_render_command(rdo, out);
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<Command> make_render(CLI::App& root) { return std::make_unique<RenderCommand>(root); }
+
+}  // namespace rb::app::cli

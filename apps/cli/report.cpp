@@ -1,0 +1,58 @@
+// `raybench report`: the main job: every measurement, as a report.
+#include "apps/cli/command.hpp"
+#include "apps/machine.hpp"
+#include "apps/report.hpp"
+#include "apps/results.hpp"
+
+namespace rb::app::cli {
+namespace {
+
+class ReportCommand final : public Command {
+  ReportOptions ro;
+  std::string report_history;
+  bool report_no_history = false;
+ public:
+  explicit ReportCommand(CLI::App& root) : Command(root, "report", "The main job: every measurement, as a report") {
+    sub_->add_option("-o,--out", ro.out, "Output folder")->capture_default_str();
+    sub_->add_option("-r,--repetitions", ro.repetitions, "Benchmark repetitions (medians quoted)")
+        ->capture_default_str()->check(CLI::Range(1, 100));
+    sub_->add_option("--min-time", ro.min_time, "Seconds per benchmark repetition")->capture_default_str()->check(CLI::Range(0.001, 10.0));
+    sub_->add_option("--filter", ro.filter, "Only the benchmarks whose name\n(kernel/method/variant/case) matches this regex")
+        ->capture_default_str();
+    sub_->add_flag("!--no-charts", ro.charts, "Skip the matplotlib charts");
+    sub_->add_flag("--quick", ro.quick, "A small report in about a minute, to check its\nlayout and links: 2 repetitions of 0.005 s\n(unless -r, --min-time say otherwise), few\nrays, 128x128 renders, fewer scenes");
+    optional_file("--json", ro.json_file, "The summary JSON also to FILE (no FILE: stdout,\nthe terminal summary then to stderr)");
+    sub_->add_option("--history", report_history, "Keep the run in this results history\n(default: $RAYBENCH_HISTORY, else\nresults/history.sqlite)")
+        ->type_name("FILE");
+    sub_->add_flag("--no-history", report_no_history, "Do not keep the run in a results history");
+    sub_->footer(
+        "Runs the ops table, the scalar-vs-SIMD kernel benchmarks, scene loading, tracing\n"
+        "beside Embree, the recursive renderer, the accuracy lab and CSG on the embedded\n"
+        "scenes, and writes OUT/index.md with JSON and PNG charts beside it (a few\n"
+        "minutes on a 2-core machine). Two report folders compare with\n"
+        "`raybench compare A B`; each run is kept in results/history.sqlite.");
+  }
+  int run(Context& c) override {
+    if (const std::string why = check_output_dir(ro.out); !why.empty()) {
+      std::cerr << error_line("report", ro.out, why) << "\n";
+      return kExitError;
+    }
+    ro.json = sub_->count("--json") > 0;
+    if (ro.quick && sub_->count("--repetitions") == 0) ro.repetitions = 2;
+    if (ro.quick && sub_->count("--min-time") == 0) ro.min_time = 0.005;
+    if (!report_no_history && !c.open_history("report", report_history, kReportHistory)) return kExitError;
+    const int rc = run_report(ro);
+    if (rc == 0 && c.history) {
+      const ResultSet r = load_results(ro.out);
+      const long long id = c.history->store("report", c.cmdline, r.machine.is_null() ? machine().json() : r.machine, r.figures);
+      std::cerr << "kept as run " << id << " in the results history " << c.history->path() << "\n";
+    }
+    return rc;
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<Command> make_report(CLI::App& root) { return std::make_unique<ReportCommand>(root); }
+
+}  // namespace rb::app::cli

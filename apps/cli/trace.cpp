@@ -1,0 +1,69 @@
+// `raybench trace`: trace a scene through the BVH beside Embree.
+#include "apps/cli/command.hpp"
+#include "apps/trace_options.hpp"
+
+namespace rb::app::cli {
+namespace {
+
+class TraceCommand final : public Command {
+  TraceRunOptions to;
+  std::string trace_history;
+ public:
+  explicit TraceCommand(CLI::App& root) : Command(root, "trace", "Trace a scene through the BVH beside Embree") {
+    positional("scene", to.scene, "A scene, as `raybench info` takes it");
+    sub_->add_option("--rays", to.ray_set, "Ray set")->check(one_of({"primary", "shadow", "diffuse", "random"}))->capture_default_str();
+    sub_->add_option("--threads", to.threads, "Threads for tracing and both builds\n(0: every hardware thread)")
+        ->check(CLI::Range(0, 256))->capture_default_str();
+    sub_->add_option("--packet", to.packet, "Rays per packet: 1 (single rays), 8, 16,\n64 or 256 (coherent packets)")
+        ->check(CLI::IsMember({1, 8, 16, 64, 256}))
+        ->capture_default_str();
+    sub_->add_option("--count", to.count, "About this many rays (primary: the nearest\nsquare image of 16x16 blocks)")
+        ->transform(count_up_to(std::size_t(1) << 28, "rays"))->capture_default_str();
+    sub_->add_option("--seed", to.seed, "Seed of the ray set")->capture_default_str();
+    sub_->add_option("--model", to.model, "How the scene is modelled: auto (what it\nneeds: `raybench plan`), fast or exact")
+        ->check(one_of({"auto", "fast", "exact"}))->capture_default_str();
+    sub_->add_option("--slab", to.slab, "Slab test: plan (the model's), conservative,\nfast or robust")
+        ->check(one_of({"plan", "conservative", "fast", "robust"}))->capture_default_str();
+    sub_->add_option("-r,--repetitions", to.repetitions, "Timed rounds, engines alternating (the median is\nquoted; from 6 rounds raybench / Embree has a\n95 % interval)")
+        ->check(CLI::Range(1, 100))->capture_default_str();
+    sub_->add_option("--warmup", to.warmup, "Untimed runs per engine before the timed ones")->check(CLI::Range(0, 100))->capture_default_str();
+    sub_->add_option("--brute", to.brute_rays, "Rays checked against the brute-force loop\n(-1: a budget by scene size, 0: none)")
+        ->capture_default_str();
+    sub_->add_flag("!--no-embree", to.embree, "Skip Embree");
+    sub_->add_option("--builds", to.builds,
+                      "Builds per engine to time: above 1, the build\ntimes quoted are the medians of this many\n"
+                      "builds after an untimed one (as the report)")
+        ->check(CLI::Range(1, 100))->capture_default_str();
+    sub_->add_option("--builder", to.builder,
+                      "The tree raybench traces: sah (its own) or\nEmbree's builder (embree: medium quality,\n"
+                      "embree-high: high, with spatial splits of\ntriangles); with Embree's the SAH tree is\ntimed beside it")
+        ->check(one_of({"sah", "embree", "embree-high"}))->capture_default_str();
+    json_option("Write the result as JSON to FILE\n(no FILE: stdout instead of the table)");
+    sub_->add_option("--history", trace_history, "Keep the run in this results history\n(default: $RAYBENCH_HISTORY)")->type_name("FILE");
+    sub_->footer(
+        "One binned-SAH build gives a binary and an 8-wide BVH; the rays (primary,\n"
+        "shadow, diffuse or random, from one seed) are traced as single rays or\n"
+        "packets on TBB threads, and Embree 3 traces the same float triangles and rays in\n"
+        "the same process, on a device with its native ISA and one limited to AVX2, with\n"
+        "the call for the packet size (rtcIntersect1/8/16, rtcIntersect1M streams for 64\n"
+        "and 256; rtcOccluded* for shadow rays); the fastest is the yardstick. After\n"
+        "--warmup untimed runs the engines alternate run by run; the table gives the\n"
+        "median Mrays/s with its range and coefficient of variation, build time, memory,\n"
+        "traversal cost and the rate of rays the engines disagree on. A warning follows\n"
+        "when the runs varied by over 5 % or the machine was busy. Arrays of 2 MiB and\n"
+        "more are advised for transparent huge pages, as Embree does for its own;\n"
+        "RAYBENCH_NO_HUGE_PAGES=1 turns that off.");
+  }
+  int run(Context& c) override {
+    if (!c.open_history("trace", trace_history, "")) return kExitError;
+    JsonOut out = json_out();
+    out.record = c.recorder("trace");
+    return run_trace_command(to, out);
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<Command> make_trace(CLI::App& root) { return std::make_unique<TraceCommand>(root); }
+
+}  // namespace rb::app::cli
