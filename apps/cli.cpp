@@ -120,43 +120,6 @@ std::string noise_warning(double cv, const std::string& what) {
                      what, 100 * cv);
 }
 
-std::size_t display_width(const std::string& s) {
-  std::size_t n = 0;
-  for (unsigned char c : s) n += (c & 0xC0) != 0x80;
-  return n;
-}
-
-std::string wrap_words(const std::string& text, std::size_t width, const std::string& indent) {
-  std::string out, line;
-  bool fresh = true;  // nothing but the indent on this line yet
-  std::size_t i = text.find_first_not_of(' ');
-  if (i == std::string::npos) return text + "\n";
-  line = text.substr(0, i);  // the first line keeps its own indentation
-  while (i < text.size()) {
-    std::size_t j = text.find(' ', i);
-    if (j == std::string::npos) j = text.size();
-    const std::string w = text.substr(i, j - i);
-    i = j + 1;
-    // An empty word is a second space in a row: kept inside a line (alignment), dropped at a break.
-    if (w.empty() && fresh) continue;
-    if (!fresh && !w.empty() && display_width(line) + 1 + display_width(w) > width) {
-      out += line + "\n";
-      line = indent;
-      fresh = true;
-    }
-    line += (fresh ? "" : " ") + w;
-    fresh = false;
-  }
-  return out + line + "\n";
-}
-
-std::string fit_columns(const std::string& text, std::size_t indent, std::size_t width) {
-  std::istringstream in(text);
-  std::string line, out;
-  while (std::getline(in, line)) out += display_width(line) <= width ? line + "\n" : wrap_words(line, width, std::string(indent, ' '));
-  return out;
-}
-
 std::regex filter_regex(const std::string& filter) {
   try {
     return std::regex(filter, std::regex::extended | std::regex::nosubs);

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "core/suggest.hpp"
+#include "core/text.hpp"
 
 #include <regex>
 #include <stdexcept>
@@ -68,13 +69,10 @@ std::string busy_warning(double load, int threads);
 // A warning when the repetitions' coefficient of variation exceeds 5 %. "" else.
 std::string noise_warning(double cv, const std::string& what);
 
-// Terminal text within 80 columns: the words of `text` on lines of at most `width` display columns
-// (UTF-8 code points), every line after the first starting with `indent`; ends with a newline.
-std::string wrap_words(const std::string& text, std::size_t width = 80, const std::string& indent = "");
-std::size_t display_width(const std::string& s);
-// Every line of `text` within `width` columns: longer lines wrapped at spaces, their continuation
-// indented by `indent` columns; shorter lines unchanged.
-std::string fit_columns(const std::string& text, std::size_t indent, std::size_t width = 80);
+// Terminal text within 80 columns (core/text.hpp).
+using rb::display_width;
+using rb::fit_columns;
+using rb::wrap_words;
 
 // --filter: a POSIX extended regular expression searched in the name (as Google Benchmark's
 // --benchmark_filter). Throws std::invalid_argument("--filter 'X': invalid regular expression").

@@ -2,6 +2,7 @@
 // table's csg rows) and CSG queries per second on the embedded CSG scenes, one float ray at a time
 // (csg_hit: linear merges, closest-hit stop) against 8 rays in lanes (csg_hit8: branch-free
 // merges), on the same rays, one thread.
+#include "core/median.hpp"
 #include "core/output_file.hpp"
 #include "apps/cli.hpp"
 #include "apps/commands.hpp"
@@ -74,11 +75,6 @@ RaySoA camera_rays(const scene::Camera& c, int w, int h) {
   return rays;
 }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
-
 }  // namespace
 
 namespace {
@@ -114,8 +110,8 @@ Speed time_queries(const CsgTree& T, const RaySoA& rays, int repetitions) {
     r.hits = h;
     r.hits8 = h8;
   }
-  r.scalar = double(r.n) / median(ts);
-  r.simd = double(r.n) / median(tp);
+  r.scalar = double(r.n) / rb::median(ts);
+  r.simd = double(r.n) / rb::median(tp);
   return r;
 }
 }  // namespace

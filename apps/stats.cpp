@@ -8,13 +8,6 @@
 
 namespace rb::stats {
 
-double median(std::vector<double> v) {
-  if (v.empty()) return kNaN;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 double mean(const std::vector<double>& v) {
   if (v.empty()) return kNaN;
   return std::accumulate(v.begin(), v.end(), 0.0) / double(v.size());

@@ -2,6 +2,8 @@
 // and the Mann-Whitney U test that `raybench compare` applies to two sets of repetitions.
 #pragma once
 
+#include "core/median.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -14,7 +16,7 @@ namespace rb::stats {
 
 inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-double median(std::vector<double> v);                 // NaN when empty
+using rb::median;  // core/median.hpp: NaN when empty
 double mean(const std::vector<double>& v);            // NaN when empty
 double stddev(const std::vector<double>& v);          // sample standard deviation (n - 1); NaN for n < 2
 double cv(const std::vector<double>& v);              // stddev / mean; NaN for n < 2 or a zero mean

@@ -2,6 +2,7 @@
 
 #include "bench/ops_detail.hpp"
 #include "bench/specs.hpp"
+#include "core/text.hpp"
 
 #include <fmt/format.h>
 
@@ -151,37 +152,6 @@ std::string to_markdown(const std::vector<Row>& rows) {
   return s;
 }
 
-namespace {
-// Words of `text` on lines of at most `width` columns, each line after the first starting with
-// `indent`.
-std::string wrap_words(const std::string& text, std::size_t width, const std::string& indent) {
-  std::string out, line;
-  auto cols = [](const std::string& l) {  // display columns: UTF-8 continuation bytes take none
-    std::size_t n = 0;
-    for (unsigned char c : l) n += (c & 0xC0) != 0x80;
-    return n;
-  };
-  std::size_t i = text.find_first_not_of(' ');
-  if (i == std::string::npos) return text + "\n";
-  line = text.substr(0, i);  // the first line keeps its indentation
-  bool fresh = true;
-  while (i < text.size()) {
-    std::size_t j = text.find(' ', i);
-    if (j == std::string::npos) j = text.size();
-    const std::string w = text.substr(i, j - i);
-    i = j + 1;
-    if (w.empty()) continue;
-    if (!fresh && cols(line) + 1 + cols(w) > width) {
-      out += line + "\n";
-      line = indent;
-      fresh = true;
-    }
-    line += (fresh ? "" : " ") + w;
-    fresh = false;
-  }
-  return out + line + "\n";
-}
-}  // namespace
 
 // The terminal table, within 80 columns: per kernel, method and case the Counted<float> count,
 // then (indented) the lecture's count with the difference and the SIMD per-lane count where it

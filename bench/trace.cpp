@@ -148,13 +148,6 @@ std::vector<double> time_runs(ThreadScope& ts, const Tracer& t, std::size_t rays
   return secs;
 }
 
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 Compare compare(const std::vector<HitRec>& a, const std::vector<HitRec>& b, std::size_t n, bool any, float rel_tol) {
   Compare c;
   c.rays = n;

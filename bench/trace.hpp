@@ -19,6 +19,7 @@
 // both engines trace the same float rays against the same float geometry.
 #pragma once
 
+#include "core/median.hpp"
 #include "tracer/accel.hpp"
 #include "tracer/parallel.hpp"
 
@@ -56,7 +57,7 @@ using Tracer = std::function<void(std::size_t begin, std::size_t end, HitRec* ou
 std::vector<double> time_runs(ThreadScope& ts, const Tracer& t, std::size_t rays, std::vector<HitRec>& out, int reps,
                               std::size_t tile, const std::function<void(int, int)>& progress = {});
 
-double median(std::vector<double> v);
+using rb::median;  // core/median.hpp
 
 // Ray-by-ray comparison: a mismatch is a hit against a miss, or two hits whose t differ by more
 // than rel_tol * max(1, |t|); `other_prim` counts hits at agreeing t on different primitives (ties

@@ -43,6 +43,9 @@ std::vector<std::string> lecture_scene_names();
 Scene lecture_scene(const std::string& name);
 std::vector<std::string> precision_scene_names();
 Scene precision_scene(const std::string& name);
+// Adds a closed icosphere of 20 * 4^levels triangles (shared vertices, consistent winding) of
+// radius r at c to s's mesh (scene/precision_scenes.cpp).
+void add_icosphere(Scene& s, const Vec3d& c, double r, int levels, std::uint32_t mat = 0);
 // A wavy height field over [-1, 1]^2 (y up: 0.15 sin 7u cos 5v + 0.05 sin 31uv) of nx x ny quads,
 // two triangles each: a generated mesh the size of a large scan (scene/heightfield.cpp). Throws
 // SceneError on a side outside 1 .. kMaxHeightFieldSide.

@@ -27,35 +27,9 @@ using bvh::kNoPrim;
 
 // A closed icosphere (shared vertices, consistent winding) of radius r at c.
 scene::Scene icosphere(int levels, Vec3d c = {0, 0, 0}, double r = 1.0) {
-  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  std::vector<Vec3d> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                          {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-  std::vector<std::array<std::uint32_t, 3>> f = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-                                                 {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
-                                                 {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
-  for (int l = 0; l < levels; ++l) {
-    std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> mid;
-    auto m = [&](std::uint32_t a, std::uint32_t b) {
-      const auto key = std::minmax(a, b);
-      auto it = mid.find(key);
-      if (it != mid.end()) return it->second;
-      v.push_back((v[a] + v[b]) * 0.5);
-      return mid[key] = std::uint32_t(v.size() - 1);
-    };
-    std::vector<std::array<std::uint32_t, 3>> g;
-    for (auto& q : f) {
-      const auto a = m(q[0], q[1]), b = m(q[1], q[2]), cc = m(q[2], q[0]);
-      g.push_back({q[0], a, cc}); g.push_back({q[1], b, a}); g.push_back({q[2], cc, b}); g.push_back({a, b, cc});
-    }
-    f = g;
-  }
   scene::Scene s;
   s.name = "icosphere";
-  for (auto& p : v) {
-    const double l = std::sqrt(dot(p, p));
-    s.verts.push_back(c + p * (r / l));
-  }
-  for (auto& q : f) s.triangles.push_back({{q[0], q[1], q[2]}, 0});
+  scene::add_icosphere(s, c, r, levels);
   return s;
 }
 
