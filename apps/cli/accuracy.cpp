@@ -7,7 +7,6 @@ namespace {
 
 class AccuracyCommand final : public Command {
   rb::acc::Options ao;
-  std::string accuracy_history;
   bool accuracy_list = false;
  public:
   explicit AccuracyCommand(CLI::App& root) : Command(root, "accuracy", "The accuracy lab: where each method fails") {
@@ -18,7 +17,7 @@ class AccuracyCommand final : public Command {
     sub_->add_flag("!--no-timing", ao.timing, "Skip the ns-per-test timing");
     sub_->add_flag("--list", accuracy_list, "List the cases the filter selects and exit");
     json_option("Write the rows as JSON to FILE\n(no FILE: stdout instead of the table)");
-    sub_->add_option("--history", accuracy_history, "Keep the run in this results history\n(default: $RAYBENCH_HISTORY)")->type_name("FILE");
+    history_option();
     sub_->footer(
         "Adversarial, seeded rays per primitive family (edges and vertices of closed\n"
         "meshes, far and grazing rays, planets, apexes, tangents, slab planes, spawned\n"
@@ -27,9 +26,8 @@ class AccuracyCommand final : public Command {
         "double and 8-lane SIMD.");
   }
   int run(Context& c) override {
-    if (!accuracy_list && !c.open_history("accuracy", accuracy_history, "")) return kExitError;
-    JsonOut out = json_out();
-    out.record = c.recorder("accuracy");
+    if (!accuracy_list && !open_history(c)) return kExitError;
+    const JsonOut out = recorded_json_out(c);
     return run_accuracy_command(ao, accuracy_list, out);
   }
 };

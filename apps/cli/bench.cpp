@@ -7,7 +7,6 @@ namespace {
 
 class BenchCommand final : public Command {
   BenchOptions bo;
-  std::string bench_history;
   bool bench_list = false;
  public:
   explicit BenchCommand(CLI::App& root) : Command(root, "bench", "Kernel benchmarks: scalar against 8-lane SIMD") {
@@ -18,7 +17,7 @@ class BenchCommand final : public Command {
     sub_->add_option("--seed", bo.seed, "Seed of the rays and primitives\n(0: the report's data)")->capture_default_str();
     sub_->add_flag("--list", bench_list, "List the benchmarks the filter selects and exit");
     json_option("Google Benchmark JSON, every repetition, to FILE\n(no FILE: stdout instead of the table)");
-    sub_->add_option("--history", bench_history, "Keep the run in this results history\n(default: $RAYBENCH_HISTORY)")->type_name("FILE");
+    history_option();
     sub_->footer(
         "Google Benchmark medians, L1-resident, one thread: every kernel x {true scalar,\n"
         "8 rays x 1 primitive, 1 ray x 8 primitives} x {hit, miss, half}. The table shows\n"
@@ -27,9 +26,8 @@ class BenchCommand final : public Command {
         "is what Google Benchmark's compare.py and `raybench compare` read.");
   }
   int run(Context& c) override {
-    if (!bench_list && !c.open_history("bench", bench_history, "")) return kExitError;
-    JsonOut out = json_out();
-    out.record = c.recorder("bench");
+    if (!bench_list && !open_history(c)) return kExitError;
+    const JsonOut out = recorded_json_out(c);
     return run_bench_command(bo, bench_list, out);
   }
 };

@@ -50,6 +50,10 @@ CLI::Option* Command::optional_file(const std::string& name, std::string& file, 
   return sub_->add_option(name, file, what)->expected(0, 1)->type_name("[FILE|-]");
 }
 
+CLI::Option* Command::history_option() {
+  return sub_->add_option("--history", history_file_, "Keep the run in this results history\n(default: $RAYBENCH_HISTORY)")->type_name("FILE");
+}
+
 CLI::Option* Command::output(const std::string& names, std::string& file, const std::string& what) {
   outputs_.push_back(&file);
   return sub_->add_option(names, file, what)->type_name("FILE");

@@ -51,7 +51,7 @@ class Command {
 
  protected:
   CLI::App* sub_;
-  std::string json_file_;
+  std::string json_file_, history_file_;
 
   // A positional argument, required (checked after the parse: see complete_positionals).
   CLI::Option* positional(const std::string& name, std::string& value, const std::string& what);
@@ -62,6 +62,16 @@ class Command {
   // An output path given by an option (-o, --plot), checked before the work.
   CLI::Option* output(const std::string& names, std::string& file, const std::string& what);
   JsonOut json_out() const { return {sub_->count("--json") > 0, json_file_, {}, false}; }
+  // --history FILE: keep the run in this results history (default: $RAYBENCH_HISTORY).
+  CLI::Option* history_option();
+  // Opens that history (false, the error printed, when it cannot be); then the JSON output that
+  // also keeps the result there.
+  bool open_history(Context& c) const { return c.open_history(name(), history_file_, ""); }
+  JsonOut recorded_json_out(Context& c) const {
+    JsonOut o = json_out();
+    o.record = c.recorder(name());
+    return o;
+  }
 
  private:
   std::vector<std::pair<std::string, std::string*>> args_, optional_files_;

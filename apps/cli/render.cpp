@@ -7,7 +7,6 @@ namespace {
 
 class RenderCommand final : public Command {
   RenderRunOptions rdo;
-  std::string render_history;
  public:
   explicit RenderCommand(CLI::App& root) : Command(root, "render", "Render a scene with the recursive ray tracer") {
     rdo.warmup = 1;
@@ -37,7 +36,7 @@ class RenderCommand final : public Command {
     sub_->add_option("-r,--repetitions", rdo.repetitions, "Timed renders (the median is quoted)")->check(CLI::Range(1, 100))->capture_default_str();
     sub_->add_option("--warmup", rdo.warmup, "Untimed renders before the timed ones")->check(CLI::Range(0, 100))->capture_default_str();
     json_option("Write the result as JSON to FILE\n(no FILE: stdout instead of the summary)");
-    sub_->add_option("--history", render_history, "Keep the run in this results history\n(default: $RAYBENCH_HISTORY)")->type_name("FILE");
+    history_option();
     sub_->footer(
         "The recursive ray tracer through the 8-wide BVH: shadows, Lambert and Phong,\n"
         "reflection, Snell refraction. Writes the image (SCENE.png in the current folder\n"
@@ -48,9 +47,8 @@ class RenderCommand final : public Command {
         "beside ours. Under `mpirun -n N` the tiles are split across the ranks.");
   }
   int run(Context& c) override {
-    if (!c.open_history("render", render_history, "")) return kExitError;
-    JsonOut out = json_out();
-    out.record = c.recorder("render");
+    if (!open_history(c)) return kExitError;
+    const JsonOut out = recorded_json_out(c);
     return run_render_command(rdo, out);
   }
 };

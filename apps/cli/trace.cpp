@@ -7,7 +7,6 @@ namespace {
 
 class TraceCommand final : public Command {
   TraceRunOptions to;
-  std::string trace_history;
  public:
   explicit TraceCommand(CLI::App& root) : Command(root, "trace", "Trace a scene through the BVH beside Embree") {
     positional("scene", to.scene, "A scene, as `raybench info` takes it");
@@ -39,7 +38,7 @@ class TraceCommand final : public Command {
                       "embree-high: high, with spatial splits of\ntriangles); with Embree's the SAH tree is\ntimed beside it")
         ->check(one_of({"sah", "embree", "embree-high"}))->capture_default_str();
     json_option("Write the result as JSON to FILE\n(no FILE: stdout instead of the table)");
-    sub_->add_option("--history", trace_history, "Keep the run in this results history\n(default: $RAYBENCH_HISTORY)")->type_name("FILE");
+    history_option();
     sub_->footer(
         "One binned-SAH build gives a binary and an 8-wide BVH; the rays (primary,\n"
         "shadow, diffuse or random, from one seed) are traced as single rays or\n"
@@ -55,9 +54,8 @@ class TraceCommand final : public Command {
         "RAYBENCH_NO_HUGE_PAGES=1 turns that off.");
   }
   int run(Context& c) override {
-    if (!c.open_history("trace", trace_history, "")) return kExitError;
-    JsonOut out = json_out();
-    out.record = c.recorder("trace");
+    if (!open_history(c)) return kExitError;
+    const JsonOut out = recorded_json_out(c);
     return run_trace_command(to, out);
   }
 };

@@ -1,0 +1,53 @@
+#!/usr/bin/env python3
+"""The engine's layers, checked: a file may include the headers of its own folder and of the
+folders below it, never of one above. Run by the build (target rb_layers, before any compile), so
+that an include that climbs a layer fails the build with the file, the line and the layers it may use.
+
+    core <- soa <- kernels <- bvh            (the number layer, SoA containers, kernels, the BVH)
+    core <- kernels <- scene                 (scenes beside them: loaders, generators, CSG trees)
+    tracer: bvh, kernels, scene and below    (a scene ready to trace)
+    accuracy, render: tracer and below       (the lab; the recursive renderer)
+    bench: tracer, accuracy, render and below
+    apps: everything; fuzz and tests: everything
+
+Usage: check_layers.py SOURCE_DIR
+"""
+import pathlib
+import re
+import sys
+
+BELOW = {
+    "core": set(),
+    "soa": {"core"},
+    "kernels": {"core", "soa"},
+    "bvh": {"core", "soa", "kernels"},
+    "scene": {"core", "soa", "kernels"},
+    "tracer": {"core", "soa", "kernels", "bvh", "scene"},
+    "accuracy": {"core", "soa", "kernels", "bvh", "scene", "tracer"},
+    "render": {"core", "soa", "kernels", "bvh", "scene", "tracer"},
+    "bench": {"core", "soa", "kernels", "bvh", "scene", "tracer", "accuracy", "render"},
+    "apps": {"core", "soa", "kernels", "bvh", "scene", "tracer", "accuracy", "render", "bench"},
+}
+INCLUDE = re.compile(r'^\s*#\s*include\s+"([a-z_]+)/')
+
+
+def main() -> int:
+    root = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else ".")
+    problems = []
+    for layer, allowed in BELOW.items():
+        for path in sorted((root / layer).rglob("*")):
+            if path.suffix not in {".hpp", ".cpp", ".h", ".in"}:
+                continue
+            for number, line in enumerate(path.read_text(encoding="utf-8", errors="replace").splitlines(), 1):
+                m = INCLUDE.match(line)
+                if not m or m.group(1) == layer or m.group(1) in allowed or m.group(1) not in BELOW:
+                    continue
+                problems.append(f"{path.relative_to(root)}:{number}: includes {m.group(1)}/, a layer above {layer}/ "
+                                f"({layer}/ may use {', '.join(sorted(allowed)) or 'nothing else'})")
+    for p in problems:
+        print(p, file=sys.stderr)
+    return 1 if problems else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
