@@ -5,7 +5,7 @@
 #include "apps/cli.hpp"
 #include "apps/progress.hpp"
 #include "apps/stats.hpp"
-#include "bench/trace.hpp"
+#include "tracer/parallel.hpp"
 #include "scene/sources.hpp"
 #ifdef RB_HAVE_MPI
 #include "render/mpi.hpp"

@@ -33,12 +33,12 @@ TraceSession::TraceSession(rb::scene::Scene s, std::string source, int build_thr
   else embree_.why = "skipped (--no-embree)";
 }
 
-const RaySoA& TraceSession::rays(trace::RaySet set, std::size_t count, std::uint64_t seed, trace::RaySetInfo& info) {
+const RaySoA& TraceSession::rays(tracer::RaySet set, std::size_t count, std::uint64_t seed, tracer::RaySetInfo& info) {
   const std::string key = fmt::format("{}/{}/{}", int(set), count, seed);
   auto it = rays_.find(key);
   if (it == rays_.end()) {
-    trace::RaySetInfo inf;
-    RaySoA r = trace::make_rays(scene_, accel_, set, count, seed, &inf);
+    tracer::RaySetInfo inf;
+    RaySoA r = tracer::make_rays(scene_, accel_, set, count, seed, &inf);
     it = rays_.emplace(key, std::make_pair(std::move(r), inf)).first;
   }
   info = it->second.second;
@@ -91,11 +91,11 @@ json TraceSession::build_json() const {
 }
 
 json TraceSession::run(const TraceRunOptions& o, bool progress) {
-  const trace::RaySet set = trace::parse_ray_set(o.ray_set);
-  trace::RaySetInfo info;
+  const tracer::RaySet set = tracer::parse_ray_set(o.ray_set);
+  tracer::RaySetInfo info;
   const RaySoA& rays = this->rays(set, o.count, o.seed, info);
   const std::size_t n = rays.count;
-  const bool any = set == trace::RaySet::shadow;
+  const bool any = set == tracer::RaySet::shadow;
   tracer::TraceOptions to;
   to.packet = o.packet;
   to.any = any;
@@ -109,7 +109,7 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   const int runs = std::max(0, o.warmup) + o.repetitions;
   // Embree: every call it offers for this packet size, on the native and the AVX2 device; the
   // coherent flag for the coherent sets (primary and shadow rays), incoherent for the others.
-  const bool coherent = set == trace::RaySet::primary || set == trace::RaySet::shadow;
+  const bool coherent = set == tracer::RaySet::primary || set == tracer::RaySet::shadow;
   const std::vector<trace::EmbreeMode> modes = embree_.ok ? trace::embree_modes(o.packet, coherent) : std::vector<trace::EmbreeMode>{};
   const int steps = runs * int(1 + modes.size() + (sah_ ? 1 : 0)) + 2;
   int step = 0;
@@ -218,7 +218,7 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
     t["nodes_per_ray"] = double(sc.nodes) / double(std::max<std::size_t>(1, n));
     t["box_tests_per_ray"] = double(sc.boxes) / double(std::max<std::size_t>(1, n));
     t["prim_tests_per_ray"] = double(sc.prims) / double(std::max<std::size_t>(1, n));
-    const trace::Compare c = trace::compare(ours, sah_out, n, any);
+    const tracer::Compare c = tracer::compare(ours, sah_out, n, any);
     t["mismatches_vs_builder_tree"] = c.mismatches;
     j["sah_tree"] = t;
   }
@@ -230,7 +230,7 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
     double best_mr = -1, native_best = -1, avx2_best = -1;
     for (std::size_t m = 0; m < modes.size(); ++m) {
       const double mr = double(n) / trace::median(es[m]) / 1e6;
-      const trace::Compare c = trace::compare(ours, theirs[m], n, any);
+      const tracer::Compare c = tracer::compare(ours, theirs[m], n, any);
       const auto& dev = embree_.devices[std::size_t(modes[m].isa)];
       json row{{"mode", modes[m].name(any)}, {"call", modes[m].call_name(any)}, {"device", trace::embree_isa_label(modes[m].isa)},
                {"config", dev.config}, {"isa", dev.isa}, {"coherent", modes[m].coherent}, {"mrays_per_s", mr}, {"seconds", es[m]},
@@ -252,7 +252,7 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
     j["embree_device_config"] = bdev.config;
     j["embree_seconds"] = es[best];
     spread(j, "embree_", es[best]);
-    const trace::Compare c = trace::compare(ours, theirs[best], n, any);
+    const tracer::Compare c = tracer::compare(ours, theirs[best], n, any);
     j["mismatch_rate"] = c.rate();
     j["mismatches"] = c.mismatches;
     j["other_prim_same_t"] = c.other_prim;
@@ -276,7 +276,7 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
     const auto t0 = std::chrono::steady_clock::now();
     ts.parallel_for(nb, 16, [&](std::size_t i) { brute[i] = accel_.brute_force(rays.get(i), any); });
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    const trace::Compare c = trace::compare(ours, brute, nb, any);
+    const tracer::Compare c = tracer::compare(ours, brute, nb, any);
     j["brute_rays"] = nb;
     j["brute_mrays_per_s"] = double(nb) / s / 1e6;
     j["brute_mismatch_rate"] = c.rate();

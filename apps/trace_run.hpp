@@ -38,8 +38,8 @@ class TraceSession {
   std::string builder_ = "sah";
   std::optional<tracer::SceneAccel> sah_;  // the SAH tree beside Embree's builder's
   trace::EmbreeBuild embree_;
-  std::map<std::string, std::pair<RaySoA, trace::RaySetInfo>> rays_;
-  const RaySoA& rays(trace::RaySet set, std::size_t count, std::uint64_t seed, trace::RaySetInfo& info);
+  std::map<std::string, std::pair<RaySoA, tracer::RaySetInfo>> rays_;
+  const RaySoA& rays(tracer::RaySet set, std::size_t count, std::uint64_t seed, tracer::RaySetInfo& info);
 };
 
 // Build times of both engines on scene `s` at `threads`: the medians of `builds` builds, each a

@@ -1,11 +1,11 @@
 // The BVH against the loop over all objects (the oracle), its boxes, packets against single
 // rays, watertightness of the robust traversal, and hostile inputs.
-#include "bench/trace.hpp"
 #include "bvh/slab.hpp"
-#include "tracer/accel.hpp"
-#include "tracer/mesh_leaves.hpp"
 #include "scene/sources.hpp"
 #include "soa/groups.hpp"
+#include "tracer/accel.hpp"
+#include "tracer/mesh_leaves.hpp"
+#include "tracer/ray_sets.hpp"
 
 #include <gtest/gtest.h>
 
@@ -96,21 +96,21 @@ void expect_same(const std::vector<HitRec>& a, const std::vector<HitRec>& b, std
 // primary rays must still hit.
 void check_all_modes(const scene::Scene& s, std::size_t count, tracer::Model model = tracer::Model::automatic, bool sparse = false) {
   const tracer::SceneAccel a = tracer::SceneAccel::build(s, tracer::make_plan(s, model));
-  for (auto set : {trace::RaySet::primary, trace::RaySet::shadow, trace::RaySet::diffuse, trace::RaySet::random}) {
-    const RaySoA rays = trace::make_rays(s, a, set, count, 7);
-    const bool any = set == trace::RaySet::shadow;
+  for (auto set : {tracer::RaySet::primary, tracer::RaySet::shadow, tracer::RaySet::diffuse, tracer::RaySet::random}) {
+    const RaySoA rays = tracer::make_rays(s, a, set, count, 7);
+    const bool any = set == tracer::RaySet::shadow;
     const auto ref = brute(a, rays, any);
     std::size_t hits = 0;
     for (std::size_t i = 0; i < rays.count; ++i) hits += ref[i].prim != kNoPrim;
-    if (set == trace::RaySet::primary || (set != trace::RaySet::shadow && !sparse)) {
-      EXPECT_GT(hits, 0u) << trace::ray_set_name(set);
+    if (set == tracer::RaySet::primary || (set != tracer::RaySet::shadow && !sparse)) {
+      EXPECT_GT(hits, 0u) << tracer::ray_set_name(set);
     }
     for (int packet : {1, 8, 16, 64, 256})
       for (bvh::Slab slab : {bvh::Slab::conservative, bvh::Slab::fast, bvh::Slab::robust}) {
       const tracer::TraceOptions o = opts(packet, slab, any);
       std::vector<HitRec> h(rays.size());
       a.trace(rays, 0, rays.size(), h.data(), o);
-      const std::string what = std::string(trace::ray_set_name(set)) + " packet " + std::to_string(packet) + " " + bvh::slab_name(slab) +
+      const std::string what = std::string(tracer::ray_set_name(set)) + " packet " + std::to_string(packet) + " " + bvh::slab_name(slab) +
                                " " + tracer::model_name(model);
       expect_same(h, ref, rays.count, any, what);
       // The counted traversal gives the same answers.
@@ -202,8 +202,8 @@ TEST(Bvh, EveryBoxContainsItsChildrenAndPrimitives) {
 TEST(Bvh, PacketsGiveTheSameHitsAsSingleRays) {
   const scene::Scene s = icosphere(3);
   const tracer::SceneAccel a = tracer::SceneAccel::build(s);
-  for (auto set : {trace::RaySet::primary, trace::RaySet::diffuse, trace::RaySet::random}) {
-    const RaySoA rays = trace::make_rays(s, a, set, 1024, 11);
+  for (auto set : {tracer::RaySet::primary, tracer::RaySet::diffuse, tracer::RaySet::random}) {
+    const RaySoA rays = tracer::make_rays(s, a, set, 1024, 11);
     std::vector<HitRec> one(rays.size()), p8(rays.size()), p16(rays.size());
     a.trace(rays, 0, rays.size(), one.data(), opts(1));
     a.trace(rays, 0, rays.size(), p8.data(), opts(8));
@@ -248,8 +248,8 @@ TEST(Bvh, ClosestHitIsTheSameForEveryPacketSizeAndTheOracle) {
       for (const Vec3d& eye : eyes)
         for (const Vec3d& t : targets) rays.push(a.frame_ray(eye, t - eye));
     } else {
-      rays = trace::make_rays(c.s, a, trace::RaySet::primary, 4096, 3);
-      const RaySoA diffuse = trace::make_rays(c.s, a, trace::RaySet::diffuse, 4096, 3);
+      rays = tracer::make_rays(c.s, a, tracer::RaySet::primary, 4096, 3);
+      const RaySoA diffuse = tracer::make_rays(c.s, a, tracer::RaySet::diffuse, 4096, 3);
       for (std::size_t i = 0; i < diffuse.count; ++i) rays.push(diffuse.get(i));
     }
     const auto ref = brute(a, rays, false);
@@ -346,8 +346,8 @@ TEST(Bvh, RaysThatStartApartGiveTheSameHitsAsSingleRays) {
 TEST(Bvh, RaySetsAreReproducibleFromTheSeed) {
   const scene::Scene s = icosphere(2);
   const tracer::SceneAccel a = tracer::SceneAccel::build(s);
-  const RaySoA x = trace::make_rays(s, a, trace::RaySet::diffuse, 300, 5), y = trace::make_rays(s, a, trace::RaySet::diffuse, 300, 5);
-  const RaySoA z = trace::make_rays(s, a, trace::RaySet::diffuse, 300, 6);
+  const RaySoA x = tracer::make_rays(s, a, tracer::RaySet::diffuse, 300, 5), y = tracer::make_rays(s, a, tracer::RaySet::diffuse, 300, 5);
+  const RaySoA z = tracer::make_rays(s, a, tracer::RaySet::diffuse, 300, 6);
   ASSERT_EQ(x.count, y.count);
   for (std::size_t i = 0; i < x.count; ++i) EXPECT_EQ(x.dx[i], y.dx[i]);
   bool differ = x.count != z.count;
@@ -755,15 +755,15 @@ void check_against_oracle(const scene::Scene& s, std::size_t count, const std::s
             << bvh::kMaxTreeDepth << ")\n";
   EXPECT_LE(a.wide.depth, bvh::kMaxTreeDepth) << name;
   EXPECT_LE(a.bin.stats.depth, bvh::kMaxTreeDepth) << name;
-  for (auto set : {trace::RaySet::primary, trace::RaySet::shadow, trace::RaySet::diffuse, trace::RaySet::random}) {
-    const RaySoA rays = trace::make_rays(s, a, set, count, 11);
-    const bool any = set == trace::RaySet::shadow;
+  for (auto set : {tracer::RaySet::primary, tracer::RaySet::shadow, tracer::RaySet::diffuse, tracer::RaySet::random}) {
+    const RaySoA rays = tracer::make_rays(s, a, set, count, 11);
+    const bool any = set == tracer::RaySet::shadow;
     const auto ref = brute(a, rays, any);
     for (int packet : {1, 8, 16, 64, 256})
       for (bvh::Slab slab : {bvh::Slab::conservative, bvh::Slab::robust}) {
         std::vector<HitRec> h(rays.size());
         a.trace(rays, 0, rays.size(), h.data(), opts(packet, slab, any));
-        expect_same(h, ref, rays.count, any, name + " " + trace::ray_set_name(set) + " packet " + std::to_string(packet) + " " + bvh::slab_name(slab));
+        expect_same(h, ref, rays.count, any, name + " " + tracer::ray_set_name(set) + " packet " + std::to_string(packet) + " " + bvh::slab_name(slab));
       }
   }
 }

@@ -118,9 +118,9 @@ void expect_embree_tree_matches_brute(const scene::Scene& s, const std::string& 
   ASSERT_FALSE(a.empty());
   EXPECT_EQ(a.bin.stats.leaf_hist.size(), 9u);  // leaves of 1..8 primitives only
   for (const bvh::BNode& n : a.bin.nodes) EXPECT_LE(n.count, 8u);
-  for (auto set : {trace::RaySet::primary, trace::RaySet::shadow, trace::RaySet::diffuse, trace::RaySet::random}) {
-    const RaySoA rays = trace::make_rays(s, a, set, count, 11);
-    const bool any = set == trace::RaySet::shadow;
+  for (auto set : {tracer::RaySet::primary, tracer::RaySet::shadow, tracer::RaySet::diffuse, tracer::RaySet::random}) {
+    const RaySoA rays = tracer::make_rays(s, a, set, count, 11);
+    const bool any = set == tracer::RaySet::shadow;
     std::size_t hits = 0;
     for (int packet : {1, 8, 16}) {
       tracer::TraceOptions o;
@@ -134,12 +134,12 @@ void expect_embree_tree_matches_brute(const scene::Scene& s, const std::string& 
         bool ok = (h[i].prim != kNoPrim) == (b.prim != kNoPrim);
         if (ok && b.prim != kNoPrim && !any) ok = std::fabs(h[i].t - b.t) <= 1e-6f * std::max(1.0f, std::fabs(b.t));
         hits += b.prim != kNoPrim;
-        if (!ok && ++bad <= 3) ADD_FAILURE() << builder << " " << trace::ray_set_name(set) << " packet " << packet << " ray " << i;
+        if (!ok && ++bad <= 3) ADD_FAILURE() << builder << " " << tracer::ray_set_name(set) << " packet " << packet << " ray " << i;
       }
-      EXPECT_EQ(bad, 0u) << builder << " " << trace::ray_set_name(set) << " packet " << packet;
+      EXPECT_EQ(bad, 0u) << builder << " " << tracer::ray_set_name(set) << " packet " << packet;
     }
-    if (set != trace::RaySet::shadow && (bounces || set != trace::RaySet::diffuse)) {
-      EXPECT_GT(hits, 0u) << trace::ray_set_name(set);
+    if (set != tracer::RaySet::shadow && (bounces || set != tracer::RaySet::diffuse)) {
+      EXPECT_GT(hits, 0u) << tracer::ray_set_name(set);
     }
   }
 }

@@ -126,22 +126,22 @@ TEST(Threads, TraceIsBitIdenticalForEveryThreadCountRaySetAndPacket) {
   for (const std::string& name : scene_names()) {
     const scene::Scene s = scene::generate_spd(name, 1);
     const tracer::SceneAccel a = tracer::SceneAccel::build(s);
-    for (auto set : {trace::RaySet::primary, trace::RaySet::shadow, trace::RaySet::diffuse, trace::RaySet::random}) {
+    for (auto set : {tracer::RaySet::primary, tracer::RaySet::shadow, tracer::RaySet::diffuse, tracer::RaySet::random}) {
       // The ray set itself is made with a parallel loop: the same rays whatever the threads.
       RaySoA rays;
       {
         tracer::ThreadScope one(1);
-        one.run([&] { rays = trace::make_rays(s, a, set, 4096, 3); });
+        one.run([&] { rays = tracer::make_rays(s, a, set, 4096, 3); });
       }
       for (int threads : {2, 7, 64}) {
         tracer::ThreadScope ts(threads);
         RaySoA again;
-        ts.run([&] { again = trace::make_rays(s, a, set, 4096, 3); });
+        ts.run([&] { again = tracer::make_rays(s, a, set, 4096, 3); });
         ASSERT_EQ(again.count, rays.count);
         EXPECT_EQ(std::memcmp(again.ox.data(), rays.ox.data(), rays.count * sizeof(float)), 0) << threads;
         EXPECT_EQ(std::memcmp(again.dz.data(), rays.dz.data(), rays.count * sizeof(float)), 0) << threads;
       }
-      const bool any = set == trace::RaySet::shadow;
+      const bool any = set == tracer::RaySet::shadow;
       for (int packet : {1, 8, 16, 64, 256}) {
         tracer::TraceOptions o;
         o.packet = packet;
@@ -154,7 +154,7 @@ TEST(Threads, TraceIsBitIdenticalForEveryThreadCountRaySetAndPacket) {
         }
         std::size_t hits = 0;
         for (std::size_t i = 0; i < rays.count; ++i) hits += ref[i].prim != bvh::kNoPrim;
-        if (set == trace::RaySet::primary) {
+        if (set == tracer::RaySet::primary) {
           EXPECT_GT(hits, 0u) << name;
         }
         for (int threads : {2, 7, 64, 256}) {
@@ -163,7 +163,7 @@ TEST(Threads, TraceIsBitIdenticalForEveryThreadCountRaySetAndPacket) {
           trace::time_runs(ts, t, rays.count, h, 1, 256);
           std::string first;
           EXPECT_TRUE(same_bits(h, ref, rays.count, first))
-              << name << " " << trace::ray_set_name(set) << " packet " << packet << ", " << threads << " threads: " << first;
+              << name << " " << tracer::ray_set_name(set) << " packet " << packet << ", " << threads << " threads: " << first;
         }
       }
     }
