@@ -46,6 +46,10 @@ struct Row {
   double false_hit_ppm = 0, false_miss_ppm = 0, leak_ppm = 0, multi_hit_ppm = 0, nan_ppm = 0, wrong_root_ppm = 0;
   double t_err_ulp_p50 = 0, t_err_ulp_p99 = 0, t_err_ulp_max = 0, scaled_err_p99 = 0;
   double self_hit_ppm = 0, iterations = 0, ns_per_test = 0;
+  // Whole scenes (family "scene") with timing: the seconds of each timed round, the models of a
+  // scene taking turns within every round (so that a ratio of two models can be taken round by
+  // round); ns_per_test is from their median.
+  std::vector<double> round_seconds;
   std::size_t false_hits = 0, false_misses = 0, leaks = 0, self_hits = 0, nans = 0, wrong_roots = 0;
   nlohmann::json json() const;
   // The failure figure of the "where each method fails" table, in ppm: false hits + false misses
@@ -69,6 +73,9 @@ std::vector<Row> run_lab(const Options& o);
 // One whole scene traced under the fast, auto and exact models against the exact reference (the
 // rows of family "scene", accuracy/scenes.cpp): about `rays` primary rays through the scene's view
 // and a spawned secondary ray per hit; ns per ray timed when `timing`.
+// The fast, auto and exact models of a whole scene (rows in that order) against the exact
+// reference; with timing, kWholeSceneRounds timed rounds in which the three take turns.
+inline constexpr int kWholeSceneRounds = 7;
 std::vector<Row> whole_scene_rows(const scene::Scene& s, const std::string& case_name, const std::string& what, std::size_t rays,
                                   bool timing, std::uint64_t seed);
 }  // namespace rb::acc

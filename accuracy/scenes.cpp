@@ -19,6 +19,7 @@
 // 8-ray packets on one thread. Method = the model, precision = the frame it chose.
 #include "accuracy/common.hpp"
 #include "accuracy/exact.hpp"
+#include "core/median.hpp"
 #include "scene/camera.hpp"
 #include "scene/sources.hpp"
 #include "scene/transform.hpp"
@@ -206,9 +207,14 @@ std::vector<Row> whole_scene_rows(const scene::Scene& s, const std::string& case
   const Reference ref{s};
   const scene::View view = scene::view_of(s);
   const double small = prof.object_min > 0 ? prof.object_min : 1.0;
+  // Each model's tree and primary rays, kept for the timed rounds after the accuracy figures.
+  std::vector<tracer::SceneAccel> accels;
+  std::vector<RaySoA> primaries;
+  accels.reserve(3);
   for (tracer::Model m : {tracer::Model::fast, tracer::Model::automatic, tracer::Model::exact}) {
     std::mt19937_64 rng(seed);
-    const tracer::SceneAccel a = tracer::SceneAccel::build(s, tracer::make_plan(s, prof, m));
+    accels.push_back(tracer::SceneAccel::build(s, tracer::make_plan(s, prof, m)));
+    const tracer::SceneAccel& a = accels.back();
     // Primary rays: jittered through the image, the same directions for every model.
     const int side = std::max(4, int(std::sqrt(double(nrays))));
     RaySoA rays;
@@ -276,17 +282,29 @@ std::vector<Row> whole_scene_rows(const scene::Scene& s, const std::string& case
       r.scaled_err_p99 = std::numeric_limits<double>::quiet_NaN();
     }
     r.ns_per_test = std::numeric_limits<double>::quiet_NaN();
-    if (timing) {
-      double best = 1e300;
-      for (int rep = 0; rep < 5; ++rep) {
-        const auto t0 = std::chrono::steady_clock::now();
-        a.trace(rays, 0, rays.size(), hits.data(), to);
-        best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-      }
-      r.ns_per_test = best * 1e9 / N;
-    }
     rows.push_back(r);
+    primaries.push_back(std::move(rays));
   }
+  if (!timing) return rows;
+  // Timed rounds: in each, every model traces its primary rays in 8-ray packets once, the first
+  // model of the round turning from round to round; one untimed run each before.
+  tracer::TraceOptions to;
+  to.packet = 8;
+  std::vector<bvh::HitRec> hits;
+  auto run = [&](std::size_t k) {
+    hits.resize(primaries[k].size());
+    const auto t0 = std::chrono::steady_clock::now();
+    accels[k].trace(primaries[k], 0, primaries[k].size(), hits.data(), to);
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  for (std::size_t k = 0; k < accels.size(); ++k) run(k);
+  for (int round = 0; round < kWholeSceneRounds; ++round)
+    for (std::size_t i = 0; i < accels.size(); ++i) {
+      const std::size_t k = (i + std::size_t(round)) % accels.size();
+      rows[k].round_seconds.push_back(run(k));
+    }
+  for (std::size_t k = 0; k < rows.size(); ++k)
+    rows[k].ns_per_test = rb::median(rows[k].round_seconds) * 1e9 / double(std::max<std::size_t>(primaries[k].count, 1));
   return rows;
 }
 

@@ -82,12 +82,14 @@ Row tally(const std::string& family, const std::string& method, const std::strin
 
 nlohmann::json Row::json() const {
   auto v = [](double x) -> nlohmann::json { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); };
-  return {{"family", family}, {"method", method}, {"precision", precision}, {"case", case_name}, {"rays", rays}, {"tests", tests},
+  nlohmann::json j = {{"family", family}, {"method", method}, {"precision", precision}, {"case", case_name}, {"rays", rays}, {"tests", tests},
           {"false_hit_ppm", v(false_hit_ppm)}, {"false_miss_ppm", v(false_miss_ppm)}, {"leak_ppm", v(leak_ppm)},
           {"multi_hit_ppm", v(multi_hit_ppm)}, {"nan_ppm", v(nan_ppm)}, {"wrong_root_ppm", v(wrong_root_ppm)},
           {"t_err_ulp_p50", v(t_err_ulp_p50)}, {"t_err_ulp_p99", v(t_err_ulp_p99)}, {"t_err_ulp_max", v(t_err_ulp_max)},
           {"scaled_err_p99", v(scaled_err_p99)}, {"self_hit_ppm", v(self_hit_ppm)}, {"iterations", v(iterations)},
           {"ns_per_test", v(ns_per_test)}, {"failure_ppm", v(failure_ppm())}};
+  if (!round_seconds.empty()) j["round_seconds"] = round_seconds;
+  return j;
 }
 
 double Row::failure_ppm() const {
