@@ -20,9 +20,7 @@ std::vector<CaseInfo> box_cases() {
 void run_boxes(Ctx& x) {
   auto& g = x.rng;
   const std::size_t n = x.rays;
-  for (const auto& ci : box_cases()) {
-    if (!x.selected(ci.family, ci.name)) continue;
-    x.reseed(ci.family, ci.name);
+  x.each_case(box_cases(), [&](const auto& ci) {
     Case<Box> c;
     c.family = "box", c.name = ci.name, c.what = ci.what;
     for (std::size_t i = 0; i < n; ++i) {
@@ -61,7 +59,7 @@ void run_boxes(Ctx& x) {
       c.ref.push_back(box_ref(r.o, r.d, r.tmin, r.tmax, b.lo, b.hi));
     }
     measure(x, c, "slab", [](const auto& r, const auto& b, IterCount*) { return intersect_box(r, b); });
-  }
+  });
 }
 
 }  // namespace rb::acc

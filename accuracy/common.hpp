@@ -74,6 +74,16 @@ struct Ctx {
   bool selected(const std::string& family, const std::string& name) const {
     return o->filter.empty() || selects(o->filter, family + "/" + name);
   }
+  // The lab's case loop: fn(ci) for every case of `cases` the filter selects, each on its own
+  // seeded stream.
+  template <class Cases, class F>
+  void each_case(const Cases& cases, F&& fn) {
+    for (const auto& ci : cases) {
+      if (!selected(ci.family, ci.name)) continue;
+      reseed(ci.family, ci.name);
+      fn(ci);
+    }
+  }
 };
 
 // ---- random helpers ----

@@ -122,9 +122,7 @@ std::vector<CaseInfo> implicit_cases() {
 void run_implicit(Ctx& x) {
   auto& g = x.rng;
   const std::size_t n = x.rays;
-  for (const auto& ci : implicit_cases()) {
-    if (!x.selected(ci.family, ci.name)) continue;
-    x.reseed(ci.family, ci.name);
+  x.each_case(implicit_cases(), [&](const auto& ci) {
     if (ci.name == "thin_shell") {
       Case<Shell> c;
       c.family = ci.family, c.name = ci.name, c.what = ci.what;
@@ -200,7 +198,7 @@ void run_implicit(Ctx& x) {
       }
       measure_methods(x, c, [](const auto& s, const auto& p) { return twin_eval(s, p); });
     }
-  }
+  });
 }
 
 }  // namespace rb::acc

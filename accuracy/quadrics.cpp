@@ -131,9 +131,7 @@ void run_shells(Ctx& x, const CaseInfo& ci) {
 void run_quadrics(Ctx& x) {
   auto& g = x.rng;
   const std::size_t n = x.rays;
-  for (const auto& ci : quadric_cases()) {
-    if (!x.selected(ci.family, ci.name)) continue;
-    x.reseed(ci.family, ci.name);
+  x.each_case(quadric_cases(), [&](const auto& ci) {
     if (ci.name.rfind("shell_", 0) == 0) {
       run_shells(x, ci);
     } else if (ci.name.rfind("cyl", 0) == 0) {
@@ -186,7 +184,7 @@ void run_quadrics(Ctx& x) {
       measure(x, c.open, "cone", [](const auto& r, const auto& p, IterCount*) { return intersect_cone(r, p); });
       measure(x, c.solid, "cone_capped", [](const auto& r, const auto& p, IterCount*) { return intersect_cone_capped(r, p); });
     }
-  }
+  });
 }
 
 }  // namespace rb::acc

@@ -50,9 +50,7 @@ std::vector<CaseInfo> quartic_cases() {
 void run_quartics(Ctx& x) {
   auto& g = x.rng;
   const std::size_t n = x.rays;
-  for (const auto& ci : quartic_cases()) {
-    if (!x.selected(ci.family, ci.name)) continue;
-    x.reseed(ci.family, ci.name);
+  x.each_case(quartic_cases(), [&](const auto& ci) {
     Case<Quartic> c;
     c.family = ci.family, c.name = ci.name, c.what = ci.what;
     for (std::size_t i = 0; i < n; ++i) {
@@ -88,7 +86,7 @@ void run_quartics(Ctx& x) {
     // No "wrong root" figure: the solver's tolerance is absolute (4 eps x the interval), so the t
     // error of small roots is large by design; it is in the ulp columns.
     measure(x, c, "isolation_newton", [](const auto& r, const auto& q, IterCount* ic) { return first_root(r, q, ic); }, false, true);
-  }
+  });
 }
 
 }  // namespace rb::acc

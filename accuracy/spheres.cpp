@@ -68,9 +68,7 @@ void run_spheres(Ctx& x) {
   auto& g = x.rng;
   const std::size_t n = x.rays;
   const auto infos = sphere_cases();
-  for (const auto& ci : infos) {
-    if (!x.selected(ci.family, ci.name)) continue;
-    x.reseed(ci.family, ci.name);
+  x.each_case(infos, [&](const auto& ci) {
     Case<Sphere> c = new_case(ci.name, ci.what);
     if (ci.name.rfind("far_small", 0) == 0) {
       const double D = std::pow(10.0, std::stod(ci.name.substr(std::string("far_small_1e").size())));
@@ -120,7 +118,7 @@ void run_spheres(Ctx& x) {
       }
     }
     measure_all(x, c);
-  }
+  });
 }
 
 }  // namespace rb::acc

@@ -55,9 +55,7 @@ std::vector<CaseInfo> torus_cases() {
 void run_torus(Ctx& x) {
   auto& g = x.rng;
   const std::size_t n = x.rays;
-  for (const auto& ci : torus_cases()) {
-    if (!x.selected(ci.family, ci.name)) continue;
-    x.reseed(ci.family, ci.name);
+  x.each_case(torus_cases(), [&](const auto& ci) {
     Case<Torus> c;
     c.family = "torus", c.name = ci.name, c.what = ci.what;
     for (std::size_t i = 0; i < n; ++i) {
@@ -99,7 +97,7 @@ void run_torus(Ctx& x) {
     }
     measure(x, c, "ferrari", [](const auto& r, const auto& T, IterCount*) { return intersect_torus_ferrari(r, T); }, true);
     measure(x, c, "robust", [](const auto& r, const auto& T, IterCount* ic) { return intersect_torus_robust(r, T, ic); }, true, true);
-  }
+  });
 }
 
 }  // namespace rb::acc

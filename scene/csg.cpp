@@ -439,19 +439,6 @@ Material parse_material(const json& m, const std::string& path) {
   return mat;
 }
 
-// Material i of n's name in scene_json's output: "default" for 0, else "m<i>", zero-padded to the digits of n - 1 so
-// that the names sort in index order (the format's materials object is read in key order).
-// Appended, not operator+: GCC 12 gives a false -Wrestrict on a short literal plus a temporary.
-std::string material_name(std::uint32_t i, std::size_t n) {
-  if (i == 0) return "default";
-  const std::string d = std::to_string(i);
-  const std::size_t width = std::to_string(n > 1 ? n - 1 : 1).size();
-  std::string s = "m";
-  s.append(width > d.size() ? width - d.size() : 0, '0');
-  s += d;
-  return s;
-}
-
 // The node with every "material": NAME renamed "m<index>" (scene_json writes materials so).
 json canonical_materials(const json& node, const std::map<std::string, std::uint32_t>& mats, std::size_t n) {
   if (node.is_array()) {
@@ -464,7 +451,7 @@ json canonical_materials(const json& node, const std::map<std::string, std::uint
   for (auto it = node.begin(); it != node.end(); ++it)
     if (it.key() == "material" && it.value().is_string()) {
       const auto m = mats.find(it.value().get<std::string>());
-      o["material"] = m == mats.end() ? it.value() : json(material_name(m->second, n));
+      o["material"] = m == mats.end() ? it.value() : json(detail::material_name(m->second, n));
     } else if (it.key() == "left" || it.key() == "right" || it.key() == "children") {
       o[it.key()] = canonical_materials(it.value(), mats, n);
     } else {
@@ -587,6 +574,21 @@ Scene build_scene(const json& root, const std::string& name) {
 
 }  // namespace
 
+namespace detail {
+// Material i of n's name in scene_json's output: "default" for 0, else "m<i>", zero-padded to the digits of n - 1 so
+// that the names sort in index order (the format's materials object is read in key order).
+// Appended, not operator+: GCC 12 gives a false -Wrestrict on a short literal plus a temporary.
+std::string material_name(std::uint32_t i, std::size_t n) {
+  if (i == 0) return "default";
+  const std::string d = std::to_string(i);
+  const std::size_t width = std::to_string(n > 1 ? n - 1 : 1).size();
+  std::string s = "m";
+  s.append(width > d.size() ? width - d.size() : 0, '0');
+  s += d;
+  return s;
+}
+}  // namespace detail
+
 Scene parse_json_scene(std::string_view text, const std::string& name) {
   json root;
   try {
@@ -605,94 +607,6 @@ Scene parse_json_scene(std::string_view text, const std::string& name) {
 
 Scene load_json_scene(const std::string& path) { return parse_json_scene(detail::read_file(path), path); }
 
-namespace {
-// A float as its shortest decimal form that reads back to the same float (0.9f -> 0.9).
-json jfloat(float x) {
-  char buf[32];
-  const auto r = std::to_chars(buf, buf + sizeof buf, x);
-  return json::parse(std::string(buf, r.ptr));
-}
-json jvec(const Vec3d& v) { return json::array({v.x, v.y, v.z}); }
-json jvec(const Vec3f& v) { return json::array({jfloat(v.x), jfloat(v.y), jfloat(v.z)}); }
-
-// Indented JSON for people: a value whose one-line form fits in 96 columns stays on one line
-// (points, colours, CSG leaves), everything else opens one line per member.
-void write_readable(const json& v, int indent, std::string& out) {
-  std::string line = v.dump();
-  // one-line form with spaces after ',' and ':' (outside strings; the format's strings hold no quotes)
-  std::string spaced;
-  bool in_str = false;
-  for (char ch : line) {
-    spaced += ch;
-    if (ch == '"') in_str = !in_str;
-    if (!in_str && (ch == ',' || ch == ':')) spaced += ' ';
-  }
-  if (!v.is_structured() || int(spaced.size()) + indent <= 96) {
-    out += spaced;
-    return;
-  }
-  const std::string pad(std::size_t(indent + 2), ' ');
-  out += v.is_object() ? "{\n" : "[\n";
-  std::size_t i = 0;
-  for (auto it = v.begin(); it != v.end(); ++it, ++i) {
-    out += pad;
-    if (v.is_object()) out += json(it.key()).dump() + ": ";
-    write_readable(it.value(), indent + 2, out);
-    out += i + 1 < v.size() ? ",\n" : "\n";
-  }
-  out += std::string(std::size_t(indent), ' ') + (v.is_object() ? "}" : "]");
-}
-}  // namespace
-
-std::string scene_json(const Scene& s) {
-  std::string missing;
-  auto cannot = [&](std::size_t n, const char* what) {
-    if (n) missing += (missing.empty() ? "" : ", ") + std::to_string(n) + " " + what;
-  };
-  cannot(s.triangles.size(), "triangles (a mesh: keep it as OBJ or PLY)");
-  cannot(s.cones.size(), "NFF cones");
-  cannot(s.poly_normals.empty() ? 0 : s.polygons.size(), "polygons with per-vertex normals");
-  std::size_t checker = 0;
-  for (const auto& m : s.materials) checker += m.checker > 0;
-  cannot(checker, "checkerboard materials");
-  for (const auto& c : s.csgs) cannot(c.json.empty() ? 1 : 0, "CSG objects built without JSON");
-  if (!missing.empty()) throw SceneError(s.name + ": the JSON scene format cannot represent " + missing);
-
-  json root = json::object();
-  const Camera& c = s.camera;
-  root["camera"] = {{"from", jvec(c.from)}, {"at", jvec(c.at)}, {"up", jvec(c.up)}, {"angle", c.angle},
-                    {"width", c.width},     {"height", c.height}, {"hither", c.hither}};
-  root["background"] = jvec(s.background);
-  json lights = json::array();
-  for (const auto& l : s.lights) lights.push_back({{"position", jvec(l.pos)}, {"color", jvec(l.color)}});
-  root["lights"] = lights;
-  json mats = json::object();
-  for (std::size_t i = 0; i < s.materials.size(); ++i) {
-    const Material& m = s.materials[i];
-    mats[material_name(std::uint32_t(i), s.materials.size())] = {{"color", jvec(m.color)}, {"kd", jfloat(m.kd)}, {"ks", jfloat(m.ks)},
-                                     {"shine", jfloat(m.shine)}, {"t", jfloat(m.t)}, {"ior", jfloat(m.ior)}};
-  }
-  root["materials"] = mats;
-  json objs = json::array();
-  auto with_mat = [&s](json o, std::uint32_t mat) {
-    if (mat) o["material"] = material_name(mat, s.materials.size());
-    return o;
-  };
-  for (const auto& sp : s.spheres) objs.push_back(with_mat({{"type", "sphere"}, {"center", jvec(sp.c)}, {"radius", sp.r}}, sp.mat));
-  for (const auto& t : s.tori)
-    objs.push_back(with_mat({{"type", "torus"}, {"center", jvec(t.c)}, {"axis", jvec(t.axis)}, {"major", t.R}, {"minor", t.r}}, t.mat));
-  for (const auto& p : s.polygons) {
-    json v = json::array();
-    for (std::uint32_t k = 0; k < p.count; ++k) v.push_back(jvec(s.poly_verts[p.first + k]));
-    objs.push_back(with_mat({{"type", "polygon"}, {"vertices", v}}, p.mat));
-  }
-  for (const auto& g : s.csgs) objs.push_back(json::parse(g.json));
-  root["objects"] = objs;
-  std::string out;
-  write_readable(root, 0, out);
-  return out + "\n";
-}
-
 CsgTree csg_from_json_text(std::string_view node_json, const std::string& where) {
   json j;
   try {
@@ -708,95 +622,5 @@ CsgTree csg_from_json_text(std::string_view node_json, const std::string& where)
     throw SceneError(e.what());
   }
 }
-
-// ---- embedded scenes -------------------------------------------------------------------------
-namespace {
-const char* kCommon = R"("camera": {"from": [0, 1.5, 6], "at": [0, 0, 0], "up": [0, 1, 0], "angle": 40, "width": 512, "height": 512, "hither": 0.001},
-  "background": [0.078, 0.361, 0.753],
-  "lights": [{"position": [-6, 10, 8], "color": [1, 1, 1]}, {"position": [8, 6, 6], "color": [0.5, 0.5, 0.5]}],
-  "materials": {
-    "red":   {"color": [0.9, 0.15, 0.1], "kd": 0.8, "ks": 0.2, "shine": 40},
-    "white": {"color": [0.95, 0.95, 0.9], "kd": 0.8, "ks": 0.1, "shine": 20},
-    "black": {"color": [0.05, 0.05, 0.05], "kd": 0.8, "ks": 0.1, "shine": 20},
-    "glass": {"color": [0.9, 0.95, 1.0], "kd": 0.1, "ks": 0.3, "shine": 100, "t": 0.9, "ior": 1.5},
-    "gold":  {"color": [0.9, 0.7, 0.2], "kd": 0.6, "ks": 0.4, "shine": 60},
-    "floor": {"color": [0.6, 0.6, 0.6], "kd": 0.9}
-  },
-)";
-const char* kFloor = R"({"type": "polygon", "material": "floor", "vertices": [[-20, -1.5, -20], [-20, -1.5, 20], [20, -1.5, 20], [20, -1.5, -20]]})";
-
-// The die: a cube intersected with a sphere (rounded edges), minus short cylinders for the pips
-// (1 opposite 6, 2 opposite 5, 3 opposite 4), each face's pips a union of their own.
-std::string die_json() {
-  json faces = json::array();
-  // Face normal n, in-face axes u, v; pip positions in (u, v) units of 0.5.
-  struct Face {
-    Vec3d n, u, v;
-    std::vector<std::pair<int, int>> pips;
-  };
-  const std::vector<Face> F = {
-      {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}, {{0, 0}}},
-      {{0, 0, -1}, {1, 0, 0}, {0, 1, 0}, {{-1, -1}, {-1, 0}, {-1, 1}, {1, -1}, {1, 0}, {1, 1}}},
-      {{1, 0, 0}, {0, 0, 1}, {0, 1, 0}, {{-1, -1}, {1, 1}}},
-      {{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}, {{-1, -1}, {-1, 1}, {1, -1}, {1, 1}, {0, 0}}},
-      {{0, 1, 0}, {1, 0, 0}, {0, 0, 1}, {{-1, -1}, {0, 0}, {1, 1}}},
-      {{0, -1, 0}, {1, 0, 0}, {0, 0, 1}, {{-1, -1}, {-1, 1}, {1, -1}, {1, 1}}},
-  };
-  for (const Face& f : F) {
-    json pips = json::array();
-    for (auto [a, b] : f.pips) {
-      const Vec3d c = f.n * 1.0 + f.u * (0.5 * a) + f.v * (0.5 * b);
-      const Vec3d base = c - f.n * 0.12;
-      pips.push_back({{"type", "cylinder"}, {"base", {base.x, base.y, base.z}}, {"axis", {f.n.x, f.n.y, f.n.z}}, {"radius", 0.14}, {"height", 0.3}});
-    }
-    if (pips.size() == 1) faces.push_back(pips[0]);
-    else faces.push_back({{"type", "union"}, {"children", pips}});
-  }
-  json die = {{"type", "difference"},
-              {"material", "white"},
-              {"transform", {{"rotate", {{"axis", {1, 1, 0}}, {"degrees", 30}}}}},
-              {"left", {{"type", "intersection"},
-                        {"left", {{"type", "box"}, {"min", {-1, -1, -1}}, {"max", {1, 1, 1}}}},
-                        {"right", {{"type", "sphere"}, {"center", {0, 0, 0}}, {"radius", 1.38}}}}},
-              {"right", {{"type", "union"}, {"material", "black"}, {"children", faces}}}};
-  return std::string("{\n  ") + kCommon + "  \"objects\": [\n    " + die.dump() + ",\n    " + kFloor + "\n  ]\n}\n";
-}
-
-std::string wrap(const char* objects) { return std::string("{\n  ") + kCommon + "  \"objects\": [\n" + objects + ",\n    " + kFloor + "\n  ]\n}\n"; }
-}  // namespace
-
-std::vector<std::string> csg_scene_names() { return {"spheres_minus", "lens", "die", "torus_box", "ellipsoid_minus_cylinder"}; }
-
-std::string csg_scene_json(const std::string& name) {
-  // The slide's A - B: a sphere with a bite taken out by a second one.
-  if (name == "spheres_minus")
-    return wrap(R"(    {"type": "difference", "material": "red",
-     "left": {"type": "sphere", "center": [0, 0, 0], "radius": 1.2},
-     "right": {"type": "sphere", "center": [0.7, 0.5, 0.8], "radius": 0.9}})");
-  // A biconvex lens: the intersection of two spheres (seed 004's "Lens").
-  if (name == "lens")
-    return wrap(R"(    {"type": "intersection", "material": "glass",
-     "left": {"type": "sphere", "center": [0, 0, -1.6], "radius": 2.0},
-     "right": {"type": "sphere", "center": [0, 0, 1.6], "radius": 2.0}})");
-  if (name == "die") return die_json();
-  // A torus cut by a box: the half of a ring above a plane and inside a slab.
-  if (name == "torus_box")
-    return wrap(R"(    {"type": "intersection", "material": "gold",
-     "transform": {"rotate": {"axis": [1, 0, 0], "degrees": 60}},
-     "left": {"type": "torus", "center": [0, 0, 0], "axis": [0, 0, 1], "major": 1.2, "minor": 0.4},
-     "right": {"type": "box", "min": [-2, -0.6, -1], "max": [2, 2, 1]}})");
-  // A transformed difference: an ellipsoid with a tilted cylinder bored through, rotated and
-  // moved as a whole.
-  if (name == "ellipsoid_minus_cylinder")
-    return wrap(R"(    {"type": "difference", "material": "red",
-     "transform": {"translate": [0, 0.1, 0], "rotate": {"axis": [0, 1, 1], "degrees": 35}, "scale": [1, 1, 1.2]},
-     "left": {"type": "ellipsoid", "center": [0, 0, 0], "radii": [1.4, 0.9, 0.7]},
-     "right": {"type": "cylinder", "base": [0, -2, 0], "axis": [0.3, 1, 0], "radius": 0.4, "height": 4}})");
-  std::string names;
-  for (const auto& n : csg_scene_names()) names += (names.empty() ? "" : ", ") + n;
-  throw SceneError("csg:" + name + ": unknown CSG scene (" + names + ")" + did_you_mean(name, csg_scene_names()));
-}
-
-Scene csg_scene(const std::string& name) { return parse_json_scene(csg_scene_json(name), "csg:" + name); }
 
 }  // namespace rb::scene

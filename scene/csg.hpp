@@ -52,7 +52,8 @@ std::string scene_json(const Scene& s);
 // Materials are not resolved (every leaf gets material 0). Throws SceneError "WHERE.PATH: ...".
 CsgTree csg_from_json_text(std::string_view node_json, const std::string& where);
 
-// Embedded CSG scenes: csg:spheres_minus, csg:lens, csg:die, csg:torus_box, csg:ellipsoid_minus_cylinder.
+// Embedded CSG scenes (scene/csg_scenes.cpp): csg:spheres_minus, csg:lens, csg:die, csg:torus_box,
+// csg:ellipsoid_minus_cylinder.
 std::vector<std::string> csg_scene_names();
 std::string csg_scene_json(const std::string& name);  // the scene's JSON text (SceneError if unknown)
 Scene csg_scene(const std::string& name);

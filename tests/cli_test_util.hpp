@@ -90,4 +90,18 @@ inline const char* const kOctahedron =
 
 inline bool has(const std::string& hay, const std::string& needle) { return hay.find(needle) != std::string::npos; }
 
+// One error line on stderr, "raybench COMMAND: ...", naming `input` once. Before it, trace and
+// render may have printed their header ("raybench trace SCENE: ... thread(s) ..."), which is not an
+// error message.
+inline void expect_one_error_line(const Outcome& r, const std::string& command, const std::string& input) {
+  auto lines = r.err_lines();
+  if ((command == "trace" || command == "render") && lines.size() == 2 && has(lines[0], "thread(s) of")) lines.erase(lines.begin());
+  ASSERT_EQ(lines.size(), 1u) << r.err;
+  EXPECT_EQ(lines[0].rfind("raybench " + command + ":", 0), 0u) << lines[0];
+  if (!input.empty()) {
+    EXPECT_TRUE(has(lines[0], input)) << lines[0];
+    EXPECT_EQ(lines[0].find(input), lines[0].rfind(input)) << "names the input twice: " << lines[0];
+  }
+}
+
 }  // namespace rbtest

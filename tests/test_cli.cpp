@@ -22,20 +22,6 @@ using rb::app::ProgressBar;
 
 const char* const kCommands[] = {"report", "ops", "bench", "info", "query", "trace", "render", "accuracy", "csg", "compare", "history", "machine"};
 
-// One error line on stderr, "raybench COMMAND: ...", naming `input` once. Before it, trace and
-// render may have printed their header ("raybench trace SCENE: ... thread(s) ..."), which is not an
-// error message.
-void expect_one_error_line(const Outcome& r, const std::string& command, const std::string& input) {
-  auto lines = r.err_lines();
-  if ((command == "trace" || command == "render") && lines.size() == 2 && has(lines[0], "thread(s) of")) lines.erase(lines.begin());
-  ASSERT_EQ(lines.size(), 1u) << r.err;
-  EXPECT_EQ(lines[0].rfind("raybench " + command + ":", 0), 0u) << lines[0];
-  if (!input.empty()) {
-    EXPECT_TRUE(has(lines[0], input)) << lines[0];
-    EXPECT_EQ(lines[0].find(input), lines[0].rfind(input)) << "names the input twice: " << lines[0];
-  }
-}
-
 // ---- helpers ----------------------------------------------------------------------------------
 
 TEST(CliHelpers, ClosestNameFindsTyposOnly) {
@@ -153,33 +139,6 @@ TEST(Cli, VersionNamesRevisionAndFlags) {
   EXPECT_TRUE(has(r.out, "build flags")) << r.out;
   EXPECT_TRUE(has(r.out, "-ffp-contract=")) << r.out;
   EXPECT_LE(widest(r.out), 80u) << r.out;
-}
-
-TEST(Cli, MisspelledCommandNamesTheClosest) {
-  Scratch s("typo");
-  Outcome r = run_in(s.dir, "tarce bunny.obj");
-  EXPECT_EQ(r.status, 1);
-  ASSERT_EQ(r.err_lines().size(), 1u) << r.err;
-  EXPECT_TRUE(has(r.err, "did you mean 'trace'")) << r.err;
-  r = run_in(s.dir, "trace x.obj --trheads 2");
-  EXPECT_EQ(r.status, 1);
-  EXPECT_TRUE(has(r.err, "did you mean '--threads'")) << r.err;
-  expect_one_error_line(r, "trace", "");
-}
-
-TEST(Cli, EveryParseErrorExitsOneWithOneLine) {
-  Scratch s("parse");
-  // CLI11's own codes were 105 (validation), 106 (required), 109 (extras), 101 (conversion).
-  for (const char* args : {"trace", "trace x.obj --packet 3", "bench -r abc", "trace x.obj --threads -1", "render x.obj --depth 0",
-                           "compare a.json", "accuracy --rays 2", "machine extra"}) {
-    const Outcome r = run_in(s.dir, args);
-    EXPECT_EQ(r.status, 1) << args << ": " << r.err;
-    const std::string cmd = std::string(args).substr(0, std::string(args).find(' '));
-    expect_one_error_line(r, cmd, "");
-  }
-  const Outcome none = run_in(s.dir, "");
-  EXPECT_EQ(none.status, 1);
-  EXPECT_TRUE(has(none.err, "a command is required"));
 }
 
 TEST(Cli, InputErrorsExitOneWithTheSystemsReason) {

@@ -11,6 +11,33 @@ namespace {
 
 using namespace rbtest;
 
+TEST(CliInput, MisspelledCommandNamesTheClosest) {
+  Scratch s("typo");
+  Outcome r = run_in(s.dir, "tarce bunny.obj");
+  EXPECT_EQ(r.status, 1);
+  ASSERT_EQ(r.err_lines().size(), 1u) << r.err;
+  EXPECT_TRUE(has(r.err, "did you mean 'trace'")) << r.err;
+  r = run_in(s.dir, "trace x.obj --trheads 2");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(has(r.err, "did you mean '--threads'")) << r.err;
+  expect_one_error_line(r, "trace", "");
+}
+
+TEST(CliInput, EveryParseErrorExitsOneWithOneLine) {
+  Scratch s("parse");
+  // CLI11's own codes were 105 (validation), 106 (required), 109 (extras), 101 (conversion).
+  for (const char* args : {"trace", "trace x.obj --packet 3", "bench -r abc", "trace x.obj --threads -1", "render x.obj --depth 0",
+                           "compare a.json", "accuracy --rays 2", "machine extra"}) {
+    const Outcome r = run_in(s.dir, args);
+    EXPECT_EQ(r.status, 1) << args << ": " << r.err;
+    const std::string cmd = std::string(args).substr(0, std::string(args).find(' '));
+    expect_one_error_line(r, cmd, "");
+  }
+  const Outcome none = run_in(s.dir, "");
+  EXPECT_EQ(none.status, 1);
+  EXPECT_TRUE(has(none.err, "a command is required"));
+}
+
 // `--json` and `--dump-json` take an optional FILE: before the scene they took it, and the scene was
 // missing. The word goes back to its place; the JSON goes to stdout.
 TEST(CliInput, AnOptionalFileBeforeTheSceneLeavesTheScene) {
