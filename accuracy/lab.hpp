@@ -74,8 +74,10 @@ std::vector<Row> run_lab(const Options& o);
 // rows of family "scene", accuracy/scenes.cpp): about `rays` primary rays through the scene's view
 // and a spawned secondary ray per hit; ns per ray timed when `timing`.
 // The fast, auto and exact models of a whole scene (rows in that order) against the exact
-// reference; with timing, kWholeSceneRounds timed rounds in which the three take turns.
+// reference; with timing, kWholeSceneRounds timed rounds in which the three take turns, each turn
+// repeating the trace to last about kWholeSceneTurn seconds for the fast model.
 inline constexpr int kWholeSceneRounds = 7;
+inline constexpr double kWholeSceneTurn = 0.01;
 std::vector<Row> whole_scene_rows(const scene::Scene& s, const std::string& case_name, const std::string& what, std::size_t rays,
                                   bool timing, std::uint64_t seed);
 }  // namespace rb::acc

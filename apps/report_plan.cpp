@@ -97,7 +97,8 @@ std::string report_section_plan(const ReportOptions& o, const fs::path& out, jso
         "double (a brute-force loop). Per primary ray through the scene's view: a false hit or miss, or a wrong hit (another "
         "surface than the first, or the right one off by more than 1e-5 of the distance); per hit, a secondary ray spawned at the "
         "model's hit point that hits its own surface again. Speed: the model's primary rays in 8-ray packets on one thread, Mrays/s, "
-        "the median of " + std::to_string(acc::kWholeSceneRounds) + " rounds in which the three models take turns; auto / fast is "
+        "the median of " + std::to_string(acc::kWholeSceneRounds) + " rounds in which the three models take turns (each turn traces the "
+        "rays as often as makes the fast model's last about " + fmt::format("{:.0f}", 1e3 * acc::kWholeSceneTurn) + " ms); auto / fast is "
         "the median of the rounds' own ratios with its 95 % interval (the sign test's; the range of the rounds where they are "
         "too few). CSG scenes have no reference and are left out.\n\n";
 
