@@ -26,10 +26,6 @@ struct NothingToDo : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Did-you-mean for commands, options and values (core/suggest.hpp).
-using rb::closest_name;
-using rb::did_you_mean;
-using rb::edit_distance;
 
 // "raybench COMMAND: INPUT: REASON", naming the input once even when REASON already starts with it
 // (the scene loaders' messages name the file and line themselves). Newlines become "; ".
@@ -69,10 +65,6 @@ std::string busy_warning(double load, int threads);
 // A warning when the repetitions' coefficient of variation exceeds 5 %. "" else.
 std::string noise_warning(double cv, const std::string& what);
 
-// Terminal text within 80 columns (core/text.hpp).
-using rb::display_width;
-using rb::fit_columns;
-using rb::wrap_words;
 
 // --filter: a POSIX extended regular expression searched in the name (as Google Benchmark's
 // --benchmark_filter). Throws std::invalid_argument("--filter 'X': invalid regular expression").

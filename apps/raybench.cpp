@@ -40,7 +40,7 @@ int main(int argc, char** argv) {
   for (const auto& c : commands) names.push_back(c->name());
   const std::string sub_name = argc > 1 && argv[1][0] != '-' ? argv[1] : "";
   if (!sub_name.empty() && std::find(names.begin(), names.end(), sub_name) == names.end()) {
-    std::cerr << "raybench: '" << sub_name << "' is not a command" << did_you_mean(sub_name, names) << " (raybench --help lists them)\n";
+    std::cerr << "raybench: '" << sub_name << "' is not a command" << rb::did_you_mean(sub_name, names) << " (raybench --help lists them)\n";
     return kExitError;
   }
   if (argc == 1) {

@@ -1,4 +1,5 @@
 // Report section "Tracing": whole scenes through the BVH beside Embree and the brute-force loop.
+#include "core/median.hpp"
 #include "core/output_file.hpp"
 #include "apps/paths.hpp"
 #include "apps/report.hpp"
@@ -244,8 +245,8 @@ std::string report_section_tracing(const ReportOptions& o, const fs::path& out, 
                                                          sc["embree"].is_null() ? "" : "x");
     }
     if (!ours_sc.empty())
-      wsw += fmt::format("; median of all rows {:.2f}x, Embree's {}", trace::median(ours_sc),
-                         embree_sc.empty() ? std::string("-") : fmt::format("{:.2f}x", trace::median(embree_sc)));
+      wsw += fmt::format("; median of all rows {:.2f}x, Embree's {}", rb::median(ours_sc),
+                         embree_sc.empty() ? std::string("-") : fmt::format("{:.2f}x", rb::median(embree_sc)));
     add("build no slower than Embree's, one and two threads (Embree's time / ours)", {wb, wbw}, 1.0);
     add("bytes per triangle <= Embree's (Embree's / ours)", {wm, wmw}, 1.0);
     add("two threads >= 1.8x one thread for tracing", {ws, wsw}, 1.8);

@@ -3,6 +3,7 @@
 #include "apps/cli.hpp"
 #include "apps/progress.hpp"
 #include "apps/stats.hpp"
+#include "core/median.hpp"
 #include "bench/embree_build.hpp"
 #include "scene/sources.hpp"
 
@@ -146,7 +147,7 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   }
   const double load_after = load_average();
   const double stolen = steal_share(cpu_before, cpu_times());
-  const double mrays = double(n) / trace::median(secs) / 1e6;
+  const double mrays = double(n) / rb::median(secs) / 1e6;
   // Spread of the timed runs: the range in Mrays/s and the coefficient of variation of the times.
   auto spread = [&](json& j, const std::string& prefix, const std::vector<double>& t) {
     const stats::Summary sm = stats::summarize(t);
@@ -212,7 +213,7 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
     std::vector<bvh::HitRec> tmp(rays.size());
     ts.run([&] { sah_->trace_counted(rays, 0, rays.size(), tmp.data(), to, sc); });
     json t = j["sah_tree"];
-    t["mrays_per_s"] = double(n) / trace::median(sah_secs) / 1e6;
+    t["mrays_per_s"] = double(n) / rb::median(sah_secs) / 1e6;
     t["seconds"] = sah_secs;
     spread(t, "", sah_secs);
     t["nodes_per_ray"] = double(sc.nodes) / double(std::max<std::size_t>(1, n));
@@ -229,7 +230,7 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
     std::size_t best = 0;
     double best_mr = -1, native_best = -1, avx2_best = -1;
     for (std::size_t m = 0; m < modes.size(); ++m) {
-      const double mr = double(n) / trace::median(es[m]) / 1e6;
+      const double mr = double(n) / rb::median(es[m]) / 1e6;
       const tracer::Compare c = tracer::compare(ours, theirs[m], n, any);
       const auto& dev = embree_.devices[std::size_t(modes[m].isa)];
       json row{{"mode", modes[m].name(any)}, {"call", modes[m].call_name(any)}, {"device", trace::embree_isa_label(modes[m].isa)},
@@ -315,8 +316,8 @@ json time_builds(const rb::scene::Scene& s, const std::string& source, int threa
     }
     tell(r + 1 + (warm ? 1 : 0));
   }
-  return {{"build_ms", trace::median(a)},
-          {"embree_build_ms", b.empty() ? json(nullptr) : json(trace::median(b))},
+  return {{"build_ms", rb::median(a)},
+          {"embree_build_ms", b.empty() ? json(nullptr) : json(rb::median(b))},
           {"builds", int(a.size())},
           {"build_ms_runs", ours},
           {"embree_build_ms_runs", theirs},

@@ -2,7 +2,6 @@
 // the progress of a long run.
 #pragma once
 
-#include "core/median.hpp"
 #include "tracer/accel.hpp"
 #include "tracer/parallel.hpp"
 #include "tracer/ray_sets.hpp"
@@ -24,8 +23,6 @@ using Tracer = std::function<void(std::size_t begin, std::size_t end, HitRec* ou
 // returns the seconds of each run. `progress(done, total)` after each run.
 std::vector<double> time_runs(ThreadScope& ts, const Tracer& t, std::size_t rays, std::vector<HitRec>& out, int reps,
                               std::size_t tile, const std::function<void(int, int)>& progress = {});
-
-using rb::median;  // core/median.hpp
 
 // A progress bar on stderr (only when stderr is a terminal).
 struct Progress {

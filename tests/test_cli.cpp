@@ -26,13 +26,13 @@ const char* const kCommands[] = {"report", "ops", "bench", "info", "query", "tra
 
 TEST(CliHelpers, ClosestNameFindsTyposOnly) {
   const std::vector<std::string> names(std::begin(kCommands), std::end(kCommands));
-  EXPECT_EQ(rb::app::closest_name("tarce", names), "trace");
-  EXPECT_EQ(rb::app::closest_name("rendr", names), "render");
-  EXPECT_EQ(rb::app::closest_name("acuracy", names), "accuracy");
-  EXPECT_EQ(rb::app::closest_name("hisotry", names), "history");
-  EXPECT_EQ(rb::app::closest_name("xyzzy", names), "");
-  EXPECT_EQ(rb::app::edit_distance("trace", "tarce"), 1u);  // an adjacent swap is one edit
-  EXPECT_EQ(rb::app::edit_distance("", "abc"), 3u);
+  EXPECT_EQ(rb::closest_name("tarce", names), "trace");
+  EXPECT_EQ(rb::closest_name("rendr", names), "render");
+  EXPECT_EQ(rb::closest_name("acuracy", names), "accuracy");
+  EXPECT_EQ(rb::closest_name("hisotry", names), "history");
+  EXPECT_EQ(rb::closest_name("xyzzy", names), "");
+  EXPECT_EQ(rb::edit_distance("trace", "tarce"), 1u);  // an adjacent swap is one edit
+  EXPECT_EQ(rb::edit_distance("", "abc"), 3u);
 }
 
 TEST(CliHelpers, ErrorLineNamesTheInputOnce) {
@@ -90,11 +90,11 @@ TEST(CliHelpers, FilterIsAnExtendedRegex) {
 
 TEST(CliHelpers, WrapKeepsEightyColumnsAndIndentation) {
   const std::string long_text(30, 'a');
-  const std::string w = rb::app::wrap_words("  key  " + long_text + " " + long_text + " " + long_text, 80, "       ");
+  const std::string w = rb::wrap_words("  key  " + long_text + " " + long_text + " " + long_text, 80, "       ");
   EXPECT_LE(widest(w), 80u);
   EXPECT_EQ(w.rfind("  key  aaa", 0), 0u);  // leading and inner spaces of the first line kept
   EXPECT_TRUE(has(w, "\n       aaa"));
-  EXPECT_LE(widest(rb::app::fit_columns(std::string(200, 'x') + "\n" + long_text + " " + long_text + " " + long_text, 4)), 200u);
+  EXPECT_LE(widest(rb::fit_columns(std::string(200, 'x') + "\n" + long_text + " " + long_text + " " + long_text, 4)), 200u);
 }
 
 TEST(CliHelpers, ProgressBarShowsElapsedAndTheRest) {
