@@ -70,12 +70,13 @@ bool selects(const std::string& filter, const std::string& family_case);
 // Runs every selected case of every family. Rows come out in a stable order.
 std::vector<Row> run_lab(const Options& o);
 
-// One whole scene traced under the fast, auto and exact models against the exact reference (the
-// rows of family "scene", accuracy/scenes.cpp): about `rays` primary rays through the scene's view
-// and a spawned secondary ray per hit; ns per ray timed when `timing`.
-// The fast, auto and exact models of a whole scene (rows in that order) against the exact
-// reference; with timing, kWholeSceneRounds timed rounds in which the three take turns, each turn
-// repeating the trace to last about kWholeSceneTurn seconds for the fast model.
+// One whole scene traced under the fast, auto and exact models (rows in that order) against the
+// exact reference (the rows of family "scene", accuracy/scenes.cpp): about `rays` primary rays
+// through the scene's view and a spawned secondary ray per hit. Where the auto model stores
+// primitives apart in local frames, a fourth row, method kApartInDouble, is its plan with them in
+// double. With timing, kWholeSceneRounds timed rounds in which the rows' trees take turns, each
+// turn repeating the trace to last about kWholeSceneTurn seconds for the fast model.
+inline constexpr const char* kApartInDouble = "auto_apart_double";
 inline constexpr int kWholeSceneRounds = 7;
 inline constexpr double kWholeSceneTurn = 0.01;
 std::vector<Row> whole_scene_rows(const scene::Scene& s, const std::string& case_name, const std::string& what, std::size_t rays,

@@ -211,10 +211,22 @@ std::vector<Row> whole_scene_rows(const scene::Scene& s, const std::string& case
   // Each model's tree and primary rays, kept for the timed rounds after the accuracy figures.
   std::vector<tracer::SceneAccel> accels;
   std::vector<RaySoA> primaries;
-  accels.reserve(3);
-  for (tracer::Model m : {tracer::Model::fast, tracer::Model::automatic, tracer::Model::exact}) {
+  // The three models, and where the auto model stores primitives apart in local frames, the same
+  // plan with them in double (the storage those frames replace: what they cost and save).
+  std::vector<std::pair<std::string, tracer::Plan>> plans;
+  for (tracer::Model m : {tracer::Model::fast, tracer::Model::automatic, tracer::Model::exact})
+    plans.emplace_back(tracer::model_name(m), tracer::make_plan(s, prof, m));
+  tracer::Plan apart64 = plans[1].second;
+  bool local = false;
+  for (tracer::KindPlan& kp : apart64.kinds) {
+    local = local || (!kp.split.empty() && kp.split_local);
+    kp.split_local = false;
+  }
+  if (local) plans.emplace_back(kApartInDouble, apart64);
+  accels.reserve(plans.size());
+  for (const auto& [label, plan] : plans) {
     std::mt19937_64 rng(seed);
-    accels.push_back(tracer::SceneAccel::build(s, tracer::make_plan(s, prof, m)));
+    accels.push_back(tracer::SceneAccel::build(s, plan));
     const tracer::SceneAccel& a = accels.back();
     // Primary rays: jittered through the image, the same directions for every model.
     const int side = std::max(4, int(std::sqrt(double(nrays))));
@@ -231,7 +243,7 @@ std::vector<Row> whole_scene_rows(const scene::Scene& s, const std::string& case
     a.trace(rays, 0, rays.size(), hits.data(), to);
     Row r;
     r.family = "scene", r.case_name = case_name, r.what = what;
-    r.method = tracer::model_name(m);
+    r.method = label;
     r.precision = tracer::frame_name(a.plan().frame);
     r.rays = r.tests = n;
     std::vector<double> err;

@@ -4,6 +4,7 @@
 #include "apps/commands.hpp"
 #include "apps/scene_info.hpp"
 #include "kernels/csg.hpp"
+#include "tracer/leaves.hpp"
 #include "tracer/plan.hpp"
 #include "tracer/profile.hpp"
 #include "scene/csg.hpp"
@@ -56,8 +57,8 @@ json scene_info(const rb::scene::Scene& s) {
   j["materials"] = s.materials.size();
   j["primitives"] = s.primitive_count();
   // Every kind of the table (tracer/kinds.hpp), with the kernel batch the tracer stores for it:
-  // the bytes of its primitives in float (and in double where the plan stores the kind, or the
-  // primitives it keeps apart, in double).
+  // the bytes of its primitives in float (and in double where the plan stores the kind in double),
+  // and of the primitives it keeps apart (in local frames, or in double).
   const tracer::Profile profile = tracer::make_profile(s);
   const tracer::Plan plan = tracer::make_plan(s, profile, tracer::Model::automatic);
   j["input_precision"] = profile.input.summary();
@@ -85,7 +86,12 @@ json scene_info(const rb::scene::Scene& s) {
       const std::size_t apart = kp.split.size();
       batch = (n - apart) * (d ? sizeof(typename K::template Prim<double>) : sizeof(typename K::template Prim<float>));
       batches.push_back({{"batch", fmt::format("PrimSoA<{}> in {}", K::name, d ? "double" : "float")}, {"bytes", batch}});
-      if (apart)
+      // Apart in local frames: float, and an origin per leaf of 8 (a leaf that no origin of its own
+      // holds in float takes its double form instead: `trace` counts them).
+      if (apart && kp.split_local)
+        batches.push_back({{"batch", fmt::format("PrimSoA<{}> in float, local frames: {} apart", K::name, apart)},
+                           {"bytes", apart * sizeof(typename K::template Prim<float>) + (apart + 7) / 8 * sizeof(tracer::LocalFrame)}});
+      else if (apart)
         batches.push_back({{"batch", fmt::format("PrimSoA<{}> in double: the {} stored apart", K::name, apart)},
                            {"bytes", apart * sizeof(typename K::template Prim<double>)}});
     }

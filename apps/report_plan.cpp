@@ -50,7 +50,7 @@ std::string plan_kinds_text(const tracer::Plan& p) {
     std::vector<std::string> parts;
     if (c.as_input && c.as_input < kp.count) parts.push_back(fmt::format("{} as input", c.as_input));
     if (c.coarse)
-      parts.push_back(fmt::format("{} coarse{}", c.coarse, c.negligible ? ", negligible" : !kp.split.empty() ? ", stored apart in double" : ""));
+      parts.push_back(fmt::format("{} coarse{}", c.coarse, c.negligible ? ", negligible" : !kp.split.empty() ? (kp.split_local ? ", stored apart in local frames" : ", stored apart in double") : ""));
     if (c.degenerate) parts.push_back(fmt::format("{} degenerate", c.degenerate));
     for (std::size_t i = 0; i < parts.size(); ++i) o += (i ? ", " : " [") + parts[i] + (i + 1 == parts.size() ? "]" : "");
   }
@@ -125,6 +125,9 @@ std::string report_section_plan(const ReportOptions& o, const fs::path& out, jso
   // The goal of auto against fast where fast fails no ray: auto keeps at least 0.97 of its speed.
   constexpr double kAutoSpeedGoal = 0.97;
   std::map<int, std::vector<std::string>> by_verdict;
+  // Where auto stores primitives apart in local frames: their speed against the same plan with them
+  // in double (the lab's fourth row).
+  std::vector<std::string> local_lines;
   for (const auto& src : srcs) {
     std::cerr << fmt::format("[report plan {}/{}] {}\n", ++step, srcs.size(), src.label);
     const scene::Scene s = src.make();
@@ -151,6 +154,12 @@ std::string report_section_plan(const ReportOptions& o, const fs::path& out, jso
                       stats::interval_text(auto_fast), b1(bytes_fast), b1(bytes_auto), plan_ppm(r[0].failure_ppm()), plan_ppm(r[1].failure_ppm()),
                       plan_ppm(r[2].failure_ppm()));
     json j{{"scene", src.label}, {"primitives", s.primitive_count()}, {"plan", plan.json()}, {"auto_vs_fast", stats::interval_json(auto_fast)}};
+    if (r.size() > 3) {
+      const stats::RatioInterval local_double = stats::paired_ratio(r[3].round_seconds, r[1].round_seconds);
+      j["apart_local_vs_double"] = stats::interval_json(local_double);
+      local_lines.push_back(fmt::format("| {} | {:.2f} | {:.2f} | {} | {} / {} |", src.label, speed(r[1]), speed(r[3]),
+                                        stats::interval_text(local_double), plan_ppm(r[1].failure_ppm()), plan_ppm(r[3].failure_ppm())));
+    }
     if (!o.quick) j["bytes_per_prim"] = {{"fast", bytes_fast}, {"auto", bytes_auto}};
     for (const auto& x : r) {
       j[x.method] = {{"mrays_per_s", speed(x)}, {"failure_ppm", x.failure_ppm()}, {"false_hit_ppm", x.false_hit_ppm},
@@ -174,15 +183,21 @@ std::string report_section_plan(const ReportOptions& o, const fs::path& out, jso
   }
   md += "auto's cost where fast fails nothing is the price of its checks and choices, and where fast does fail, the price of the "
         "right answer.\n";
+  if (!local_lines.empty()) {
+    md += "\nPrimitives stored apart in local frames (each leaf's primitives in float relative to an origin of its own, the ray "
+          "re-based there) against the same plan with them in double, in the same rounds:\n\n| scene | Mrays/s local frames | "
+          "Mrays/s double | local / double | failures per million: local / double |\n|---|---:|---:|---:|---:|\n";
+    for (const auto& l : local_lines) md += l + "\n";
+  }
   md += "\nThe precision scenes (`raybench info precision:NAME` describes each; `raybench render precision:NAME` renders it) are "
         "built to need something: a ball on a planet of radius 6.4e6, a scene 6.4e6 or 1e3..1e7 from the origin, small spheres "
         "5e3 away, thin tori 500 sizes away, cylinders seen from 1e4 radii, a scene mixing scales, a scanned mesh with "
         "slivers and collapsed triangles (its coordinates floats, or in double), small meshes scattered over a world 3.7e4 wide. "
         "In brackets, a kind's primitives by class "
         "in the chosen frame: as the input holds them (float keeps every vertex), coarse (float step over size above 2^-12; "
-        "negligible when together they can change under 0.1 hit per million: kept in float; otherwise stored apart in double "
-        "when they are at most a quarter of the kind; primitives under one float step are coarse unless the input held them as "
-        "floats), degenerate (no area: slots no ray hits); `raybench plan` names the worst of each. The embedded scenes need "
+        "negligible when together they can change under 0.1 hit per million: kept in float; otherwise stored apart in local "
+        "frames, float relative to an origin per leaf, when none of them is huge or they are at most a quarter of the kind; "
+        "primitives under one float step are coarse unless the input held them as floats), degenerate (no area: slots no ray hits); `raybench plan` names the worst of each. The embedded scenes need "
         "nothing special; on them auto costs what the kinds' chosen methods cost (the table's auto / fast; the lab's "
         "`ns_per_test` compares the methods themselves).\n\n";
   md += "![speed against failures per model](plan_models.png)\n\n";

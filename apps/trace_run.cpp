@@ -46,6 +46,21 @@ const RaySoA& TraceSession::rays(tracer::RaySet set, std::size_t count, std::uin
   return it->second.first;
 }
 
+namespace {
+// The plan's kinds, each with the batch its primitives stored apart took in this tree: its bytes,
+// and how many stayed in double (leaves that no origin of their own holds in float).
+json apart_kinds(const tracer::SceneAccel& a) {
+  json kinds = a.plan().json()["kinds"];
+  for (auto& k : kinds)
+    for (int i = 0; i < tracer::kKinds; ++i)
+      if (!k["split"].is_null() && k["kind"] == kinds::kind_name(tracer::Kind(i))) {
+        k["split"]["bytes"] = a.apart_bytes(tracer::Kind(i));
+        k["split"]["in_double"] = a.apart_deep(tracer::Kind(i));
+      }
+  return kinds;
+}
+}  // namespace
+
 json TraceSession::build_json() const {
   const auto& st = accel_.bin.stats;
   json hist = json::array();
@@ -54,7 +69,7 @@ json TraceSession::build_json() const {
   json j{{"builder", builder_},
          {"model", tracer::model_name(accel_.plan().model)},
          {"frame", tracer::frame_name(accel_.plan().frame)},
-         {"plan_kinds", accel_.plan().json()["kinds"]},  // each kind's method, storage and classes
+         {"plan_kinds", apart_kinds(accel_)},  // each kind's method, storage and classes, and what it stores apart
          {"build_ms", accel_.build_ms},
          {"sah_build_ms", st.build_ms},
          {"reorder_ms", accel_.reorder_ms},
@@ -382,6 +397,11 @@ std::string trace_text(const json& j) {
       o += fmt::format("           {} {}: {} in {}, stored in {}{}\n", k["count"].get<std::size_t>(), k["kind"].get<std::string>(),
                        k["method"].get<std::string>(), k["precision"].get<std::string>(), k["storage"].get<std::string>(),
                        classes.empty() ? "" : "; " + classes);
+      if (const json& a = k["split"]; !a.is_null())
+        o += fmt::format("           apart: {} {} primitives in {}{}, {:.1f} KiB\n", a["count"].get<std::size_t>(), k["kind"].get<std::string>(),
+                         a["storage"].get<std::string>(),
+                         a["storage"] == "local frames" ? fmt::format(" ({} of them in double)", a["in_double"].get<std::size_t>()) : "",
+                         a["bytes"].get<double>() / 1024);
     }
   // The median with its range and coefficient of variation over the timed runs (after the warm-up).
   auto timing = [&](const std::string& p) {

@@ -154,6 +154,51 @@ TEST(Bvh, PrimitivesStoredApartEqualBruteForce) {
   check_all_modes(s, 128, tracer::Model::automatic, true);
 }
 
+// The same primitives stored apart in double as a whole (the plan's other storage), and with a
+// leaf that no origin of its own holds in float: a floor 2e4 across, which float rounds by more than
+// the tolerance of the small meshes on it in any frame, goes apart with the far meshes and its leaf
+// stays in double beside the local frames.
+TEST(Bvh, PrimitivesApartInDoubleAndInLocalFramesEqualBruteForce) {
+  scene::Scene s = scene::precision_scene("scattered");
+  auto traced = [](const scene::Scene& sc, bool local) {
+    tracer::Plan p = tracer::make_plan(sc, tracer::Model::automatic);
+    p.kinds[0].split_local = local;
+    const tracer::SceneAccel a = tracer::SceneAccel::build(sc, p);
+    const RaySoA rays = tracer::make_rays(sc, a, tracer::RaySet::primary, 256, 7);
+    const auto ref = brute(a, rays, false);
+    for (int packet : {1, 8, 64}) {
+      std::vector<HitRec> h(rays.size());
+      a.trace(rays, 0, rays.size(), h.data(), opts(packet, bvh::Slab::conservative, false));
+      expect_same(h, ref, rays.count, false, "packet " + std::to_string(packet) + (local ? " local" : " double"));
+    }
+    return std::pair{a.apart_deep(tracer::Kind::triangle), ref};
+  };
+  const auto [deep64, hits64] = traced(s, false);
+  const auto [deep_local, hits_local] = traced(s, true);
+  EXPECT_EQ(deep64, 2400u);
+  EXPECT_EQ(deep_local, 0u);
+  // Both storages hit the same triangles, at distances within float's rounding of the far meshes.
+  std::size_t hits = 0;
+  for (std::size_t i = 0; i < hits64.size(); ++i) {
+    EXPECT_EQ(hits64[i].prim, hits_local[i].prim) << i;
+    if (hits64[i].prim == kNoPrim) continue;
+    ++hits;
+    EXPECT_NEAR(hits64[i].t, hits_local[i].t, 1e-5 * hits64[i].t) << i;
+  }
+  EXPECT_GT(hits, 0u);
+  const auto base = std::uint32_t(s.verts.size());
+  const Vec3d c = s.camera.at;
+  for (Vec3d p : {Vec3d{-1e4, -50, -1e4}, Vec3d{1e4, -50, -1e4}, Vec3d{0, -50, 1e4}}) s.verts.push_back(c + p);
+  s.triangles.push_back({{base, base + 1, base + 2}, 0});
+  const tracer::Plan p = tracer::make_plan(s, tracer::Model::automatic);
+  ASSERT_TRUE(std::binary_search(p.kinds[0].split.begin(), p.kinds[0].split.end(), std::uint32_t(s.triangles.size() - 1)))
+      << p.kinds[0].split_reason;
+  const tracer::SceneAccel a = tracer::SceneAccel::build(s, p);
+  EXPECT_GE(a.apart_deep(tracer::Kind::triangle), 1u);
+  EXPECT_LT(a.apart_deep(tracer::Kind::triangle), 2400u);
+  check_all_modes(s, 128, tracer::Model::automatic, true);
+}
+
 TEST(Bvh, GeneratedSceneEqualsBruteForce) { check_all_modes(scene::generate_spd("balls", 1), 256); }
 
 TEST(Bvh, EveryBoxContainsItsChildrenAndPrimitives) {

@@ -250,7 +250,8 @@ TEST(Cli, JsonOnEveryCommand) {
   EXPECT_NO_THROW(nlohmann::json::parse(slurp(s / "info.json")));
 }
 
-// A kind whose few coarse primitives the plan stores apart: info lists both of its batches.
+// A kind whose few coarse primitives the plan stores apart (in local frames): info lists both of its
+// batches.
 TEST(Cli, InfoListsThePrimitivesStoredApartInABatchOfTheirOwn) {
   Scratch s("info-apart");
   const Outcome r = run_in(s.dir, "info precision:scattered --json info.json");
@@ -259,10 +260,10 @@ TEST(Cli, InfoListsThePrimitivesStoredApartInABatchOfTheirOwn) {
   const auto& b = j["kinds"][0]["batches"];
   ASSERT_EQ(b.size(), 2u) << b;
   EXPECT_EQ(b[0]["batch"], "PrimSoA<triangle> in float");
-  EXPECT_EQ(b[1]["batch"], "PrimSoA<triangle> in double: the 2400 stored apart");
+  EXPECT_EQ(b[1]["batch"], "PrimSoA<triangle> in float, local frames: 2400 apart");
   EXPECT_GT(b[1]["bytes"].get<std::size_t>(), 0u);
   EXPECT_LT(b[1]["bytes"].get<std::size_t>(), b[0]["bytes"].get<std::size_t>());
-  EXPECT_TRUE(has(r.out, "the 2400 stored apart")) << r.out;
+  EXPECT_TRUE(has(r.out, "local frames: 2400 apart")) << r.out;
   EXPECT_LE(widest(r.out), 80u) << r.out;
 }
 

@@ -142,8 +142,11 @@ TEST(PlanPrimitives, TheSameScanInDoublePutsOnlyItsSliversAboveTheToleranceAndJu
 }
 
 // Coarse primitives that matter still decide: two copies of the scan a million units apart (no
-// frame serves both) put the kind in double.
-TEST(PlanPrimitives, CoarsePrimitivesThatChangeHitsPutTheKindInDouble) {
+// frame serves both). Neither copy is huge, so the far one goes to local frames (half the kind,
+// every leaf of it in float relative to its own origin) and the kind stays in float; with a huge
+// coarse primitive among them (a floor 1e6 across, judged against the smallest triangle) beyond a
+// quarter of the kind, the kind goes to double as a whole.
+TEST(PlanPrimitives, CoarsePrimitivesThatChangeHitsGoToLocalFramesOrPutTheKindInDouble) {
   scene::Scene s = scene::precision_scene("scanned_double");
   const auto nv = std::uint32_t(s.verts.size());
   const std::size_t nt = s.triangles.size();
@@ -157,14 +160,33 @@ TEST(PlanPrimitives, CoarsePrimitivesThatChangeHitsPutTheKindInDouble) {
   const auto& t = kp(p, Kind::triangle);
   EXPECT_FALSE(t.classes.negligible);
   EXPECT_GT(t.classes.moved_share, tracer::kNegligibleShare);
-  EXPECT_TRUE(t.f64_storage) << t.classes_text();
+  EXPECT_EQ(t.classes.coarse_huge, 0u);
+  EXPECT_FALSE(t.f64_storage) << t.classes_text();
+  EXPECT_TRUE(t.split_local);
+  // Apart: the far copy (but its degenerate triangles) and the near copy's slivers, coarse in any
+  // frame of the mesh's size.
+  const auto far = std::size_t(std::count_if(t.split.begin(), t.split.end(), [&](std::uint32_t i) { return i >= nt; }));
+  EXPECT_GE(far, nt - t.classes.degenerate) << t.split_reason;
+  EXPECT_LT(t.split.size() - far, nt / 20);
+  // The slivers that a leaf's origin does not hold in float (leaves of slivers spread over the
+  // mesh) stay in double: a few of the primitives apart.
+  const tracer::SceneAccel a = tracer::SceneAccel::build(s, p);
+  EXPECT_LT(a.apart_deep(Kind::triangle), t.split.size() / 4);
+  // A floor a million across under the far copy: huge, and coarse in every frame.
+  const auto nv2 = std::uint32_t(s.verts.size());
+  for (Vec3d c : {Vec3d{-5e5 + 0.1, -1.3, -5e5 + 0.7}, Vec3d{5e5 + 0.3, -1.3, -5e5 + 0.9}, Vec3d{0.1, -1.3, 5e5 + 0.3}})
+    s.verts.push_back(c + Vec3d{1.0e6, -2.1e5, 3.3e5});
+  s.triangles.push_back({{nv2, nv2 + 1, nv2 + 2}, 0});
+  const tracer::Plan q = tracer::make_plan(s, Model::automatic);
+  EXPECT_EQ(kp(q, Kind::triangle).classes.coarse_huge, 1u);
+  EXPECT_TRUE(kp(q, Kind::triangle).f64_storage) << kp(q, Kind::triangle).classes_text();
 }
 
-// A few coarse primitives whose rounding would change hits go to a batch of their own in double;
-// the rest of the kind stays in float. Small meshes scattered over a world 3.7e4 wide: the 30 far
-// from the origin (2,400 triangles, 13 %) are coarse in every frame that keeps the other 200 in
-// float.
-TEST(PlanPrimitives, AFewCoarsePrimitivesGoApartInDoubleAndTheRestStaysInFloat) {
+// A few coarse primitives whose rounding would change hits go to a batch of their own in local
+// frames; the rest of the kind stays in float. Small meshes scattered over a world 3.7e4 wide: the
+// 30 far from the origin (2,400 triangles, 13 %) are coarse in every frame that keeps the other 200
+// in float, and fine relative to an origin near them.
+TEST(PlanPrimitives, AFewCoarsePrimitivesGoApartInLocalFramesAndTheRestStaysInFloat) {
   const scene::Scene s = scene::precision_scene("scattered");
   const std::uint32_t near = 200 * 80;  // the near meshes' triangles come first
   const tracer::Plan p = tracer::make_plan(s, Model::automatic);
@@ -179,7 +201,8 @@ TEST(PlanPrimitives, AFewCoarsePrimitivesGoApartInDoubleAndTheRestStaysInFloat) 
   EXPECT_GE(t.split.front(), near) << "only the far meshes' triangles are apart";
   EXPECT_NE(p.text().find("apart:   2400 coarse of 18400"), std::string::npos) << p.text();
   EXPECT_EQ(p.json()["kinds"][0]["split"]["count"], 2400);
-  EXPECT_EQ(p.json()["kinds"][0]["split"]["storage"], "double");
+  EXPECT_EQ(p.json()["kinds"][0]["split"]["storage"], "local frames");
+  EXPECT_TRUE(t.split_local);
   // The tree: the apart triangles in leaves of their own tag, every one of them there, the rest in
   // the kind's float batch; memory in proportion.
   const tracer::SceneAccel a = tracer::SceneAccel::build(s, p);
@@ -203,7 +226,13 @@ TEST(PlanPrimitives, AFewCoarsePrimitivesGoApartInDoubleAndTheRestStaysInFloat) 
   EXPECT_EQ(kept, s.triangles.size() - t.split.size());
   EXPECT_GT(a.apart_bytes(Kind::triangle), 0u);
   EXPECT_LT(a.apart_bytes(Kind::triangle), a.kind_bytes(Kind::triangle) / 3);
-  // A hit on an apart triangle carries the rounding error of double storage.
+  // Every far mesh is held by an origin near it: no leaf stays in double, and none holds a
+  // coordinate beyond a few of its triangles' sizes (they are under 1 across).
+  EXPECT_EQ(a.apart_deep(Kind::triangle), 0u);
+  EXPECT_GT(a.apart_reach(Kind::triangle), 0.0);
+  EXPECT_LT(a.apart_reach(Kind::triangle), 8.0);
+  // A hit on an apart triangle carries the rounding error of float in its local frame: a few float
+  // roundings of its reach, not of its world coordinates (3e4: 8 float roundings there are 0.014).
   RaySoA rays;
   const scene::View v = scene::view_of(s);
   for (int y = 0; y < 16; ++y)
@@ -215,7 +244,7 @@ TEST(PlanPrimitives, AFewCoarsePrimitivesGoApartInDoubleAndTheRestStaysInFloat) 
     if (h[i].prim == bvh::kNoPrim) continue;
     ++hits;
     EXPECT_TRUE(a.stored_apart(Kind::triangle, kinds::index_of(h[i].prim)));
-    EXPECT_LT(a.surface(h[i].prim, rays.get(i), h[i].t).err, 1e-9);
+    EXPECT_LT(a.surface(h[i].prim, rays.get(i), h[i].t).err, 8 * 0x1p-24 * 9.0);
   }
   EXPECT_GT(hits, 0u);
   // The fast model keeps them in float, and the exact model stores the whole kind in double.

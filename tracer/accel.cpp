@@ -56,6 +56,61 @@ void build_std(StdBatch<K>& b, const scene::Scene& s, kinds::SlotIds ids, const 
   }
 }
 
+// The primitives stored apart, in local frames (KindPlan::split_local): each group's origin is the
+// centre of its primitives' box snapped to a grid of the box's size rounded up to a power of two
+// (neighbouring groups of one size share it, and with it the rounding of their shared vertices and
+// of the re-based ray: a mesh stays watertight across their leaves). A group is stored in float
+// relative to it when every primitive's float step over its size there is within the plan's
+// tolerance (tracer/profile.hpp, float_step_ratio), else in double (LocalFrame::deep).
+template <class K>
+void build_local(StdBatch<K>& b, const scene::Scene& s, kinds::SlotIds ids, const Plan& plan) {
+  b.id = std::move(ids);
+  const std::size_t n = b.id.size(), groups = n / 8;
+  b.local.assign(groups, LocalFrame{});
+  std::uint32_t deep = 0;
+  for (std::size_t g = 0; g < groups; ++g) {
+    scene::Bounds box;
+    for (std::size_t j = 8 * g; j < 8 * g + 8; ++j)
+      if (b.id[j] != UINT32_MAX) box.grow(K::bounds(s, b.id[j]));
+    LocalFrame& f = b.local[g];
+    if (box.empty() || !std::isfinite(box.lo.x + box.lo.y + box.lo.z + box.hi.x + box.hi.y + box.hi.z)) {
+      f.deep = deep++;
+      continue;
+    }
+    const Vec3d c = box.centre() - plan.origin, e = box.hi - box.lo;
+    const double cell = std::ldexp(1.0, std::ilogb(std::max({e.x, e.y, e.z, 0x1p-1000})) + 1);
+    f.origin = {std::nearbyint(c.x / cell) * cell, std::nearbyint(c.y / cell) * cell, std::nearbyint(c.z / cell) * cell};
+    bool holds = true;
+    for (std::size_t j = 8 * g; j < 8 * g + 8 && holds; ++j)
+      if (b.id[j] != UINT32_MAX)
+        holds = float_step_ratio(K::bounds(s, b.id[j]), K::feature(s, b.id[j]), plan.origin + f.origin, plan.object_min) <=
+                kFloatTolerance;
+    if (!holds) {
+      f.deep = deep++;
+      continue;
+    }
+    const Vec3d lo = box.lo - plan.origin - f.origin, hi = box.hi - plan.origin - f.origin;
+    b.local_reach = std::max({b.local_reach, std::fabs(lo.x), std::fabs(lo.y), std::fabs(lo.z), std::fabs(hi.x), std::fabs(hi.y),
+                              std::fabs(hi.z)});
+  }
+  b.f32.allocate(n);
+  b.f64.allocate(std::size_t(deep) * 8);
+  const auto never32 = K::template Prim<float>::never();
+  const auto never64 = K::template Prim<double>::never();
+  for (std::size_t g = 0; g < groups; ++g) {
+    const LocalFrame& f = b.local[g];
+    for (std::size_t l = 0; l < 8; ++l) {
+      const std::uint32_t id = b.id[8 * g + l];
+      if (f.deep == UINT32_MAX) {
+        b.f32.set(8 * g + l, id == UINT32_MAX ? never32 : K::template make<float>(s, id, plan.origin + f.origin));
+      } else {
+        b.f32.set(8 * g + l, never32);
+        b.f64.set(8 * std::size_t(f.deep) + l, id == UINT32_MAX ? never64 : K::template make<double>(s, id, plan.origin));
+      }
+    }
+  }
+}
+
 }  // namespace
 
 SceneAccel::SceneAccel(SceneAccel&& o) noexcept { *this = std::move(o); }
@@ -186,19 +241,26 @@ SceneAccel SceneAccel::build(const scene::Scene& s, const Plan& plan, const bvh:
   });
   // The batches, and the 8-wide tree with its conservative boxes: independent (both read the
   // renumbered binary tree), side by side.
-  std::array<LeafChoice, kKinds> choice{}, apart{};
+  std::array<LeafChoice, kKinds> choice{};
+  std::array<int, kKinds> apart{};
   auto batches = [&] {
     AllKinds::each([&]<class K>() {
       const KindPlan& kp = plan.kinds[std::size_t(K::id)];
       choice[std::size_t(K::id)] = {kp.method, kp.f64, kp.f64_storage};
-      apart[std::size_t(K::id)] = {kp.split_method, true, true};
+      apart[std::size_t(K::id)] = kp.split_method;
       auto& b = std::get<Batch<K>>(a.batches_);
       auto& v = ids[std::size_t(K::id)];
       if constexpr (K::custom) {
         K::build(b, s, std::move(v), origin, kp.method, kp.f64, kp.f64_storage);
       } else {
         build_std<K>(b, s, std::move(v), origin, kp.f64_storage, opt.parallel);
-        build_std<K>(std::get<Batch<K>>(a.apart_), s, std::move(ids[std::size_t(apart_tag(K::id))]), origin, true, opt.parallel);
+        auto& apart_ids = ids[std::size_t(apart_tag(K::id))];
+        if constexpr (K::methods[0].f64_storage) {
+          if (kp.split_local) build_local<K>(std::get<Batch<K>>(a.apart_), s, std::move(apart_ids), plan);
+          else build_std<K>(std::get<Batch<K>>(a.apart_), s, std::move(apart_ids), origin, true, opt.parallel);
+        } else {
+          build_std<K>(std::get<Batch<K>>(a.apart_), s, std::move(apart_ids), origin, true, opt.parallel);
+        }
       }
     });
     a.reorder_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
@@ -213,7 +275,7 @@ SceneAccel SceneAccel::build(const scene::Scene& s, const Plan& plan, const bvh:
     batches();
     wide();
   }
-  const auto main_fns = leaf_table(choice), apart_fns = leaf_table(apart);
+  const auto main_fns = leaf_table(choice), apart_fns = apart_table(apart);
   std::copy(main_fns.begin(), main_fns.end(), a.fns_.begin());
   std::copy(apart_fns.begin(), apart_fns.end(), a.fns_.begin() + kKinds);
   std::size_t present = 0;
@@ -231,6 +293,24 @@ SceneAccel SceneAccel::build(const scene::Scene& s, const Plan& plan, const bvh:
 
 std::size_t SceneAccel::kind_bytes(Kind k) const {
   return AllKinds::at<std::size_t>(k, [&]<class K>() { return std::get<Batch<K>>(batches_).bytes() + std::get<Batch<K>>(apart_).bytes(); });
+}
+double SceneAccel::apart_reach(Kind k) const {
+  return AllKinds::at<double>(k, [&]<class K>() {
+    if constexpr (K::custom) return 0.0;
+    else return std::get<Batch<K>>(apart_).local_reach;
+  });
+}
+std::size_t SceneAccel::apart_deep(Kind k) const {
+  return AllKinds::at<std::size_t>(k, [&]<class K>() {
+    std::size_t n = 0;
+    if constexpr (!K::custom) {
+      const auto& b = std::get<Batch<K>>(apart_);
+      if (b.local.empty()) return b.id.size() - std::size_t(std::count(b.id.begin(), b.id.end(), UINT32_MAX));
+      for (std::size_t g = 0; g < b.local.size(); ++g)
+        if (b.local[g].deep != UINT32_MAX) n += real_slots(b, 8 * g);
+    }
+    return n;
+  });
 }
 std::size_t SceneAccel::apart_bytes(Kind k) const {
   return AllKinds::at<std::size_t>(k, [&]<class K>() { return std::get<Batch<K>>(apart_).bytes(); });
@@ -272,8 +352,13 @@ kinds::Surface SceneAccel::surface(std::uint32_t prim, const Ray<float>& r, floa
   // u = 2^-24; one stored in double within as many double roundings (u = 2^-53).
   const double ext = AllKinds::at<double>(k, [&]<class K>() { return K::feature(*scene_, kinds::index_of(prim)).extent; });
   const Vec3d pf = sf.p - plan_.origin;
-  const double u = plan_.kinds[std::size_t(k)].f64_storage || stored_apart(k, kinds::index_of(prim)) ? 0x1p-53 : 0x1p-24;
-  sf.err = 8 * u * (std::max({std::fabs(pf.x), std::fabs(pf.y), std::fabs(pf.z)}) + (std::isfinite(ext) ? ext : 0.0));
+  const bool apart = stored_apart(k, kinds::index_of(prim));
+  const double u = plan_.kinds[std::size_t(k)].f64_storage || (apart && !plan_.kinds[std::size_t(k)].split_local) ? 0x1p-53 : 0x1p-24;
+  // In a local frame, the coordinates rounded are those relative to the leaf's origin (at most the
+  // batch's reach): the double error of its deep leaves is far below that bound.
+  const double mag = apart && plan_.kinds[std::size_t(k)].split_local ? apart_reach(k)
+                                                                       : std::max({std::fabs(pf.x), std::fabs(pf.y), std::fabs(pf.z)});
+  sf.err = 8 * u * (mag + (std::isfinite(ext) ? ext : 0.0));
   return sf;
 }
 

@@ -2,7 +2,7 @@
 // one SAH build over them (bvh/build.cpp), the 8-wide tree with conservative boxes, and each kind's
 // batch in leaf order, made relative to the frame origin in the plan's precision, with the leaf
 // functions of the plan's method; the primitives the plan stores apart (KindPlan::split) in a
-// second batch of their kind, in double, in leaves of their own (tag apart_tag(kind)). Rays are traced in frame coordinates: `frame_ray` turns a world
+// second batch of their kind (in local frames, or in double), in leaves of their own (tag apart_tag(kind)). Rays are traced in frame coordinates: `frame_ray` turns a world
 // ray (double) into one, `surface` turns a hit back into a world surface point and normals.
 //
 // The scene must outlive the SceneAccel (surfaces read the scene's own arrays).
@@ -87,6 +87,11 @@ class SceneAccel {
   std::size_t bytes() const { return bytes_nodes() + bytes_prims(); }
   std::size_t kind_bytes(Kind k) const;   // both of the kind's batches
   std::size_t apart_bytes(Kind k) const;  // its primitives stored apart
+  // Of those, the ones in double (all of them unless the plan put them in local frames: then those
+  // of leaves that no origin of their own holds in float), and the largest coordinate a local frame
+  // holds.
+  std::size_t apart_deep(Kind k) const;
+  double apart_reach(Kind k) const;
   // The scene index in slot `slot` of the leaf-ordered batch of leaf tag `tag` (a kind, or
   // apart_tag(kind)); UINT32_MAX: padding or beyond.
   std::uint32_t slot_id(int tag, std::size_t slot) const;

@@ -57,7 +57,42 @@ LeafFns leaf_fns(int method, bool f64, bool f64_storage) {
   else return find_method<K>(method, f64, f64_storage);
 }
 
+// The primitives of kind K stored apart (method M, which stores double): local frames or double.
+template <class K, int M>
+LeafFns apart_method_fns() {
+  if constexpr (!K::methods[M].f64_storage) {
+    return std_fns<K, M, false, false>();  // never chosen for primitives apart (the plan's stores64)
+  } else {
+    LeafFns f;
+    f.single = [](const void* b, std::size_t base, const Ray<float>& r, RayCache&, HitRec& h) {
+      return apart_single<K, M>(*static_cast<const StdBatch<K>*>(b), base, r, h);
+    };
+    f.packet[0] = [](const void* b, std::size_t base, bvh::PacketRays& p, PacketCache&) {
+      apart_packet<K, M, false>(*static_cast<const StdBatch<K>*>(b), base, p);
+    };
+    f.packet[1] = [](const void* b, std::size_t base, bvh::PacketRays& p, PacketCache&) {
+      apart_packet<K, M, true>(*static_cast<const StdBatch<K>*>(b), base, p);
+    };
+    return f;
+  }
+}
+template <class K, int M = 0>
+LeafFns find_apart(int method) {
+  if constexpr (M + 1 < int(K::methods.size()))
+    if (method != M) return find_apart<K, M + 1>(method);
+  return apart_method_fns<K, M>();
+}
+
 }  // namespace
+
+std::array<LeafFns, kKinds> apart_table(const std::array<int, kKinds>& method) {
+  std::array<LeafFns, kKinds> t{};
+  AllKinds::each([&]<class K>() {
+    if constexpr (K::custom) t[std::size_t(K::id)] = custom_fns<K>();  // (custom kinds have no primitives apart)
+    else t[std::size_t(K::id)] = find_apart<K>(method[std::size_t(K::id)]);
+  });
+  return t;
+}
 
 std::array<LeafFns, kKinds> leaf_table(const std::array<LeafChoice, kKinds>& c) {
   std::array<LeafFns, kKinds> t{};

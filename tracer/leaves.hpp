@@ -139,12 +139,27 @@ struct PacketCache {
 };
 
 // ---- a standard kind's batch ---------------------------------------------------------------------
+// A group of a batch in local frames (the primitives a plan stores apart, KindPlan::split_local):
+// its primitives in float relative to an origin of its own (frame coordinates, in double), or, where
+// no origin near them holds them in float to the plan's tolerance, in double: `deep` is then the
+// group's index in the batch's double storage.
+struct LocalFrame {
+  Vec3d origin{0, 0, 0};
+  std::uint32_t deep = UINT32_MAX;
+};
+
 template <class K>
 struct StdBatch {
   PrimGroups<K::template Prim, float> f32;   // float storage, a leaf's group in one block
   PrimGroups<K::template Prim, double> f64;  // double storage (when the plan chose it)
   kinds::SlotIds id;                         // per slot: the scene index (UINT32_MAX: padding)
-  std::size_t bytes() const { return f32.bytes() + f64.bytes() + id.size() * sizeof(std::uint32_t); }
+  // Per group, in a batch in local frames (empty otherwise), and the largest coordinate a float
+  // group holds relative to its origin (the rounding its surfaces carry: SceneAccel::surface).
+  std::vector<LocalFrame> local;
+  double local_reach = 0;
+  std::size_t bytes() const {
+    return f32.bytes() + f64.bytes() + id.size() * sizeof(std::uint32_t) + local.size() * sizeof(LocalFrame);
+  }
 };
 template <class K, bool Custom = K::custom>
 struct BatchOf {
@@ -176,8 +191,10 @@ RB_INLINE void prefetch_ids(const B& b, std::size_t base) {
 // ---- the generic leaf functions of a standard kind -------------------------------------------------
 // In double: the kernel in 4 double lanes, two calls per group, on the batch stored in double
 // (Store64) or on the float batch widened. Needs no per-ray cache.
+// `at`: the group's first slot in the double storage (base, but for a deep group of a batch in local
+// frames).
 template <class K, int M, bool Store64>
-RB_INLINE bool std_single64(const StdBatch<K>& b, std::size_t base, const Ray<float>& r, HitRec& h) {
+RB_INLINE bool std_single64(const StdBatch<K>& b, std::size_t base, const Ray<float>& r, HitRec& h, std::size_t at) {
   Ray<d4> rd = Ray<d4>::broadcast(r);
   rd.tmax = d4(detail::tmax64(h.t));
   const auto pre = K::pre(rd);
@@ -185,7 +202,7 @@ RB_INLINE bool std_single64(const StdBatch<K>& b, std::size_t base, const Ray<fl
   for (std::size_t half = 0; half < 2; ++half) {
     const std::size_t s = base + 4 * half;
     typename K::template Prim<d4> p;
-    if constexpr (Store64) p = b.f64.template load<d4>(s);
+    if constexpr (Store64) p = b.f64.template load<d4>(at + 4 * half);
     else p = b.f32.template load<d4>(s);
     const Hit<d4> hit = K::template hit<M>(rd, pre, p);
     const unsigned bits = lanes::bits(hit.mask);
@@ -215,20 +232,20 @@ RB_INLINE bool std_single(const StdBatch<K>& b, std::size_t base, const Ray<floa
     if (none_of<f8>(hit.mask)) return false;
     return bvh::take_nearest(hit.t, h, [&](int lane) { return kinds::code(K::id, b.id[base + std::size_t(lane)]); });
   } else {
-    return std_single64<K, M, Store64>(b, base, r, h);
+    return std_single64<K, M, Store64>(b, base, r, h, base);
   }
 }
 
 // A packet against one group in double: each primitive against the packet's rays in two 4-lane
 // halves.
 template <class K, int M, bool Store64, bool Any>
-RB_INLINE void std_packet64(const StdBatch<K>& b, std::size_t base, bvh::PacketRays& p) {
+RB_INLINE void std_packet64(const StdBatch<K>& b, std::size_t base, bvh::PacketRays& p, std::size_t at) {
   for (std::size_t j = base; j < base + 8; ++j) {
     const std::uint32_t sid = b.id[j];
     if (sid == UINT32_MAX) continue;
     const std::uint32_t code = kinds::code(K::id, sid);
     typename K::template Prim<d4> prim;
-    if constexpr (Store64) prim = b.f64.template broadcast<d4>(j);
+    if constexpr (Store64) prim = b.f64.template broadcast<d4>(at + (j - base));
     else prim = b.f32.template broadcast<d4>(j);
     for (int q = 0; q < p.n; ++q) {
       const int k = p.list[q];
@@ -250,7 +267,7 @@ RB_INLINE void std_packet64(const StdBatch<K>& b, std::size_t base, bvh::PacketR
 template <class K, int M, bool F64, bool Store64, bool Any>
 RB_INLINE void std_packet(const StdBatch<K>& b, std::size_t base, bvh::PacketRays& p, PacketCache& c) {
   if constexpr (F64) {
-    std_packet64<K, M, Store64, Any>(b, base, p);
+    std_packet64<K, M, Store64, Any>(b, base, p, base);
   } else {
     for (std::size_t j = base; j < base + 8; ++j) {
       const std::uint32_t sid = b.id[j];
@@ -269,6 +286,127 @@ RB_INLINE void std_packet(const StdBatch<K>& b, std::size_t base, bvh::PacketRay
   }
 }
 
+// ---- a batch in local frames ------------------------------------------------------------------------
+// A frame ray re-based at a group's origin g: its origin moved along the ray to the point nearest g,
+// made relative to g in double and then rounded, so that the rounding is that of a vector of the
+// group's size however far the ray came from. A t in the group's frame plus `shift` is the t on the
+// ray; tmin and tmax are widened by a float step there, and the hits kept by their t on the ray.
+struct LocalRay {
+  Ray<float> r;
+  double shift = 0;
+};
+RB_INLINE LocalRay local_ray(const Ray<float>& r, const Vec3d& g, float tmax) {
+  const Vec3d o = to_double(r.o), d = to_double(r.d);
+  const double s = dot(g - o, d) / dot(d, d);
+  LocalRay l{r, s};
+  l.r.o = to_float(o + d * s - g);
+  l.r.tmin = spawn::step_floats(float(double(r.tmin) - s), -1);
+  l.r.tmax = spawn::step_floats(float(double(tmax) - s), 1);
+  return l;
+}
+
+// Ray lane l of a group of 8.
+RB_INLINE Ray<float> lane_ray(const Ray<f8>& r, int l) {
+  alignas(32) float v[11][8];
+  const f8* f[11] = {&r.o.x, &r.o.y, &r.o.z, &r.d.x, &r.d.y, &r.d.z, &r.rd.x, &r.rd.y, &r.rd.z, &r.tmin, &r.tmax};
+  for (int i = 0; i < 11; ++i) f[i]->store_aligned(v[i]);
+  return {{v[0][l], v[1][l], v[2][l]}, {v[3][l], v[4][l], v[5][l]}, {v[6][l], v[7][l], v[8][l]}, v[9][l], v[10][l]};
+}
+
+// One ray against a float group in its local frame at g: the kernel on the re-based ray, each hit's
+// t brought back to the ray in double and kept within [r.tmin, h.t].
+template <class K, int M>
+RB_INLINE bool local_single(const StdBatch<K>& b, std::size_t base, const Vec3d& g, const Ray<float>& r, HitRec& h) {
+  const LocalRay l = local_ray(r, g, h.t);
+  const Ray<f8> rb = Ray<f8>::broadcast(l.r);
+  const Hit<f8> hit = K::template hit<M>(rb, K::pre(rb), b.f32.template load<f8>(base));
+  if (none_of<f8>(hit.mask)) return false;
+  const d4 shift(l.shift);
+  const f8 t = lanes::join_f8(lanes::lo_d4(hit.t) + shift, lanes::hi_d4(hit.t) + shift);
+  const f8_mask ok = hit.mask & (t >= f8(r.tmin)) & (t <= f8(h.t));
+  if (none_of<f8>(ok)) return false;
+  return bvh::take_nearest(xsimd::select(ok, t, f8(bvh::kInfF)), h,
+                           [&](int lane) { return kinds::code(K::id, b.id[base + std::size_t(lane)]); });
+}
+
+// The leaf functions of a batch in local frames (a whole batch in double when it has no frames).
+template <class K, int M>
+RB_INLINE bool apart_single(const StdBatch<K>& b, std::size_t base, const Ray<float>& r, HitRec& h) {
+  prefetch_ids(b, base);
+  if (b.local.empty()) return std_single64<K, M, true>(b, base, r, h, base);
+  const LocalFrame& f = b.local[base / 8];
+  if (f.deep != UINT32_MAX) [[unlikely]]
+    return std_single64<K, M, true>(b, base, r, h, std::size_t(f.deep) * 8);
+  return local_single<K, M>(b, base, f.origin, r, h);
+}
+// A packet against a float group in its local frame at g, whichever needs fewer kernel calls (as
+// the mesh leaves choose): with fewer active rays than primitive x group pairs, each ray re-based on
+// its own against the primitives in lanes (local_single); otherwise each group of 8 rays re-based in
+// lanes (the shifts in two 4-lane doubles) against one primitive at a time. The same arithmetic
+// either way.
+template <class K, int M, bool Any>
+RB_INLINE void apart_packet(const StdBatch<K>& b, std::size_t base, bvh::PacketRays& p) {
+  if (b.local.empty()) return std_packet64<K, M, true, Any>(b, base, p, base);
+  const LocalFrame& f = b.local[base / 8];
+  if (f.deep != UINT32_MAX) [[unlikely]]
+    return std_packet64<K, M, true, Any>(b, base, p, std::size_t(f.deep) * 8);
+  prefetch_ids(b, base);
+  int rays = 0;
+  for (int q = 0; q < p.n; ++q) rays += count_true<f8>(p.active[p.list[q]]);
+  const int prims = int(real_slots(b, base));
+  if (rays >= prims * p.n) {
+    using lanes::hi_d4, lanes::lo_d4, lanes::join_f8;
+    const Vec3<d4> gl{d4(f.origin.x), d4(f.origin.y), d4(f.origin.z)};
+    for (int q = 0; q < p.n; ++q) {
+      const int k = p.list[q];
+      if (none_of<f8>(p.active[k])) continue;
+      Ray<f8> lr = p.r[k];
+      d4 shift[2];
+      Vec3<d4> o[2];
+      for (int h = 0; h < 2; ++h) {
+        auto half = [&](const f8& v) { return h ? hi_d4(v) : lo_d4(v); };
+        const Vec3<d4> ro{half(lr.o.x), half(lr.o.y), half(lr.o.z)}, rd{half(lr.d.x), half(lr.d.y), half(lr.d.z)};
+        shift[h] = dot(gl - ro, rd) / dot(rd, rd);
+        o[h] = ro + rd * shift[h] - gl;
+      }
+      lr.o = {join_f8(o[0].x, o[1].x), join_f8(o[0].y, o[1].y), join_f8(o[0].z, o[1].z)};
+      lr.tmin = f8(spawn::step_floats8(join_f8(lo_d4(lr.tmin) - shift[0], hi_d4(lr.tmin) - shift[1]), _mm256_set1_epi32(-1)));
+      lr.tmax = f8(spawn::step_floats8(join_f8(lo_d4(p.tbest[k]) - shift[0], hi_d4(p.tbest[k]) - shift[1]), _mm256_set1_epi32(1)));
+      const auto pre = K::pre(lr);
+      for (std::size_t j = base; j < base + 8; ++j) {
+        const std::uint32_t sid = b.id[j];
+        if (sid == UINT32_MAX) continue;
+        const Hit<f8> hit = K::template hit<M>(lr, pre, b.f32.template broadcast<f8>(j));
+        if (none_of<f8>(hit.mask)) continue;
+        const f8 t = join_f8(lo_d4(hit.t) + shift[0], hi_d4(hit.t) + shift[1]);
+        bvh::packet_update<Any>(p, k, hit.mask & (t >= p.r[k].tmin) & (t <= p.tbest[k]), t, kinds::code(K::id, sid));
+      }
+    }
+    return;
+  }
+  for (int q = 0; q < p.n; ++q) {
+    const int g = p.list[q];
+    unsigned bits = lanes::bits(p.active[g]);
+    if (!bits) continue;
+    alignas(32) float tb[8];
+    p.tbest[g].store_aligned(tb);
+    unsigned hit = 0;
+    while (bits) {
+      const int l = __builtin_ctz(bits);
+      bits &= bits - 1;
+      HitRec h{tb[l], p.prim[8 * g + l]};
+      if (!local_single<K, M>(b, base, f.origin, lane_ray(p.r[g], l), h)) continue;
+      tb[l] = h.t;
+      p.prim[8 * g + l] = h.prim;
+      hit |= 1u << l;
+    }
+    if (!hit) continue;
+    p.tbest[g] = f8::load_aligned(tb);
+    p.improved = true;
+    if constexpr (Any) p.active[g] = p.active[g] & ~lanes::of(hit);
+  }
+}
+
 // ---- one function pointer set per kind ------------------------------------------------------------
 struct LeafFns {
   bool (*single)(const void* batch, std::size_t base, const Ray<float>& r, RayCache& c, HitRec& h) = nullptr;
@@ -282,6 +420,8 @@ struct LeafChoice {
   bool f64 = false, f64_storage = false;
 };
 std::array<LeafFns, kKinds> leaf_table(const std::array<LeafChoice, kKinds>& c);
+// The leaves of each kind's primitives stored apart, in the method given (apart_single, apart_packet).
+std::array<LeafFns, kKinds> apart_table(const std::array<int, kKinds>& method);
 
 // The number of real slots of a group (for the counted traversal, and for the mesh packet leaf's
 // choice of loop on every visit): a whole group by one 8-lane compare with the padding's index.

@@ -100,14 +100,14 @@ struct MeshPacketCache {
 struct MeshLeaves {
   using Tri = kinds::TriangleKind;
   const StdBatch<Tri>* tri = nullptr;
-  const StdBatch<Tri>* apart = nullptr;  // the triangles stored apart, in double (tag apart_tag)
+  const StdBatch<Tri>* apart = nullptr;  // the triangles stored apart (tag apart_tag)
   using RayCache = MeshRayCache;
   using PacketCache = MeshPacketCache;
   static bool is_apart(std::uint32_t ref) { return bvh::leaf_kind(ref) != int(Tri::id); }
   RB_INLINE bool single(std::uint32_t ref, const Ray<float>& r, RayCache& c, HitRec& h) const {
     const std::size_t base = std::size_t(bvh::leaf_group(ref)) * 8;
     if (is_apart(ref)) [[unlikely]]
-      return std_single64<Tri, 0, true>(*apart, base, r, h);
+      return apart_single<Tri, 0>(*apart, base, r, h);
     c.rb.tmax = f8(h.t);
     prefetch_ids(*tri, base);
     const float* g = tri->f32.field(0, base);  // the group: field i at g + 8 i
@@ -128,7 +128,7 @@ struct MeshLeaves {
   RB_INLINE void packet(std::uint32_t ref, bvh::PacketRays& p, PacketCache& c) const {
     const std::size_t base = std::size_t(bvh::leaf_group(ref)) * 8;
     if (is_apart(ref)) [[unlikely]] {
-      std_packet64<Tri, 0, true, Any>(*apart, base, p);
+      apart_packet<Tri, 0, Any>(*apart, base, p);
       return;
     }
     int rays = 0;

@@ -139,7 +139,7 @@ std::string KindPlan::classes_text() const {
     parts.push_back(fmt::format("{} above it (worst #{}: {}), which can change {:.2g} of a million hits{}", c.coarse, c.worst_coarse,
                                 fmt_pow2(c.worst_coarse_ratio), 1e6 * c.moved_share,
                                 stored64     ? ": they put the kind in double"
-                                : apart      ? ": stored apart, in double"
+                                : apart      ? (split_local ? ": stored apart, in local frames" : ": stored apart, in double")
                                 : c.negligible ? ": negligible, kept in float with the rest"
                                                : ""));
   if (c.degenerate)
@@ -155,6 +155,7 @@ Plan make_plan(const scene::Scene& s, Model m) { return make_plan(s, make_profil
 Plan make_plan(const scene::Scene& s, const Profile& p, Model m) {
   Plan plan;
   plan.model = m;
+  plan.object_min = smallest_object(p);
   for (int k = 0; k < kKinds; ++k) plan.kinds[std::size_t(k)].count = p.kinds[std::size_t(k)].count;
   const double ext = std::max(p.extent, p.coord_max);
 
@@ -178,13 +179,14 @@ Plan make_plan(const scene::Scene& s, const Profile& p, Model m) {
                                    {FrameKind::centre, p.bounds.empty() ? Vec3d{0, 0, 0} : p.bounds.centre(), {}},
                                    {FrameKind::camera, p.camera, {}}};
     for (auto& c : cand) c.e = frame_error(s, p, c.origin);
-    // A kind whose coarse primitives in a frame are a few (at most kSplitShare of it) that can change
-    // more than a negligible share of its hits: those go to a batch of their own in double and the
+    // A kind whose coarse primitives in a frame can change more than a negligible share of its hits,
+    // and are either fine relative to an origin near them (none of them huge: local frames hold
+    // them) or a few (at most kSplitShare of the kind): those go to a batch of their own and the
     // rest stays in float, so the frame is judged by the rest.
     auto splits = [&](const FrameError& e, int k) {
       const KindClasses& c = e.classes[std::size_t(k)];
       return m != Model::exact && c.coarse > 0 && !c.negligible && stores_double(Kind(k)) &&
-             double(c.coarse) <= kSplitShare * double(p.kinds[std::size_t(k)].count);
+             (c.coarse_huge == 0 || double(c.coarse) <= kSplitShare * double(p.kinds[std::size_t(k)].count));
     };
     auto split_count = [&](const FrameError& e) {
       std::size_t n = 0;
@@ -288,10 +290,16 @@ Plan make_plan(const scene::Scene& s, const Profile& p, Model m) {
           if (stores64(*o)) o64 = &*o;
         kp.split = fe.coarse_ids[std::size_t(k)];
         kp.split_method = o64 ? o64->method : 0;
+        // Coarse where they lie in the frame, they are fine relative to an origin near them: stored in
+        // float in local frames, the ray re-based at each of their leaves, they trace faster than in
+        // double (the lab's scene/scattered: the auto model against the exact one) at no failure.
+        kp.split_local = true;
         const KindClasses& c = kp.classes;
         kp.split_reason = fmt::format(
-            "{} coarse of {} ({:.2g} %) stored in double in a batch of their own, {} in double: in float their surfaces would "
-            "move by up to {} of their size (#{}) and together could change {:.2g} of a million hits; the other {} stay in {}",
+            "{} coarse of {} ({:.2g} %) stored in a batch of their own in local frames (float relative to an origin per leaf, "
+            "kept in double; a leaf whose primitives no such origin holds in float stays in double), {}: in world float their "
+            "surfaces would move by up to {} of their size (#{}) and together could change {:.2g} of a million hits; the other "
+            "{} stay in {}",
             c.coarse, kpro.count, 100.0 * double(c.coarse) / double(kpro.count), method_name(Kind(k), kp.split_method),
             fmt_pow2(c.worst_coarse_ratio), c.worst_coarse, 1e6 * c.moved_share, kpro.count - c.coarse, kp.f64 ? "double" : "float");
       }
@@ -358,8 +366,8 @@ nlohmann::json Plan::json() const {
                  {"split", kp.split.empty() ? json(nullptr)
                                             : json{{"count", kp.split.size()},
                                                    {"method", method_name(Kind(i), kp.split_method)},
-                                                   {"precision", "double"},
-                                                   {"storage", "double"},
+                                                   {"precision", kp.split_local ? "float" : "double"},
+                                                   {"storage", kp.split_local ? "local frames" : "double"},
                                                    {"reason", kp.split_reason}}}});
   }
   return {{"model", model_name(model)},

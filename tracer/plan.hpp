@@ -46,19 +46,25 @@ struct KindPlan {
   std::string reason;       // why this method and precision (one line)
   std::string evidence;     // the lab cases the choice rests on ("family/case", ...)
   KindClasses classes;      // what float storage in the chosen frame does to each primitive
-  // The coarse primitives stored in double in a batch of their own (scene indices, ascending), with
-  // the method they run there; the rest of the kind stays in the batch above. Empty unless a few
-  // coarse primitives (at most kSplitShare of the kind) can change more than a negligible share of
-  // its hits.
+  // The coarse primitives stored in a batch of their own (scene indices, ascending), with the method
+  // they run there; the rest of the kind stays in the batch above. Empty unless the coarse
+  // primitives can change more than a negligible share of its hits and either none of them is huge
+  // (over a thousand times the smallest object: local frames hold the others) or they are at most
+  // kSplitShare of the kind.
   std::vector<std::uint32_t> split;
   int split_method = 0;
+  // Those stored in local frames: each leaf's primitives in float relative to an origin of its own
+  // (kept in double), the ray re-based there; a leaf whose primitives no origin near them holds in
+  // float stays in double (tracer/leaves.hpp, LocalFrame). Otherwise all in double.
+  bool split_local = false;
   std::string split_reason;
   // The classes, counted, with the worst primitive of each ("" when none was classed: fast model).
   std::string classes_text() const;
 };
 
-// The largest share of a kind's primitives that the plan stores apart, in double, while the rest
-// stays in float; a kind with more coarse primitives than that is stored in double as a whole.
+// The largest share of a kind's primitives that the plan stores apart while the rest stays in float
+// when some of the coarse ones are huge (no local frame holds those: they go to double); a kind
+// with more coarse primitives than that, some huge, is stored in double as a whole.
 inline constexpr double kSplitShare = 0.25;
 
 struct Plan {
@@ -80,6 +86,9 @@ struct Plan {
   SpawnScheme spawn = SpawnScheme::integer;
   float spawn_eps = 1e-5f;
   std::string spawn_reason;
+  // The scale a primitive over a thousand times the smallest object is judged against
+  // (tracer/profile.hpp, float_step_ratio): the profile's smallest object.
+  double object_min = 1;
 
   nlohmann::json json() const;
   std::string text() const;  // the plan for a terminal: one line per choice with its reason

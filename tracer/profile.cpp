@@ -203,9 +203,17 @@ double FrameError::worst(const std::array<bool, kKinds>& ignore) const {
   return w;
 }
 
+double smallest_object(const Profile& p) { return p.object_min > 0 ? p.object_min : (p.extent > 0 ? p.extent : 1.0); }
+
+double float_step_ratio(const scene::Bounds& b, const kinds::Feature& f, const Vec3d& origin, double small) {
+  // Its float step against its own extent; a primitive over a thousand times the smallest object (a
+  // planet, a vast floor) against that object: small objects rest on it.
+  return step_at(b, origin) / (f.extent > 1e3 * small ? small : f.extent);
+}
+
 FrameError frame_error(const scene::Scene& s, const Profile& p, const Vec3d& origin) {
   FrameError e;
-  const double small = p.object_min > 0 ? p.object_min : (p.extent > 0 ? p.extent : 1.0);
+  const double small = smallest_object(p);
   const bool world = origin.x == 0 && origin.y == 0 && origin.z == 0;
   kinds::AllKinds::each([&]<class K>() {
     double worst = 0, worst_fine = 0;
@@ -235,11 +243,8 @@ FrameError frame_error(const scene::Scene& s, const Profile& p, const Vec3d& ori
           }
         }
       }
-      // Its float step against its own extent; a primitive over a thousand times the smallest
-      // object (a planet, a vast floor) against that object: small objects rest on it.
       const bool huge = f.extent > 1e3 * small;
-      const double scale = huge ? small : f.extent;
-      const double r = step / scale;
+      const double r = float_step_ratio(b, f, origin, small);
       worst = std::max(worst, r);
       if (!huge) area += 0.5 * f.size * f.extent;
       if (r <= kFloatTolerance) {
@@ -248,6 +253,7 @@ FrameError frame_error(const scene::Scene& s, const Profile& p, const Vec3d& ori
       } else {
         if (r > c.worst_coarse_ratio) c.worst_coarse = i, c.worst_coarse_ratio = r;
         ++c.coarse;
+        c.coarse_huge += huge;
         e.coarse_ids[std::size_t(K::id)].push_back(i);
         moved += 3.0 * f.extent * step;
       }

@@ -116,6 +116,9 @@ inline constexpr double kNegligibleShare = 1e-7;
 
 struct KindClasses {
   std::size_t as_input = 0, fine = 0, coarse = 0, degenerate = 0;
+  // Of the coarse ones, those over a thousand times the smallest object (judged against it: no
+  // origin of their own holds them in float).
+  std::size_t coarse_huge = 0;
   // The coarse primitives' perimeters times their float step over the kind's area, and whether
   // that is at most kNegligibleShare: then the coarse ones stay in float with the rest (contact[k]
   // is over the fine primitives only).
@@ -139,5 +142,12 @@ struct FrameError {
   double worst(const std::array<bool, kKinds>& ignore) const;  // the largest contact[k] not ignored
 };
 FrameError frame_error(const scene::Scene& s, const Profile& p, const Vec3d& origin);
+
+// The scale huge primitives are judged against: the smallest object (or the extent, or 1).
+double smallest_object(const Profile& p);
+// A primitive's float step over its size in the frame at `origin` (the ratio its class is decided
+// by, against kFloatTolerance): the float step at its box's largest coordinate there, over its
+// extent, or over `small` (smallest_object) for a primitive over a thousand times that.
+double float_step_ratio(const scene::Bounds& b, const kinds::Feature& f, const Vec3d& origin, double small);
 
 }  // namespace rb::tracer
