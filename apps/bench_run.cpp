@@ -3,17 +3,26 @@
 // progress bar on stderr instead of Google Benchmark's console table (`raybench bench` prints its
 // own table from the JSON afterwards, apps/cmd_bench.cpp). The caller writes the JSON where the
 // user asked, by the one output rule (core/output_file.hpp).
+//
+// The protocol: rounds, not repetitions back to back. Each round runs every selected benchmark
+// once (at least --min-time seconds each, Google Benchmark choosing the iterations), in
+// registration order, so that a method's scalar and SIMD forms run seconds apart in every round
+// and a change of the machine's load falls on both; a benchmark's repetitions are its rounds, and
+// a ratio between two benchmarks is taken round by round (stats::paired_ratio).
 #include "apps/cli.hpp"
 #include "apps/machine.hpp"
 #include "apps/progress.hpp"
 #include "apps/report.hpp"
 #include "apps/results.hpp"
+#include "apps/stats.hpp"
 #include "bench/register.hpp"
 
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
 
 #include <chrono>
+#include <map>
+#include <memory>
 #include <fstream>
 #include <iostream>
 #include <regex>
@@ -31,49 +40,128 @@ void ensure_registered() {
   }
 }
 
-// Hands every figure to Google Benchmark's JSON reporter, writing into a string, and draws the one
-// progress bar (apps/progress.hpp) with the benchmark under way.
+// Hands every figure of a round to Google Benchmark's JSON reporter, writing into a string (one
+// per round), and draws the one progress bar (apps/progress.hpp) over all rounds with the benchmark
+// under way.
 class ProgressReporter : public benchmark::BenchmarkReporter {
  public:
-  ProgressReporter(std::size_t total, const std::string& what) : total_(total), what_(what), bar_(what) {
-    json_.SetOutputStream(&text_);
-    json_.SetErrorStream(&text_);
+  ProgressReporter(std::size_t total, int rounds, const std::string& what) : total_(total * std::size_t(rounds)), rounds_(rounds), what_(what), bar_(what) {}
+  // Starts a round: a fresh JSON reporter (each round is a whole Google Benchmark run).
+  void start_round(int round) {
+    round_ = round;
+    text_ = std::make_unique<std::ostringstream>();
+    json_ = std::make_unique<benchmark::JSONReporter>();
+    json_->SetOutputStream(text_.get());
+    json_->SetErrorStream(text_.get());
   }
   bool ReportContext(const Context& c) override {
-    bar_.update(0);
-    return json_.ReportContext(c);
+    bar_.update(double(done_) / double(std::max<std::size_t>(total_, 1)));
+    return json_->ReportContext(c);
   }
   void ReportRuns(const std::vector<Run>& runs) override {
-    // Called once for a benchmark's repetitions and once for their aggregates: count names.
     if (runs.empty()) return;
-    json_.ReportRuns(runs);
-    if (!seen_.insert(runs.front().run_name.str()).second) return;
+    json_->ReportRuns(runs);
     ++done_;
     for (const auto& r : runs)
       if (r.error_occurred) errors_.push_back(r.benchmark_name() + ": " + r.error_message);
-    bar_.update(double(done_) / double(std::max(total_, done_)), fmt::format("{}/{} {}", done_, std::max(total_, done_), runs.front().run_name.str()));
+    bar_.update(double(done_) / double(std::max(total_, done_)),
+                fmt::format("round {}/{}: {}", round_ + 1, rounds_, runs.front().run_name.str()));
   }
   void Finalize() override {
-    json_.Finalize();
+    json_->Finalize();
+    texts_.push_back(text_->str());
+  }
+  void done() {
     bar_.done();
-    std::cerr << fmt::format("{}: {} benchmarks in {}\n", what_, done_, format_duration(bar_.seconds()));
+    std::cerr << fmt::format("{}: {} benchmarks x {} rounds in {}\n", what_, total_ / std::size_t(std::max(rounds_, 1)), rounds_,
+                             format_duration(bar_.seconds()));
     for (const auto& e : errors_) std::cerr << "  error: " << e << "\n";
   }
-  std::size_t done() const { return done_; }
   std::size_t errors() const { return errors_.size(); }
-  std::string json_text() const { return text_.str(); }
+  const std::vector<std::string>& texts() const { return texts_; }
 
  private:
   std::size_t total_, done_ = 0;
+  int rounds_, round_ = 0;
   std::string what_;
   ProgressBar bar_;
-  std::vector<std::string> errors_;
-  std::set<std::string> seen_;
-  std::ostringstream text_;
-  benchmark::JSONReporter json_;
+  std::vector<std::string> errors_, texts_;
+  std::unique_ptr<std::ostringstream> text_;
+  std::unique_ptr<benchmark::JSONReporter> json_;
 };
 
+// The rounds' runs as one Google Benchmark document: the first round's context, every round's run
+// of each benchmark as a repetition (repetition_index = its round), and per benchmark the
+// aggregates Google Benchmark would give its repetitions (mean, median, stddev, cv of every
+// numeric field that varies by run).
+nlohmann::json merge_rounds(const std::vector<nlohmann::json>& rounds, bool every_repetition) {
+  nlohmann::json doc = rounds.front();
+  doc["context"]["raybench_rounds"] = rounds.size();
+  nlohmann::json all = nlohmann::json::array();
+  std::vector<std::string> order;
+  std::map<std::string, std::vector<nlohmann::json>> runs;
+  for (std::size_t r = 0; r < rounds.size(); ++r)
+    for (nlohmann::json b : rounds[r].at("benchmarks")) {
+      if (b.value("run_type", "") != "iteration") continue;
+      const std::string name = b.value("run_name", b.value("name", ""));
+      b["repetitions"] = rounds.size();
+      b["repetition_index"] = r;
+      if (!runs.count(name)) order.push_back(name);
+      runs[name].push_back(b);
+    }
+  static const std::set<std::string> kFixed = {"family_index", "per_family_instance_index", "repetitions", "repetition_index", "threads",
+                                              "iterations"};
+  for (const auto& name : order) {
+    const auto& v = runs[name];
+    if (every_repetition)
+      for (const auto& b : v) all.push_back(b);
+    for (const char* agg : {"mean", "median", "stddev", "cv"}) {
+      nlohmann::json a = v.front();
+      a["name"] = name + "_" + agg;
+      a["run_type"] = "aggregate";
+      a["aggregate_name"] = agg;
+      a["aggregate_unit"] = std::string(agg) == "cv" ? "percentage" : "time";
+      a.erase("repetition_index");
+      for (auto it = a.begin(); it != a.end(); ++it) {
+        if (!it.value().is_number() || kFixed.count(it.key())) continue;
+        std::vector<double> x;
+        for (const auto& b : v)
+          if (b.contains(it.key()) && b[it.key()].is_number()) x.push_back(b[it.key()].get<double>());
+        const std::string g = agg;
+        const double y = g == "mean" ? stats::mean(x) : g == "median" ? stats::median(x) : g == "stddev" ? stats::stddev(x) : stats::cv(x);
+        it.value() = std::isfinite(y) ? nlohmann::json(y) : nlohmann::json(nullptr);
+      }
+      all.push_back(a);
+    }
+  }
+  doc["benchmarks"] = all;
+  return doc;
+}
+
 }  // namespace
+
+std::map<std::string, stats::RatioInterval> simd_speedups(const nlohmann::json& doc) {
+  // name -> round -> tests per second
+  std::map<std::string, std::map<std::size_t, double>> rate;
+  for (const auto& b : doc.at("benchmarks")) {
+    if (b.value("run_type", "") != "iteration" || !b.contains("tests_per_s") || !b["tests_per_s"].is_number()) continue;
+    const std::size_t round = b.contains("repetition_index") && b["repetition_index"].is_number() ? b["repetition_index"].get<std::size_t>() : 0;
+    rate[b.value("run_name", b.value("name", ""))][round] = b["tests_per_s"].get<double>();
+  }
+  std::map<std::string, stats::RatioInterval> out;
+  for (const auto& [name, by_round] : rate) {
+    // kernel/method/variant/case
+    const auto a = name.find('/'), b = a == std::string::npos ? a : name.find('/', a + 1), c = b == std::string::npos ? b : name.find('/', b + 1);
+    if (c == std::string::npos || name.compare(b + 1, c - b - 1, "scalar") == 0) continue;
+    const auto sc = rate.find(name.substr(0, b + 1) + "scalar" + name.substr(c));
+    if (sc == rate.end()) continue;
+    std::vector<double> simd, scalar;
+    for (const auto& [round, r] : by_round)
+      if (const auto it = sc->second.find(round); it != sc->second.end()) simd.push_back(r), scalar.push_back(it->second);
+    out[name] = stats::paired_ratio(simd, scalar);
+  }
+  return out;
+}
 
 std::vector<std::string> benchmark_names(const std::string& filter) {
   ensure_registered();
@@ -107,24 +195,36 @@ int run_benchmarks(const BenchOptions& o, nlohmann::json& doc) {
   benchmark::AddCustomContext("raybench_simd", "xsimd 8.1 fma3<avx2> 8 x float");
   benchmark::AddCustomContext("raybench_seed", std::to_string(rb::bench::bench_data_seed()));
   benchmark::AddCustomContext("raybench_repetitions", std::to_string(o.repetitions));
-  std::vector<std::string> args = {"raybench",
-                                   fmt::format("--benchmark_repetitions={}", o.repetitions),
-                                   fmt::format("--benchmark_report_aggregates_only={}", o.every_repetition ? "false" : "true"),
-                                   fmt::format("--benchmark_min_time={}", o.min_time),
+  benchmark::AddCustomContext("raybench_protocol", fmt::format("{} rounds, each running every selected benchmark once for at least {} s "
+                                                               "in registration order: a benchmark's repetitions are its rounds",
+                                                               o.repetitions, o.min_time));
+  std::vector<std::string> args = {"raybench", "--benchmark_repetitions=1", fmt::format("--benchmark_min_time={}", o.min_time),
                                    "--benchmark_filter=" + o.filter};
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
   int argc = int(argv.size());
   benchmark::Initialize(&argc, argv.data());
-  ProgressReporter progress(total, o.what);
-  const std::size_t n = benchmark::RunSpecifiedBenchmarks(&progress);
+  const int rounds = std::max(1, o.repetitions);
+  ProgressReporter progress(total, rounds, o.what);
+  std::size_t n = 0;
+  for (int r = 0; r < rounds; ++r) {
+    progress.start_round(r);
+    n += benchmark::RunSpecifiedBenchmarks(&progress);
+  }
   benchmark::Shutdown();
+  progress.done();
   if (n == 0) {
     std::cerr << error_line(o.command, "", "no benchmark ran (--filter '" + o.filter + "')") << "\n";
     return kExitNothing;
   }
   try {
-    doc = parse_json_text(progress.json_text(), "Google Benchmark's JSON");
+    std::vector<nlohmann::json> docs;
+    for (const auto& t : progress.texts()) docs.push_back(parse_json_text(t, "Google Benchmark's JSON"));
+    doc = merge_rounds(docs, o.every_repetition);
+    // Every SIMD benchmark's speedup over its scalar form, round by round, with its interval.
+    nlohmann::json sp = nlohmann::json::object();
+    for (const auto& [name, r] : simd_speedups(merge_rounds(docs, true))) sp[name] = stats::interval_json(r);
+    doc["raybench_simd_vs_scalar"] = sp;
   } catch (const std::exception& e) {
     std::cerr << error_line(o.command, "", e.what()) << "\n";
     return kExitError;

@@ -29,14 +29,6 @@ struct BenchRow {
   double ops = stats::kNaN;
 };
 
-// "kernel/method/variant/case" -> ("kernel/method/case", variant)
-std::pair<std::string, std::string> split_variant(const std::string& name) {
-  const auto a = name.find('/'), b = name.find('/', a == std::string::npos ? a : a + 1),
-             c = name.find('/', b == std::string::npos ? b : b + 1);
-  if (c == std::string::npos) return {name, ""};
-  return {name.substr(0, b) + name.substr(c), name.substr(b + 1, c - b - 1)};
-}
-
 std::string g4(double v) {
   if (!std::isfinite(v)) return "-";
   return std::fabs(v) >= 1e4 ? fmt::format("{:.0f}", v) : std::fabs(v) >= 100 ? fmt::format("{:.1f}", v) : fmt::format("{:.2f}", v);
@@ -55,23 +47,19 @@ std::string bench_table(const json& doc, double* worst_cv, std::size_t* noisy) {
     if (b.contains("tests_per_s") && b["tests_per_s"].is_number()) r.rates.push_back(b["tests_per_s"].get<double>());
     if (b.contains("ops_per_test") && b["ops_per_test"].is_number()) r.ops = b["ops_per_test"].get<double>();
   }
-  std::map<std::string, double> scalar;  // kernel/method/case -> median scalar rate
-  for (const auto& r : rows) {
-    const auto [k, v] = split_variant(r.name);
-    if (v == "scalar") scalar[k] = stats::median(r.rates);
-  }
+  const auto speedup = simd_speedups(doc);
   constexpr std::size_t kName = 44;
   std::string t = fmt::format("{:<{}} {:>9} {:>6} {:>8} {:>9}\n", "benchmark (kernel/method/variant/case)", kName, "Mtests/s", "CV %",
                               "ops/test", "vs scalar");
-  std::vector<double> speedups;
+  std::vector<std::pair<stats::RatioInterval, std::string>> speedups;
   double worst = 0;
   std::size_t over = 0;
   for (const auto& r : rows) {
     const double med = stats::median(r.rates), cv = stats::cv(r.rates);
     if (std::isfinite(cv)) worst = std::max(worst, cv), over += cv > 0.05;
-    const auto [k, v] = split_variant(r.name);
     double sp = stats::kNaN;
-    if (v != "scalar" && scalar.count(k) && scalar[k] > 0) sp = med / scalar[k], speedups.push_back(sp);
+    if (const auto it = speedup.find(r.name); it != speedup.end() && std::isfinite(it->second.ratio))
+      sp = it->second.ratio, speedups.push_back({it->second, r.name});
     std::string name = r.name;
     if (name.size() > kName) {
       t += name + "\n";
@@ -81,14 +69,16 @@ std::string bench_table(const json& doc, double* worst_cv, std::size_t* noisy) {
                      g4(r.ops), std::isfinite(sp) ? fmt::format("{:.2f}x", sp) : "-");
   }
   const auto& ctx = doc.contains("context") ? doc["context"] : json::object();
-  t += wrap_words(fmt::format("Median of {} repetition(s) per benchmark (256 rays x 64 primitives per iteration, one thread); CV: "
-                              "coefficient of variation over the repetitions; vs scalar: the median over the scalar median of the same "
-                              "kernel, method and case.",
+  t += wrap_words(fmt::format("Median of {} rounds per benchmark (each round runs every benchmark once; 256 rays x 64 primitives per "
+                              "iteration, one thread); CV: coefficient of variation over the rounds; vs scalar: the median of the rounds' "
+                              "ratios to the scalar form of the same kernel, method and case (--json: each with its 95 % interval).",
                               ctx.value("raybench_repetitions", std::string("?"))));
   if (!speedups.empty()) {
-    std::sort(speedups.begin(), speedups.end());
-    t += fmt::format("SIMD over scalar: lowest {:.2f}x, median {:.2f}x, highest {:.2f}x over {} SIMD rows\n", speedups.front(),
-                     stats::median(speedups), speedups.back(), speedups.size());
+    std::sort(speedups.begin(), speedups.end(), [](const auto& a, const auto& b) { return a.first.ratio < b.first.ratio; });
+    const auto& lo = speedups.front();
+    const auto& hi = speedups.back();
+    t += wrap_words(fmt::format("SIMD over scalar, {} SIMD rows: lowest {} ({}), highest {} ({})", speedups.size(),
+                                stats::interval_text(lo.first), lo.second, stats::interval_text(hi.first), hi.second));
   }
   if (worst_cv) *worst_cv = worst;
   if (noisy) *noisy = over;

@@ -165,6 +165,17 @@ Comparison compare_results(ResultSet a, ResultSet b, const CompareOptions& o) {
   }
   c.geomean_gain = stats::geometric_mean(gains);
   machine_notes(c, c.notes);
+  // Two reports: their goals' verdicts side by side.
+  for (const auto& ga : c.a.goals)
+    for (const auto& gb : c.b.goals) {
+      if (ga.value("section", "") != gb.value("section", "") || ga.value("goal", "") != gb.value("goal", "")) continue;
+      ComparedGoal g{ga.value("section", ""), ga.value("goal", ""), ga.value("verdict", ""), gb.value("verdict", "")};
+      g.flipped = (g.a == "met" && g.b == "not met") || (g.a == "not met" && g.b == "met");
+      c.goal_flips += g.flipped;
+      c.goal_moves += !g.flipped && g.a != g.b;
+      c.goals.push_back(g);
+      break;
+    }
   if (unjudged)
     c.notes.push_back(fmt::format("{} row(s) shown, not judged (in brackets): Embree's figures are the yardstick, and a build time "
                                   "is one measurement; --metric NAME judges that metric",
@@ -193,6 +204,9 @@ std::string compare_summary_line(const Comparison& c) {
     s += fmt::format("; seeded figures: {} better, {} worse, {} changed, {} equal", c.better, c.worse, c.changed,
                      c.figures - c.better - c.worse - c.changed);
   if (c.options.threshold >= 0) s += fmt::format("; {} regression(s) beyond {:.3g} %", c.regressions, 100 * c.options.threshold);
+  if (!c.goals.empty())
+    s += fmt::format("; goals: {} in both, {} flipped between met and not met, {} moved to or from undecided", c.goals.size(),
+                     c.goal_flips, c.goal_moves);
   return s;
 }
 
@@ -254,6 +268,9 @@ std::string compare_text(const Comparison& c) {
     }
     if (hidden) t += fmt::format("({} unchanged figures not listed; --all lists them)\n", hidden);
   }
+  for (const auto& g : c.goals)
+    if (g.a != g.b)
+      t += wrap_words(fmt::format("goal {}: {}: {} -> {}", g.flipped ? "FLIPPED" : "moved", g.goal, g.a, g.b), 80, "  ");
   t += "\n" + wrap_words("summary: " + compare_summary_line(c), 80, "  ");
   for (const auto& n : c.notes) t += wrap_words("note: " + n, 80, "  ");
   for (const auto& r : c.rows)
@@ -288,6 +305,12 @@ std::string compare_markdown(const Comparison& c) {
     if (hidden) md += fmt::format("\n{} unchanged figures not listed.\n", hidden);
     md += "\n";
   }
+  if (!c.goals.empty()) {
+    md += "### Goals\n\n| section | goal | A | B | |\n|---|---|---|---|---|\n";
+    for (const auto& g : c.goals)
+      md += fmt::format("| {} | {} | {} | {} | {} |\n", g.section, g.goal, g.a, g.b, g.flipped ? "**flipped**" : g.a != g.b ? "moved" : "");
+    md += "\n";
+  }
   return md;
 }
 
@@ -312,12 +335,16 @@ json compare_json(const Comparison& c) {
     for (const auto& x : f) a.push_back(x.section + "/" + x.name + " " + x.metric);
     return a;
   };
+  json goals = json::array();
+  for (const auto& g : c.goals) goals.push_back({{"section", g.section}, {"goal", g.goal}, {"a", g.a}, {"b", g.b}, {"flipped", g.flipped}});
+  j["goals"] = goals;
   j["only_in_a"] = names(c.a.figures);
   j["only_in_b"] = names(c.b.figures);
   j["summary"] = {{"rows", c.rows.size()},       {"timings", c.timings},   {"geomean_speed_ratio", num(c.geomean_gain)},
                   {"faster", c.faster},           {"slower", c.slower},     {"seeded_figures", c.figures},
                   {"better", c.better},           {"worse", c.worse},       {"changed", c.changed},
-                  {"regressions", c.regressions}, {"text", compare_summary_line(c)}};
+                  {"regressions", c.regressions}, {"goal_flips", c.goal_flips}, {"goal_moves", c.goal_moves},
+                  {"text", compare_summary_line(c)}};
   j["notes"] = c.notes;
   return j;
 }

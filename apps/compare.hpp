@@ -37,6 +37,12 @@ struct ComparedRow {
   bool judged = true;        // counted in the summary and by --threshold (Figure::judged, or named by --metric)
 };
 
+// A goal of two reports: its verdict in each (met, not met, undecided, not measured).
+struct ComparedGoal {
+  std::string section, goal, a, b;
+  bool flipped = false;  // met in one, not met in the other
+};
+
 struct Comparison {
   std::string kind;
   ResultSet a, b;            // the figures are moved into rows; a.figures, b.figures hold the unmatched ones
@@ -46,6 +52,10 @@ struct Comparison {
   // Summary.
   double geomean_gain = 0;   // over the timing rows
   std::size_t timings = 0, faster = 0, slower = 0, figures = 0, better = 0, worse = 0, changed = 0, regressions = 0;
+  // Two reports: every goal in both, matched by section and goal; how many flipped between met and
+  // not met, and how many moved to or from undecided (a verdict by interval may: a flip may not).
+  std::vector<ComparedGoal> goals;
+  std::size_t goal_flips = 0, goal_moves = 0;
 };
 
 // Throws std::runtime_error when the kinds differ or nothing is left to compare.

@@ -47,6 +47,7 @@ std::map<std::string, json> medians(const json& j) {
 
 std::string speed_section(const json& bench, json& summary) {
   const auto med = medians(bench);
+  const auto speedup = simd_speedups(bench);
   struct Key { std::string kernel, method, kase; };
   std::vector<std::string> order;
   std::map<std::string, std::map<std::string, json>> rows;  // "kernel/method/case" -> variant -> median
@@ -79,12 +80,19 @@ std::string speed_section(const json& bench, json& summary) {
     const double sc = rate("scalar"), rl = rate("rays_in_lanes"), pl = rate("prims_in_lanes");
     const auto p1 = k.find('/'), p2 = k.rfind('/');
     const std::string kernel = k.substr(0, p1), method = k.substr(p1 + 1, p2 - p1 - 1), kase = k.substr(p2 + 1);
-    const double s1 = sc > 0 ? rl / sc : 0, s2 = sc > 0 ? pl / sc : 0;
-    md += fmt::format("| {} | {} | {} | {:.4g} | {:.4g} | {:.4g} | {:.2f}x | {:.2f}x | {:.1f} | {:.1f} |\n", kernel, method, kase,
-                      sc / 1e6, rl / 1e6, pl / 1e6, s1, s2, opt("scalar"), opt("rays_in_lanes"));
+    // Each speedup round by round (the median of the rounds' ratios, with its interval).
+    auto interval = [&](const char* var) {
+      const auto it = speedup.find(kernel + "/" + method + "/" + var + "/" + kase);
+      return it != speedup.end() ? it->second : stats::RatioInterval{};
+    };
+    const stats::RatioInterval i1 = interval("rays_in_lanes"), i2 = interval("prims_in_lanes");
+    const double s1 = std::isfinite(i1.ratio) ? i1.ratio : 0, s2 = std::isfinite(i2.ratio) ? i2.ratio : 0;
+    md += fmt::format("| {} | {} | {} | {:.4g} | {:.4g} | {:.4g} | {} | {} | {:.1f} | {:.1f} |\n", kernel, method, kase, sc / 1e6, rl / 1e6,
+                      pl / 1e6, stats::interval_text(i1), stats::interval_text(i2), opt("scalar"), opt("rays_in_lanes"));
     out.push_back({{"kernel", kernel}, {"method", method}, {"case", kase}, {"scalar_tests_per_s", sc},
                    {"rays_in_lanes_tests_per_s", rl}, {"prims_in_lanes_tests_per_s", pl}, {"speedup_rays_in_lanes", s1},
-                   {"speedup_prims_in_lanes", s2}});
+                   {"speedup_prims_in_lanes", s2}, {"speedup_rays_in_lanes_interval", stats::interval_json(i1)},
+                   {"speedup_prims_in_lanes_interval", stats::interval_json(i2)}});
   }
   summary["simd_vs_scalar"] = out;
   // The BVH's 8-wide node test (bench/bench_wide_node.cpp): box tests per second of its fast form,
@@ -100,9 +108,26 @@ std::string speed_section(const json& bench, json& summary) {
 double better_mapping(const json& r) {
   return std::max(r["speedup_rays_in_lanes"].get<double>(), r["speedup_prims_in_lanes"].get<double>());
 }
+// Its interval (the mapping with the higher median).
+stats::RatioInterval better_interval(const json& r) {
+  const bool rays = r["speedup_rays_in_lanes"].get<double>() >= r["speedup_prims_in_lanes"].get<double>();
+  return stats::interval_from_json(r.value(rays ? "speedup_rays_in_lanes_interval" : "speedup_prims_in_lanes_interval", json()));
+}
+// A goal over several ratios (every case of a method): not met when one interval lies below the
+// target, met when every one clears it, undecided otherwise; a ratio without an interval (a single
+// round) counts by its median.
+int all_clear(const std::vector<stats::RatioInterval>& v, double target) {
+  bool straddles = false;
+  for (const auto& r : v) {
+    const stats::Verdict x = r.valid() ? stats::verdict(r, target) : r.ratio >= target ? stats::Verdict::met : stats::Verdict::not_met;
+    if (x == stats::Verdict::not_met) return doc::kGoalNotMet;
+    straddles = straddles || x == stats::Verdict::undecided;
+  }
+  return v.empty() ? doc::kGoalNotMeasured : straddles ? doc::kGoalUndecided : doc::kGoalMet;
+}
 
-// A performance goal of the project, checked against this run's medians (shown, never asserted
-// in tests). met: 1 yes, 0 no, -1 not measured in this run (--filter left it out).
+// A performance goal of the project, checked against this run (shown, never asserted in tests):
+// met is a doc::kGoal* code (not measured: --filter left it out).
 struct Goal {
   std::string goal, measured;
   int met;
@@ -164,9 +189,22 @@ std::vector<Goal> speed_goals(const json& summary) {
       goals.push_back({fmt::format("{} SIMD >= 6x scalar", k), not_measured, -1});
       continue;
     }
+    // The intervals of a kernel's rows (of one method, or of all), and the lowest of them.
+    auto cases = [&](const std::string& method) {
+      std::vector<stats::RatioInterval> v;
+      for (const auto& r : summary["simd_vs_scalar"])
+        if (r["kernel"] == k && (method.empty() || r["method"] == method)) v.push_back(better_interval(r));
+      return v;
+    };
+    auto lowest = [](const std::vector<stats::RatioInterval>& v) {
+      stats::RatioInterval lo;
+      for (const auto& r : v)
+        if (!std::isfinite(lo.ratio) || r.ratio < lo.ratio) lo = r;
+      return stats::interval_text(lo);
+    };
     const auto [bw, bm] = best_method(k);
     goals.push_back({fmt::format("{} SIMD >= 6x scalar: best method, in every case (hit, miss, half)", k),
-                     fmt::format("{} lowest {:.2f}x", bm, bw), bw >= 6});
+                     fmt::format("{} lowest {}", bm, lowest(cases(bm))), all_clear(cases(bm), 6)});
     const auto [w, where] = worst_speedup(k);
     std::string without_half;
     if (w < 6) {
@@ -181,7 +219,7 @@ std::vector<Goal> speed_goals(const json& summary) {
       without_half = fmt::format("; all-hit and all-miss packets only: lowest {:.2f}x ({})", u, uw);
     }
     goals.push_back({fmt::format("{} SIMD >= 6x scalar: every method, every case", k),
-                     fmt::format("lowest {:.2f}x ({}){}", w, where, without_half), w >= 6});
+                     fmt::format("lowest {} ({}){}", lowest(cases("")), where, without_half), all_clear(cases(""), 6)});
   }
   const double box = std::max(best("box", "slab", "rays_in_lanes_tests_per_s"), best("box", "slab", "prims_in_lanes_tests_per_s"));
   if (measured("box", "slab"))
@@ -207,8 +245,8 @@ std::vector<Goal> speed_goals(const json& summary) {
 }
 
 std::string goals_markdown(const std::vector<Goal>& goals) {
-  std::string md = "| goal | measured (median of this run) | met |\n|---|---|---|\n";
-  for (const auto& g : goals) md += fmt::format("| {} | {} | {} |\n", g.goal, g.measured, g.met < 0 ? "-" : g.met ? "yes" : "**no**");
+  std::string md = "| goal | measured (median of this run; a ratio with its 95 % interval) | met |\n|---|---|---|\n";
+  for (const auto& g : goals) md += fmt::format("| {} | {} | {} |\n", g.goal, g.measured, doc::goal_cell(g.met));
   return md;
 }
 
@@ -229,18 +267,26 @@ std::string simd_target_section(json& summary) {
   };
   // kernel/method -> case -> better-mapping speedup
   std::map<std::string, std::map<std::string, double>> sp;
-  for (const auto& r : summary["simd_vs_scalar"])
-    sp[r["kernel"].get<std::string>() + "/" + r["method"].get<std::string>()][r["case"].get<std::string>()] =
-        better_mapping(r);
+  std::map<std::string, std::vector<stats::RatioInterval>> iv;  // kernel/method -> every case's interval
+  for (const auto& r : summary["simd_vs_scalar"]) {
+    const std::string km = r["kernel"].get<std::string>() + "/" + r["method"].get<std::string>();
+    sp[km][r["case"].get<std::string>()] = better_mapping(r);
+    iv[km].push_back(better_interval(r));
+  }
   std::map<std::string, std::pair<double, std::string>> worst;  // kernel/method -> (speedup, case)
   for (const auto& [km, cases] : sp)
     for (const auto& [c, x] : cases)
       if (!worst.count(km) || x < worst[km].first) worst[km] = {x, c};
   std::string md = "| kernel/method | lowest SIMD speedup (better mapping, worst case) | >= 4x | why not |\n|---|---:|---|---|\n";
   json out = json::array();
-  int met = 0, explained = 0, unexplained = 0;
+  int met = 0, undecided = 0, explained = 0, unexplained = 0;
   for (const auto& [km, w] : worst) {
-    const bool ok = w.first >= 4;
+    // By the intervals: every case clears 4x (met), one lies below it (not met), or undecided.
+    const int verdict = all_clear(iv[km], 4);
+    const bool ok = verdict == doc::kGoalMet;
+    stats::RatioInterval lowest;
+    for (const auto& r : iv[km])
+      if (!std::isfinite(lowest.ratio) || r.ratio < lowest.ratio) lowest = r;
     const auto it = why.find(km);
     const auto& cs = sp[km];
     const double hit = cs.count("hit") ? cs.at("hit") : 0, miss = cs.count("miss") ? cs.at("miss") : 0;
@@ -250,15 +296,19 @@ std::string simd_target_section(json& summary) {
       // Measured, not assumed: only the divergent packet falls short.
       reason = fmt::format("only when lanes diverge (hit {:.2f}x, miss {:.2f}x): the scalar form stops early on the missing half, "
                            "a packet with any hitting lane runs the whole test on all lanes", hit, miss);
+    else if (verdict == doc::kGoalUndecided) reason = "undecided: an interval straddles 4x";
     else if (!ok) reason = "**unexplained**";
-    (ok ? met : (reason != "**unexplained**" ? explained : unexplained))++;
-    md += fmt::format("| {} | {:.2f}x ({}) | {} | {} |\n", km, w.first, w.second, ok ? "yes" : "no", reason);
-    out.push_back({{"kernel_method", km}, {"lowest_speedup", w.first}, {"case", w.second}, {"met", ok}, {"reason", reason}});
+    (ok ? met : verdict == doc::kGoalUndecided ? undecided : (reason != "**unexplained**" ? explained : unexplained))++;
+    md += fmt::format("| {} | {} ({}) | {} | {} |\n", km, stats::interval_text(lowest), w.second, doc::goal_cell(verdict), reason);
+    out.push_back({{"kernel_method", km}, {"lowest_speedup", w.first}, {"lowest_interval", stats::interval_json(lowest)}, {"case", w.second},
+                   {"met", ok}, {"verdict", doc::goal_word(verdict)}, {"reason", reason}});
   }
   summary["simd_target_4x"] = out;
-  summary["simd_target_4x_counts"] = {{"methods", worst.size()}, {"met", met}, {"explained", explained}, {"unexplained", unexplained}};
-  md += fmt::format("\n{} of {} methods reach 4x in every case; {} fall short for the structural reason given; {} unexplained.\n",
-                    met, worst.size(), explained, unexplained);
+  summary["simd_target_4x_counts"] = {{"methods", worst.size()}, {"met", met},         {"undecided", undecided},
+                                      {"explained", explained}, {"unexplained", unexplained}};
+  md += fmt::format("\n{} of {} methods reach 4x in every case (each case's interval clears it); {} undecided; {} fall short for the "
+                    "structural reason given; {} unexplained.\n",
+                    met, worst.size(), undecided, explained, unexplained);
   return md;
 }
 // What the terminal shows at the end of a report: the headline figures; index.md and the JSON
@@ -284,8 +334,10 @@ std::string terminal_summary(const json& summary, const std::vector<Goal>& goals
                        g["measured"].get<std::string>());
   if (summary.contains("simd_target_4x_counts")) {
     const auto& c = summary["simd_target_4x_counts"];
-    t += fmt::format("  every method SIMD >= 4x scalar: {} of {} methods; {} fall short for a stated structural reason, {} unexplained\n",
-                     c["met"].get<int>(), c["methods"].get<int>(), c["explained"].get<int>(), c["unexplained"].get<int>());
+    t += fmt::format("  every method SIMD >= 4x scalar: {} of {} methods; {} undecided; {} fall short for a stated structural reason, {} "
+                     "unexplained\n",
+                     c["met"].get<int>(), c["methods"].get<int>(), c.value("undecided", 0), c["explained"].get<int>(),
+                     c["unexplained"].get<int>());
   }
   return t;
 }
@@ -298,11 +350,12 @@ std::vector<doc::Goal> report_goals(const std::vector<Goal>& speed, const json& 
   for (const auto& s : speed) g.push_back({"Scalar against SIMD", s.goal, s.measured, s.met, "simd_speedup.png"});
   if (summary.contains("simd_target_4x_counts")) {
     const auto& c = summary["simd_target_4x_counts"];
-    const int met = c["met"].get<int>(), n = c["methods"].get<int>();
+    const int met = c["met"].get<int>(), n = c["methods"].get<int>(), und = c.value("undecided", 0);
     g.push_back({"Scalar against SIMD", "every kernel's SIMD form >= 4x its true-scalar form",
-                 fmt::format("{} of {} methods; {} short for a stated structural reason, {} unexplained", met, n,
+                 fmt::format("{} of {} methods; {} undecided; {} short for a stated structural reason, {} unexplained", met, n, und,
                              c["explained"].get<int>(), c["unexplained"].get<int>()),
-                 n > 0 ? int(met == n) : -1, "simd_speedup.png"});
+                 n == 0 ? doc::kGoalNotMeasured : met == n ? doc::kGoalMet : met + und == n ? doc::kGoalUndecided : doc::kGoalNotMet,
+                 "simd_speedup.png"});
   }
   // The tracing goals are checked by the section itself, each against its worst row.
   if (summary.contains("tracing") && summary["tracing"].contains("goals"))
@@ -429,6 +482,11 @@ int run_report(const ReportOptions& o) {
   md += pgo_section(out);
 
   next_stage("charts and index.md");
+  // Every goal with its verdict, for `raybench compare` of two reports.
+  const std::vector<doc::Goal> all_goals = report_goals(goals, summary);
+  summary["goals"] = json::array();
+  for (const auto& g : all_goals)
+    summary["goals"].push_back({{"section", g.section}, {"goal", g.goal}, {"measured", g.measured}, {"verdict", doc::goal_word(g.met)}});
   write_file(out / "summary.json", summary.dump(2));
   if (o.charts && !readable_back((out / "summary.json").string())) {
     md += "_Charts were not drawn: summary.json, which they read, is not a regular file._\n\n";
@@ -440,7 +498,7 @@ int run_report(const ReportOptions& o) {
   md += fmt::format("---\n\nReport written in {:.0f} s by `raybench report --out {}{}`.\n", clock.s(), o.out, o.quick ? " --quick" : "");
   // One model, two pages: index.md and the self-contained index.html beside it.
   doc::Document page = doc::parse_markdown(md);
-  doc::organise(page, report_goals(goals, summary), out);
+  doc::organise(page, all_goals, out);
   write_file(out / "index.md", doc::to_markdown(page));
   const std::string html = doc::to_html(page);
   write_file(out / "index.html", html);

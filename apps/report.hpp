@@ -2,9 +2,12 @@
 // report/index.md with JSON and PNG charts beside it.
 #pragma once
 
+#include "apps/stats.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -12,7 +15,7 @@ namespace rb::app {
 
 struct ReportOptions {
   std::string out = "report";
-  int repetitions = 5;          // benchmark repetitions; the report quotes medians
+  int repetitions = 7;          // benchmark rounds (apps/bench_run.cpp); medians, and ratios with a 95 % interval
   double min_time = 0.05;       // seconds per benchmark repetition
   std::string filter = ".";     // benchmark name filter (regex)
   bool charts = true;
@@ -27,8 +30,11 @@ int run_report(const ReportOptions& o);
 
 // A run of the registered benchmarks (apps/bench_run.cpp).
 struct BenchOptions {
-  int repetitions = 5;  // 4 or more on each side let `compare`'s U test reach p < 0.05
-  double min_time = 0.1;                // seconds per repetition
+  // Rounds (each runs every selected benchmark once: a benchmark's repetitions are its rounds): 6 or
+  // more give SIMD / scalar a 95 % interval (stats::paired_ratio), 4 or more let `compare`'s U test
+  // reach p < 0.05.
+  int repetitions = 7;
+  double min_time = 0.1;                // seconds per benchmark per round
   std::string filter = ".";             // regex on kernel/method/variant/case
   bool every_repetition = true;         // false: medians and the other aggregates only
   std::uint32_t seed = 0;               // seed of the rays and primitives; 0: the report's data
@@ -45,5 +51,11 @@ std::vector<std::string> benchmark_names(const std::string& filter);
 // Google Benchmark JSON (its bare NaN and infinities as null). 0 on success, 2 when the filter
 // selects nothing, 1 when a benchmark reported an error.
 int run_benchmarks(const BenchOptions& o, nlohmann::json& doc);
+
+// Per SIMD benchmark of a run (kernel/method/variant/case), its speedup over the scalar form of the
+// same kernel, method and case: its tests per second over the scalar's, round by round (the rounds
+// are the repetitions), as the median of the rounds' ratios with its interval (stats::paired_ratio).
+// run_benchmarks stores them in the document as "raybench_simd_vs_scalar" (interval JSON by name).
+std::map<std::string, stats::RatioInterval> simd_speedups(const nlohmann::json& doc);
 
 }  // namespace rb::app

@@ -244,6 +244,7 @@ ResultSet load_results(const std::string& path) {
   r.source = path;
   const json summary = read_json_file((dir / "summary.json").string());
   r.machine = machine_of(summary);
+  if (summary.contains("goals") && summary["goals"].is_array()) r.goals = summary["goals"];
   auto add = [&](const ResultSet& part) { r.figures.insert(r.figures.end(), part.figures.begin(), part.figures.end()); };
   if (fs::exists(dir / "bench.json")) add(figures_of("bench", read_json_file((dir / "bench.json").string())));
   if (fs::exists(dir / "tracing.json")) {

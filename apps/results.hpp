@@ -36,6 +36,9 @@ struct ResultSet {
   nlohmann::json machine;  // the machine and build block (null when the result has none)
   nlohmann::json config;   // what the run was asked to do, where the result says (seed, mode, repetitions)
   std::vector<Figure> figures;
+  // A report's goals, each {section, goal, measured, verdict} (verdict: met, not met, undecided, not
+  // measured); empty for other results.
+  nlohmann::json goals = nlohmann::json::array();
 };
 
 // Whether compare judges a metric by default: not a yardstick's (Embree's: embree_*) nor a build

@@ -308,12 +308,29 @@ TEST(Cli, RenderWithoutOutputWritesSceneNameAndHainesOnlyUnderSpd) {
 
 TEST(Cli, BenchPrintsATable) {
   Scratch s("bench");
-  const Outcome r = run_in(s.dir, "bench --filter '^sphere/geometric/(scalar|rays_in_lanes)/hit$' -r 2 --min-time 0.001");
+  const Outcome r = run_in(s.dir, "bench --filter '^sphere/geometric/(scalar|rays_in_lanes)/hit$' -r 3 --min-time 0.001 --json b.json");
   EXPECT_EQ(r.status, 0) << r.err;
   for (const char* col : {"Mtests/s", "CV %", "ops/test", "vs scalar", "sphere/geometric/scalar/hit", "sphere/geometric/rays_in_lanes/hit"})
     EXPECT_TRUE(has(r.out, col)) << col << "\n" << r.out;
   EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(rays_in_lanes/hit +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+x)"))) << r.out;
   EXPECT_LE(widest(r.out), 80u) << r.out;
+  // Rounds: each benchmark once per round, its repetitions numbered by round, Google Benchmark's
+  // aggregates over them, and the SIMD form's speedup round by round with its interval.
+  const nlohmann::json j = nlohmann::json::parse(slurp(s / "b.json"));
+  std::map<std::string, std::vector<int>> rounds;
+  std::size_t medians = 0;
+  for (const auto& b : j["benchmarks"]) {
+    if (b["run_type"] == "iteration") rounds[b["run_name"].get<std::string>()].push_back(b["repetition_index"].get<int>());
+    medians += b.value("aggregate_name", "") == "median";
+  }
+  ASSERT_EQ(rounds.size(), 2u) << j.dump(1);
+  for (const auto& [name, v] : rounds) EXPECT_EQ(v, (std::vector<int>{0, 1, 2})) << name;
+  EXPECT_EQ(medians, 2u);
+  const auto& sp = j["raybench_simd_vs_scalar"]["sphere/geometric/rays_in_lanes/hit"];
+  EXPECT_EQ(sp["rounds"], 3);
+  EXPECT_LE(sp["lo"].get<double>(), sp["ratio"].get<double>());
+  EXPECT_GE(sp["hi"].get<double>(), sp["ratio"].get<double>());
+  EXPECT_GT(sp["ratio"].get<double>(), 0.0);
 }
 
 TEST(Cli, TraceGivesMedianRangeAndCvAfterWarmupBesideEmbree) {

@@ -273,9 +273,15 @@ TEST(Compare, ReportFolders) {
   for (const char* d : {"a", "b"}) {
     fs::create_directories(s / d);
     const double f = std::string(d) == "a" ? 1.0 : 1.5;
+    // Goals: one agrees, one moves to undecided, one flips between met and not met.
+    const bool a = std::string(d) == "a";
+    const json goals = json::array({{{"section", "S"}, {"goal", "g1"}, {"verdict", "met"}},
+                                    {{"section", "S"}, {"goal", "g2"}, {"verdict", a ? "met" : "undecided"}},
+                                    {{"section", "S"}, {"goal", "g3"}, {"verdict", a ? "not met" : "met"}}});
     std::ofstream(s / (std::string(d) + "/summary.json")) << json{{"machine", {{"cpu", "X"}}},
                                                                 {"render", {{{"scene", "lecture:x"}, {"width", 8}, {"height", 8},
-                                                                             {"total_rays", 64}, {"mrays_per_s", 2.0 * f}}}}}.dump();
+                                                                             {"total_rays", 64}, {"mrays_per_s", 2.0 * f}}}},
+                                                                {"goals", goals}}.dump();
     std::ofstream(s / (std::string(d) + "/bench.json")) << bench_doc({{"k/m/scalar/hit", around(100 * f)}}).dump();
     std::ofstream(s / (std::string(d) + "/csg.json")) << json::array({{{"scene", "csg:die"}, {"simd8_queries_per_s", 1e6 * f}}}).dump();
   }
@@ -285,6 +291,12 @@ TEST(Compare, ReportFolders) {
   for (const auto& r : c.rows) sections.insert(r.a.section);
   EXPECT_EQ(sections, (std::set<std::string>{"bench", "csg", "render"}));
   EXPECT_EQ(c.faster, 3u);
+  ASSERT_EQ(c.goals.size(), 3u);
+  EXPECT_EQ(c.goal_flips, 1u);
+  EXPECT_EQ(c.goal_moves, 1u);
+  EXPECT_TRUE(c.goals[2].flipped);
+  EXPECT_TRUE(has(rb::app::compare_text(c), "goal FLIPPED: g3: not met -> met")) << rb::app::compare_text(c);
+  EXPECT_EQ(rb::app::compare_json(c)["summary"]["goal_flips"], 1);
   // A report folder against a single result is an error that names both.
   try {
     std::ofstream(s / "x.json") << bench_doc({{"k/m/scalar/hit", around(1)}}).dump();

@@ -30,8 +30,20 @@ def simd_speedup(out, summary):
         y = range(len(methods))
         rays = [by[(m, case)]["speedup_rays_in_lanes"] if (m, case) in by else 0 for m in methods]
         prims = [by[(m, case)]["speedup_prims_in_lanes"] if (m, case) in by else 0 for m in methods]
-        ax.barh([i + h / 2 for i in y], rays, h, label="8 rays x 1 primitive")
-        ax.barh([i - h / 2 for i in y], prims, h, label="1 ray x 8 primitives")
+
+        def err(mapping, values):
+            # The 95 % interval of each bar (the rounds' ratios), as error bars; none where absent.
+            lo, hi = [], []
+            for m, v in zip(methods, values):
+                iv = by.get((m, case), {}).get(f"speedup_{mapping}_interval") or {}
+                a, b = iv.get("lo"), iv.get("hi")
+                lo.append(max(v - a, 0) if a is not None else 0)
+                hi.append(max(b - v, 0) if b is not None else 0)
+            return [lo, hi]
+
+        bars = dict(ecolor="0.2", capsize=1.5, error_kw=dict(lw=0.6))
+        ax.barh([i + h / 2 for i in y], rays, h, xerr=err("rays_in_lanes", rays), label="8 rays x 1 primitive", **bars)
+        ax.barh([i - h / 2 for i in y], prims, h, xerr=err("prims_in_lanes", prims), label="1 ray x 8 primitives", **bars)
         ax.axvline(8, color="grey", lw=0.8, ls=":", label="8 lanes")
         ax.axvline(6, color="red", lw=0.8, ls="--", label="6x goal: triangle, sphere, box")
         ax.axvline(4, color="orange", lw=0.8, ls="--", label="4x goal: every kernel")
@@ -39,7 +51,7 @@ def simd_speedup(out, summary):
         ax.set_yticklabels(methods, fontsize=8)
         ax.set_ylim(-0.6, len(methods) - 0.4)
         ax.set_title(f"case: {case}", fontsize=10)
-        ax.set_xlabel("speedup over true scalar (ratio of medians)")
+        ax.set_xlabel("speedup over true scalar (error bar: 95 % interval)")
         ax.grid(axis="x", lw=0.3)
     handles, labels = axes[0][0].get_legend_handles_labels()
     fig.legend(handles, labels, fontsize=8, loc="lower center", ncol=len(labels))

@@ -12,18 +12,21 @@ class BenchCommand final : public Command {
   explicit BenchCommand(CLI::App& root) : Command(root, "bench", "Kernel benchmarks: scalar against 8-lane SIMD") {
     sub_->add_option("--filter", bo.filter, "Only the benchmarks whose name\n(kernel/method/variant/case) matches this regex")
         ->capture_default_str();
-    sub_->add_option("-r,--repetitions", bo.repetitions, "Repetitions (the median is quoted)")->capture_default_str()->check(CLI::Range(1, 100));
-    sub_->add_option("--min-time", bo.min_time, "Seconds per repetition")->capture_default_str()->check(CLI::Range(0.001, 10.0));
+    sub_->add_option("-r,--repetitions", bo.repetitions, "Rounds: each runs every selected benchmark\nonce; a benchmark's repetitions are its rounds\n(the median is quoted; from 6, ratios carry a\n95 % interval)")->capture_default_str()->check(CLI::Range(1, 100));
+    sub_->add_option("--min-time", bo.min_time, "Seconds per benchmark per round")->capture_default_str()->check(CLI::Range(0.001, 10.0));
     sub_->add_option("--seed", bo.seed, "Seed of the rays and primitives\n(0: the report's data)")->capture_default_str();
     sub_->add_flag("--list", bench_list, "List the benchmarks the filter selects and exit");
     json_option("Google Benchmark JSON, every repetition, to FILE\n(no FILE: stdout instead of the table)");
     history_option();
     sub_->footer(
         "Google Benchmark medians, L1-resident, one thread: every kernel x {true scalar,\n"
-        "8 rays x 1 primitive, 1 ray x 8 primitives} x {hit, miss, half}. The table shows\n"
-        "the median tests per second, the coefficient of variation over the repetitions,\n"
-        "operations per test and the SIMD speedup over the scalar form. The --json file\n"
-        "is what Google Benchmark's compare.py and `raybench compare` read.");
+        "8 rays x 1 primitive, 1 ray x 8 primitives} x {hit, miss, half}, run in rounds\n"
+        "(each round every benchmark once, so a method's scalar and SIMD forms run\n"
+        "seconds apart in every round). The table shows the median tests per second,\n"
+        "the coefficient of variation over the rounds, operations per test and the SIMD\n"
+        "speedup over the scalar form (the median of the rounds' ratios; --json gives\n"
+        "its 95 % interval under raybench_simd_vs_scalar). The --json file is what\n"
+        "Google Benchmark's compare.py and `raybench compare` read.");
   }
   int run(Context& c) override {
     if (!bench_list && !open_history(c)) return kExitError;
