@@ -7,9 +7,18 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace rb::app {
+namespace doc {
+struct Goal;
+}
 struct ReportOptions;
+// Section "Scalar against SIMD" from the kernel benchmarks' document (apps/bench_run.cpp): adds
+// its goals (the speed goals and the 4x target) to `goals`.  // report_simd.cpp
+std::string report_section_simd(const nlohmann::json& bench, nlohmann::json& summary, std::vector<doc::Goal>& goals);
+// The speedup of the better of the two SIMD mappings in one row of summary["simd_vs_scalar"].
+double better_mapping(const nlohmann::json& row);  // report_simd.cpp
 std::string report_section_tracing(const ReportOptions& o, const std::filesystem::path& out, nlohmann::json& summary);  // report_trace.cpp
 std::string report_section_scenes(const ReportOptions& o, const std::filesystem::path& out, nlohmann::json& summary);  // report_scenes.cpp
 std::string report_section_render(const ReportOptions& o, const std::filesystem::path& out, nlohmann::json& summary);  // report_render.cpp

@@ -53,7 +53,8 @@ namespace {
 // follows y, over all C(m + n, m) orderings. Recurrence on the last element of the ordering:
 // c(k; i, j) = c(k - j; i - 1, j) (an x, after all j y's) + c(k; i, j - 1) (a y). Only additions,
 // so doubles hold the counts with relative rounding error alone.
-double u_sf(double u, std::size_t m, std::size_t n) {
+// The counts c(k), k = 0 .. m n, of the orderings with U = k.
+std::vector<double> u_counts(std::size_t m, std::size_t n) {
   if (m > n) std::swap(m, n);  // the distribution is symmetric in the sample sizes
   const std::size_t kmax = m * n;
   // c[i][k] for the current j, i = 0..m.
@@ -64,7 +65,12 @@ double u_sf(double u, std::size_t m, std::size_t n) {
     // still holds c(k; i, j - 1).
     for (std::size_t i = 1; i <= m; ++i)
       for (std::size_t k = j; k <= kmax; ++k) c[i][k] += c[i - 1][k - j];
-  const std::vector<double>& f = c[m];
+  return c[m];
+}
+
+double u_sf(double u, std::size_t m, std::size_t n) {
+  const std::vector<double> f = u_counts(m, n);
+  const std::size_t kmax = f.size() - 1;
   double total = 0, tail = 0;
   for (std::size_t k = 0; k <= kmax; ++k) {
     total += f[k];
@@ -156,6 +162,38 @@ RatioInterval paired_ratio(const std::vector<double>& a, const std::vector<doubl
   return r;
 }
 
+RatioInterval unpaired_ratio(const std::vector<double>& a, const std::vector<double>& b, double level) {
+  RatioInterval r;
+  r.paired = false;
+  auto positive = [](const std::vector<double>& v) {
+    std::vector<double> p;
+    for (double x : v)
+      if (x > 0 && std::isfinite(x)) p.push_back(x);
+    return p;
+  };
+  const std::vector<double> pa = positive(a), pb = positive(b);
+  r.n = std::min(pa.size(), pb.size());
+  if (pa.empty() || pb.empty()) return r;
+  r.ratio = median(pa) / median(pb);
+  if (pa.size() < 2 || pb.size() < 2) return r;
+  std::vector<double> q;
+  for (double x : pa)
+    for (double y : pb) q.push_back(x / y);
+  std::sort(q.begin(), q.end());
+  // P(U <= j) from the exact null distribution; the largest k (at least 1) with P(U <= k - 1) within
+  // (1 - level) / 2.
+  const std::vector<double> f = u_counts(pa.size(), pb.size());
+  double total = 0;
+  for (double c : f) total += c;
+  const double alpha2 = (1 - level) / 2;
+  double below = f[0] / total;  // P(U <= k - 1) for k = 1
+  std::size_t k = 1;
+  while (k < q.size() / 2 && below + f[k] / total <= alpha2) below += f[k++] / total;
+  r.lo = q[k - 1], r.hi = q[q.size() - k];
+  r.coverage = 1 - 2 * below;  // below the level when even the range (k = 1) has P(U <= 0) beyond alpha2
+  return r;
+}
+
 Verdict verdict(const RatioInterval& r, double target) {
   if (!r.valid()) return Verdict::not_measured;
   if (r.lo >= target) return Verdict::met;
@@ -166,7 +204,9 @@ Verdict verdict(const RatioInterval& r, double target) {
 nlohmann::json interval_json(const RatioInterval& r) {
   auto num = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); };
   return {{"ratio", num(r.ratio)}, {"lo", num(r.lo)}, {"hi", num(r.hi)}, {"coverage", num(r.coverage)}, {"rounds", r.n},
-          {"method", "median of the per-round ratios of paired rounds; distribution-free interval (order statistics, as the sign test)"}};
+          {"method", r.paired ? "median of the per-round ratios of paired rounds; distribution-free interval (order statistics, as the sign test)"
+                              : "ratio of the medians of two unpaired samples; distribution-free interval (the Mann-Whitney test inverted on "
+                                "log values, Hodges-Lehmann)"}};
 }
 
 RatioInterval interval_from_json(const nlohmann::json& j) {

@@ -54,11 +54,21 @@ UTest mann_whitney_u(const std::vector<double>& a, const std::vector<double>& b)
 // (96.9 % at 6); with 2..5 rounds no k reaches it, the interval is [min, max] and `coverage` says
 // what that holds (93.75 % at 5). Pairs with a non-positive or non-finite side are dropped.
 struct RatioInterval {
-  std::size_t n = 0;  // rounds used
+  std::size_t n = 0;  // rounds used (unpaired: the smaller sample's size)
   double ratio = kNaN, lo = kNaN, hi = kNaN, coverage = kNaN;
+  bool paired = true;  // false: unpaired_ratio's
   bool valid() const { return n >= 2 && std::isfinite(lo) && std::isfinite(hi); }
 };
 RatioInterval paired_ratio(const std::vector<double>& a, const std::vector<double>& b, double level = 0.95);
+
+// A ratio of two samples measured apart (not in paired rounds): median(a) / median(b), and the
+// distribution-free confidence interval for the factor between the two distributions obtained by
+// inverting the Mann-Whitney test on logarithms (the Hodges-Lehmann interval): every ratio a_i / b_j
+// sorted, r_(k) and r_(N+1-k), N = n1 n2, for the largest k with P(U < k) <= (1 - level) / 2 under
+// the exact null distribution of U; `coverage` = 1 - 2 P(U < k) (7 and 7 values: k = 9, 96.2 %).
+// Exact when b's distribution is a's scaled by a factor; the load drifts that paired rounds cancel
+// widen it instead. Below the level (2 and 2 values), the range of the ratios and what it holds.
+RatioInterval unpaired_ratio(const std::vector<double>& a, const std::vector<double>& b, double level = 0.95);
 
 // As JSON: {"ratio", "lo", "hi", "coverage", "rounds", "method"} (null figures where there are none),
 // and back (a missing or null object gives an interval that is not valid).
