@@ -207,10 +207,12 @@ int run_benchmarks(const BenchOptions& o, nlohmann::json& doc) {
   const int rounds = std::max(1, o.repetitions);
   ProgressReporter progress(total, rounds, o.what);
   std::size_t n = 0;
+  const LoadWatch watch;
   for (int r = 0; r < rounds; ++r) {
     progress.start_round(r);
     n += benchmark::RunSpecifiedBenchmarks(&progress);
   }
+  const nlohmann::json machine_load = watch.json();
   benchmark::Shutdown();
   progress.done();
   if (n == 0) {
@@ -225,6 +227,7 @@ int run_benchmarks(const BenchOptions& o, nlohmann::json& doc) {
     nlohmann::json sp = nlohmann::json::object();
     for (const auto& [name, r] : simd_speedups(merge_rounds(docs, true))) sp[name] = stats::interval_json(r);
     doc["raybench_simd_vs_scalar"] = sp;
+    doc["machine_load"] = machine_load;
   } catch (const std::exception& e) {
     std::cerr << error_line(o.command, "", e.what()) << "\n";
     return kExitError;

@@ -106,6 +106,22 @@ double steal_share(const CpuTimes& before, const CpuTimes& after) {
   return double(after.steal - before.steal) / double(after.total - before.total);
 }
 
+nlohmann::json LoadWatch::json() const {
+  using nlohmann::json;
+  const double after = load_average(), stolen = steal_share(cpu_before, cpu_times());
+  return {{"load_average_before", load_before >= 0 ? json(load_before) : json(nullptr)},
+          {"load_average_after", after >= 0 ? json(after) : json(nullptr)},
+          {"steal_share", std::isfinite(stolen) ? json(stolen) : json(nullptr)}};
+}
+
+std::string load_text(const nlohmann::json& m) {
+  auto f2 = [](const nlohmann::json& v) { return v.is_number() ? fmt::format("{:.2f}", v.get<double>()) : std::string("-"); };
+  return fmt::format("load average {} before the runs, {} after; CPU time stolen by the hypervisor during them: {}",
+                     f2(m.value("load_average_before", nlohmann::json())), f2(m.value("load_average_after", nlohmann::json())),
+                     m.value("steal_share", nlohmann::json()).is_number() ? fmt::format("{:.1f} %", 100 * m["steal_share"].get<double>())
+                                                                          : std::string("-"));
+}
+
 std::string busy_warning(double load, int threads) {
   if (load < 0 || load <= double(threads) + 0.75) return "";
   return fmt::format("warning: the machine was busy (1-minute load average {:.2f} with {} thread(s) of ours on {} hardware "

@@ -8,6 +8,8 @@
 #include "core/suggest.hpp"
 #include "core/text.hpp"
 
+#include <nlohmann/json.hpp>
+
 #include <regex>
 #include <stdexcept>
 #include <string>
@@ -59,6 +61,15 @@ struct CpuTimes {
 CpuTimes cpu_times();
 // The share of CPU time stolen between two readings (NaN when unknown or no time passed).
 double steal_share(const CpuTimes& before, const CpuTimes& after);
+// The machine's load around timed runs, as every timed result records it ("machine_load"): made
+// before the runs; json() after them gives the 1-minute load average before and after, and the share
+// of CPU time the hypervisor stole in between (null where unknown). load_text: one line of it.
+struct LoadWatch {
+  double load_before = load_average();
+  CpuTimes cpu_before = cpu_times();
+  nlohmann::json json() const;
+};
+std::string load_text(const nlohmann::json& machine_load);
 // A warning when other work ran beside a run that used `threads` threads: the load average
 // (read after the run, so that it covers it) exceeded those threads by more than 0.75. "" else.
 std::string busy_warning(double load, int threads);

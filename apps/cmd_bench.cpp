@@ -80,6 +80,7 @@ std::string bench_table(const json& doc, double* worst_cv, std::size_t* noisy) {
     t += wrap_words(fmt::format("SIMD over scalar, {} SIMD rows: lowest {} ({}), highest {} ({})", speedups.size(),
                                 stats::interval_text(lo.first), lo.second, stats::interval_text(hi.first), hi.second));
   }
+  if (doc.contains("machine_load")) t += wrap_words("Machine: " + load_text(doc["machine_load"]) + ".");
   if (worst_cv) *worst_cv = worst;
   if (noisy) *noisy = over;
   return t;

@@ -113,6 +113,7 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
   std::vector<float> samples;
   std::vector<double> trace_seconds;
   render::RenderStats st;
+  const LoadWatch watch;
   for (run = 0; run < runs; ++run) {
     const bool trial = run >= warmup && run < untimed;
     const std::size_t e = std::size_t(run - warmup) % eye_sizes.size(), k = std::size_t(run - warmup) % sec_sizes.size();
@@ -136,6 +137,7 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
     }
   }
   const render::Renderer r(s, accel, ro);
+  const json machine_load = watch.json();
   const stats::Summary spread = stats::summarize(trace_seconds);
   const double trace_ms = 1e3 * spread.median;
   bar.done();
@@ -196,7 +198,8 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
          {"trace_seconds", trace_seconds},
          {"trace_ms_min", 1e3 * spread.min},
          {"trace_ms_max", 1e3 * spread.max},
-         {"cv", std::isfinite(spread.cv) ? json(spread.cv) : json(nullptr)}};
+         {"cv", std::isfinite(spread.cv) ? json(spread.cv) : json(nullptr)},
+         {"machine_load", machine_load}};
   if (!o.out.empty()) j["image"] = o.out;
   if (const auto f = haines_figures(spd_name(o.scene))) {
     j["haines"] = {{"eye_hit_rays", f->eye_hit}, {"reflect_rays", f->reflect}, {"refract_rays", f->refract},
@@ -264,6 +267,7 @@ std::string render_text(const json& j) {
                      j.value("trial_renders", 0) > 0 ? fmt::format(" and {} trial renders", j["trial_renders"].get<int>()) : "",
                      j["trace_ms_min"].get<double>(), j["trace_ms_max"].get<double>(),
                      j["cv"].is_null() ? "" : fmt::format(", CV {:.1f} %", 100 * j["cv"].get<double>()));
+  if (j.contains("machine_load")) t += wrap_words("      machine: " + load_text(j["machine_load"]), 80, "      ");
   if (j.contains("image")) {
     const std::string image = j["image"].get<std::string>();
     t += is_standard_output(image) ? "wrote the image to standard output\n" : fmt::format("wrote {}\n", image);

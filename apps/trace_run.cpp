@@ -144,8 +144,7 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   std::vector<std::vector<double>> es(modes.size());
   // The machine around the rounds: its load average before and after, and the CPU time the
   // hypervisor took from this guest while they ran.
-  const double load_before = load_average();
-  const CpuTimes cpu_before = cpu_times();
+  const LoadWatch watch;
   for (int r = 0; r < runs; ++r) {
     const double s = trace::time_runs(ts, mine, n, ours, 1, tile, tick).front();
     if (r >= o.warmup) secs.push_back(s);
@@ -160,8 +159,7 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
       if (r >= o.warmup) es[m].push_back(e);
     }
   }
-  const double load_after = load_average();
-  const double stolen = steal_share(cpu_before, cpu_times());
+  const json machine_load = watch.json();
   const double mrays = double(n) / rb::median(secs) / 1e6;
   // Spread of the timed runs: the range in Mrays/s and the coefficient of variation of the times.
   auto spread = [&](json& j, const std::string& prefix, const std::vector<double>& t) {
@@ -194,9 +192,7 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   j["warmup"] = o.warmup;
   j["mrays_per_s"] = mrays;
   j["seconds"] = secs;
-  j["machine_load"] = {{"load_average_before", load_before >= 0 ? json(load_before) : json(nullptr)},
-                       {"load_average_after", load_after >= 0 ? json(load_after) : json(nullptr)},
-                       {"steal_share", std::isfinite(stolen) ? json(stolen) : json(nullptr)}};
+  j["machine_load"] = machine_load;
   spread(j, "", secs);
   j["nodes_per_ray"] = double(cnt.nodes) / double(std::max<std::size_t>(1, n));
   j["box_tests_per_ray"] = double(cnt.boxes) / double(std::max<std::size_t>(1, n));
@@ -409,14 +405,7 @@ std::string trace_text(const json& j) {
                        j[p + "mrays_per_s_min"].get<double>(), j[p + "mrays_per_s_max"].get<double>(),
                        j[p + "cv"].is_null() ? "" : fmt::format(", CV {:.1f} %", 100 * j[p + "cv"].get<double>()));
   };
-  if (j.contains("machine_load")) {
-    const json& m = j["machine_load"];
-    auto f2 = [](const json& v, const char* f) { return v.is_number() ? fmt::format(fmt::runtime(f), v.get<double>()) : std::string("-"); };
-    o += fmt::format("machine    load average {} before the runs, {} after; CPU time stolen by the\n           hypervisor "
-                     "during them: {}\n",
-                     f2(m["load_average_before"], "{:.2f}"), f2(m["load_average_after"], "{:.2f}"),
-                     m["steal_share"].is_number() ? fmt::format("{:.1f} %", 100 * m["steal_share"].get<double>()) : std::string("-"));
-  }
+  if (j.contains("machine_load")) o += wrap_words("machine    " + load_text(j["machine_load"]), 80, "           ");
   o += fmt::format("trace      raybench packet {}, {} thread(s), {} slab test, {} warm-up run(s):\n", j["packet"].get<int>(),
                    j["threads"].get<int>(), j["slab"].get<std::string>(), j["warmup"].get<int>());
   o += "           " + timing("") + "\n";

@@ -331,6 +331,9 @@ TEST(Cli, BenchPrintsATable) {
   EXPECT_LE(sp["lo"].get<double>(), sp["ratio"].get<double>());
   EXPECT_GE(sp["hi"].get<double>(), sp["ratio"].get<double>());
   EXPECT_GT(sp["ratio"].get<double>(), 0.0);
+  // The machine around the rounds.
+  EXPECT_TRUE(j["machine_load"]["load_average_before"].is_number() && j["machine_load"]["load_average_after"].is_number()) << j;
+  EXPECT_TRUE(has(r.out, "load average")) << r.out;
 }
 
 TEST(Cli, TraceGivesMedianRangeAndCvAfterWarmupBesideEmbree) {
@@ -435,6 +438,9 @@ TEST(Cli, RenderGivesMedianRangeAndCvAndTooManyThreadsWarn) {
   EXPECT_LE(j["trace_ms_min"].get<double>(), j["trace_ms"].get<double>());
   EXPECT_TRUE(has(r.out, "median of 3 renders after 1 warm-up and 3 trial renders")) << r.out;
   EXPECT_TRUE(has(r.err, "warning: " + std::to_string(more) + " threads asked for")) << r.err;
+  // The machine around the renders, as trace and bench record it.
+  EXPECT_TRUE(j["machine_load"]["load_average_before"].is_number() && j["machine_load"]["load_average_after"].is_number()) << j;
+  EXPECT_TRUE(has(r.out, "load average")) << r.out;
 }
 
 // Packet sizes by default: trial renders try eye packets of 64, 16 and 8 and the other rays one by
