@@ -20,6 +20,7 @@
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <map>
 #include <memory>
@@ -91,10 +92,10 @@ class ProgressReporter : public benchmark::BenchmarkReporter {
 };
 
 // The rounds' runs as one Google Benchmark document: the first round's context, every round's run
-// of each benchmark as a repetition (repetition_index = its round), and per benchmark the
+// of each benchmark as a repetition (repetition_index = its round), and after them, per benchmark, the
 // aggregates Google Benchmark would give its repetitions (mean, median, stddev, cv of every
 // numeric field that varies by run).
-nlohmann::json merge_rounds(const std::vector<nlohmann::json>& rounds, bool every_repetition) {
+nlohmann::json merge_rounds(const std::vector<nlohmann::json>& rounds) {
   nlohmann::json doc = rounds.front();
   doc["context"]["raybench_rounds"] = rounds.size();
   nlohmann::json all = nlohmann::json::array();
@@ -113,8 +114,7 @@ nlohmann::json merge_rounds(const std::vector<nlohmann::json>& rounds, bool ever
                                               "iterations"};
   for (const auto& name : order) {
     const auto& v = runs[name];
-    if (every_repetition)
-      for (const auto& b : v) all.push_back(b);
+    for (const auto& b : v) all.push_back(b);
     for (const char* agg : {"mean", "median", "stddev", "cv"}) {
       nlohmann::json a = v.front();
       a["name"] = name + "_" + agg;
@@ -222,11 +222,16 @@ int run_benchmarks(const BenchOptions& o, nlohmann::json& doc) {
   try {
     std::vector<nlohmann::json> docs;
     for (const auto& t : progress.texts()) docs.push_back(parse_json_text(t, "Google Benchmark's JSON"));
-    doc = merge_rounds(docs, o.every_repetition);
+    doc = merge_rounds(docs);
     // Every SIMD benchmark's speedup over its scalar form, round by round, with its interval.
     nlohmann::json sp = nlohmann::json::object();
-    for (const auto& [name, r] : simd_speedups(merge_rounds(docs, true))) sp[name] = stats::interval_json(r);
+    for (const auto& [name, r] : simd_speedups(doc)) sp[name] = stats::interval_json(r);
     doc["raybench_simd_vs_scalar"] = sp;
+    if (!o.every_repetition) {  // the aggregates only
+      auto& all = doc["benchmarks"];
+      all.erase(std::remove_if(all.begin(), all.end(), [](const nlohmann::json& b) { return b.value("run_type", "") == "iteration"; }),
+                all.end());
+    }
     doc["machine_load"] = machine_load;
   } catch (const std::exception& e) {
     std::cerr << error_line(o.command, "", e.what()) << "\n";

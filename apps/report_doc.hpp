@@ -42,6 +42,12 @@ inline constexpr int kGoalNotMeasured = -1, kGoalNotMet = 0, kGoalMet = 1, kGoal
 inline const char* goal_word(int met) {
   return met == kGoalMet ? "met" : met == kGoalNotMet ? "not met" : met == kGoalUndecided ? "undecided" : "not measured";
 }
+// A goal over rows (cases, scenes, methods), from how many there are, how many met it and how many
+// fell below it: not met when one fell below, met when every one met it, undecided otherwise; not
+// measured without rows.
+inline int goal_over(std::size_t rows, std::size_t met, std::size_t below) {
+  return rows == 0 ? kGoalNotMeasured : below ? kGoalNotMet : met == rows ? kGoalMet : kGoalUndecided;
+}
 // The same in a table's "met" column (markdown).
 inline const char* goal_cell(int met) {
   return met == kGoalMet ? "yes" : met == kGoalNotMet ? "**no**" : met == kGoalUndecided ? "undecided" : "-";

@@ -108,13 +108,13 @@ stats::RatioInterval better_interval(const json& r) {
 // target, met when every one clears it, undecided otherwise; a ratio without an interval (a single
 // round) counts by its median.
 int all_clear(const std::vector<stats::RatioInterval>& v, double target) {
-  bool straddles = false;
+  std::size_t met = 0, below = 0;
   for (const auto& r : v) {
     const stats::Verdict x = r.valid() ? stats::verdict(r, target) : r.ratio >= target ? stats::Verdict::met : stats::Verdict::not_met;
-    if (x == stats::Verdict::not_met) return doc::kGoalNotMet;
-    straddles = straddles || x == stats::Verdict::undecided;
+    met += x == stats::Verdict::met;
+    below += x == stats::Verdict::not_met;
   }
-  return v.empty() ? doc::kGoalNotMeasured : straddles ? doc::kGoalUndecided : doc::kGoalMet;
+  return doc::goal_over(v.size(), met, below);
 }
 
 // A performance goal of the project, checked against this run (shown, never asserted in tests):
@@ -329,7 +329,7 @@ std::string report_section_simd(const json& bench, json& summary, std::vector<do
     goals.push_back({"Scalar against SIMD", "every kernel's SIMD form >= 4x its true-scalar form",
                      fmt::format("{} of {} methods; {} undecided; {} short for a stated structural reason, {} unexplained", met, n, und,
                                  c["explained"].get<int>(), c["unexplained"].get<int>()),
-                     n == 0 ? doc::kGoalNotMeasured : met == n ? doc::kGoalMet : met + und == n ? doc::kGoalUndecided : doc::kGoalNotMet,
+                     doc::goal_over(std::size_t(n), std::size_t(met), std::size_t(n - met - und)),
                      "simd_speedup.png"});
   }
   return md;

@@ -209,7 +209,7 @@ std::string report_section_tracing(const ReportOptions& o, const fs::path& out, 
         below += v == stats::Verdict::not_met;
         if (!std::isfinite(low.ratio) || r.ratio < low.ratio) low = r, where = w;
       }
-      const int met = n == 0 ? doc::kGoalNotMeasured : below ? doc::kGoalNotMet : cleared == n ? doc::kGoalMet : doc::kGoalUndecided;
+      const int met = doc::goal_over(n, cleared, below);
       goal_rows.push_back(
           {{"goal", goal},
            {"measured", n == 0 ? fmt::format("no interval ({} round(s) per row)", reps)

@@ -183,7 +183,7 @@ TEST(Bvh, PrimitivesApartInDoubleAndInLocalFramesEqualBruteForce) {
     EXPECT_EQ(hits64[i].prim, hits_local[i].prim) << i;
     if (hits64[i].prim == kNoPrim) continue;
     ++hits;
-    EXPECT_NEAR(hits64[i].t, hits_local[i].t, 1e-5 * hits64[i].t) << i;
+    EXPECT_NEAR(hits64[i].t, hits_local[i].t, 1e-5 * double(hits64[i].t)) << i;
   }
   EXPECT_GT(hits, 0u);
   const auto base = std::uint32_t(s.verts.size());

@@ -254,13 +254,11 @@ SceneAccel SceneAccel::build(const scene::Scene& s, const Plan& plan, const bvh:
         K::build(b, s, std::move(v), origin, kp.method, kp.f64, kp.f64_storage);
       } else {
         build_std<K>(b, s, std::move(v), origin, kp.f64_storage, opt.parallel);
+        auto& apart_b = std::get<Batch<K>>(a.apart_);
         auto& apart_ids = ids[std::size_t(apart_tag(K::id))];
-        if constexpr (K::methods[0].f64_storage) {
-          if (kp.split_local) build_local<K>(std::get<Batch<K>>(a.apart_), s, std::move(apart_ids), plan);
-          else build_std<K>(std::get<Batch<K>>(a.apart_), s, std::move(apart_ids), origin, true, opt.parallel);
-        } else {
-          build_std<K>(std::get<Batch<K>>(a.apart_), s, std::move(apart_ids), origin, true, opt.parallel);
-        }
+        if constexpr (K::methods[0].f64_storage)  // (only kinds that store double have primitives apart)
+          if (kp.split_local) return build_local<K>(apart_b, s, std::move(apart_ids), plan);
+        build_std<K>(apart_b, s, std::move(apart_ids), origin, true, opt.parallel);
       }
     });
     a.reorder_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();

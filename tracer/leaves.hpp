@@ -295,11 +295,23 @@ struct LocalRay {
   Ray<float> r;
   double shift = 0;
 };
+// The re-basing itself, for one ray (D = double) or four (D = d4): o becomes the point of the ray
+// nearest g, relative to g; returns the shift along the ray.
+template <class D>
+RB_INLINE D rebase(Vec3<D>& o, const Vec3<D>& d, const Vec3<D>& g) {
+  const D s = dot(g - o, d) / dot(d, d);
+  o = o + d * s - g;
+  return s;
+}
+// A local t of 8 lanes back on the ray: plus the shifts of its two halves, in double.
+RB_INLINE f8 ray_t(const f8& t, const d4& shift_lo, const d4& shift_hi) {
+  return lanes::join_f8(lanes::lo_d4(t) + shift_lo, lanes::hi_d4(t) + shift_hi);
+}
 RB_INLINE LocalRay local_ray(const Ray<float>& r, const Vec3d& g, float tmax) {
-  const Vec3d o = to_double(r.o), d = to_double(r.d);
-  const double s = dot(g - o, d) / dot(d, d);
+  Vec3d o = to_double(r.o);
+  const double s = rebase(o, to_double(r.d), g);
   LocalRay l{r, s};
-  l.r.o = to_float(o + d * s - g);
+  l.r.o = to_float(o);
   l.r.tmin = spawn::step_floats(float(double(r.tmin) - s), -1);
   l.r.tmax = spawn::step_floats(float(double(tmax) - s), 1);
   return l;
@@ -321,8 +333,7 @@ RB_INLINE bool local_single(const StdBatch<K>& b, std::size_t base, const Vec3d&
   const Ray<f8> rb = Ray<f8>::broadcast(l.r);
   const Hit<f8> hit = K::template hit<M>(rb, K::pre(rb), b.f32.template load<f8>(base));
   if (none_of<f8>(hit.mask)) return false;
-  const d4 shift(l.shift);
-  const f8 t = lanes::join_f8(lanes::lo_d4(hit.t) + shift, lanes::hi_d4(hit.t) + shift);
+  const f8 t = ray_t(hit.t, d4(l.shift), d4(l.shift));
   const f8_mask ok = hit.mask & (t >= f8(r.tmin)) & (t <= f8(h.t));
   if (none_of<f8>(ok)) return false;
   return bvh::take_nearest(xsimd::select(ok, t, f8(bvh::kInfF)), h,
@@ -365,9 +376,8 @@ RB_INLINE void apart_packet(const StdBatch<K>& b, std::size_t base, bvh::PacketR
       Vec3<d4> o[2];
       for (int h = 0; h < 2; ++h) {
         auto half = [&](const f8& v) { return h ? hi_d4(v) : lo_d4(v); };
-        const Vec3<d4> ro{half(lr.o.x), half(lr.o.y), half(lr.o.z)}, rd{half(lr.d.x), half(lr.d.y), half(lr.d.z)};
-        shift[h] = dot(gl - ro, rd) / dot(rd, rd);
-        o[h] = ro + rd * shift[h] - gl;
+        o[h] = {half(lr.o.x), half(lr.o.y), half(lr.o.z)};
+        shift[h] = rebase(o[h], Vec3<d4>{half(lr.d.x), half(lr.d.y), half(lr.d.z)}, gl);
       }
       lr.o = {join_f8(o[0].x, o[1].x), join_f8(o[0].y, o[1].y), join_f8(o[0].z, o[1].z)};
       lr.tmin = f8(spawn::step_floats8(join_f8(lo_d4(lr.tmin) - shift[0], hi_d4(lr.tmin) - shift[1]), _mm256_set1_epi32(-1)));
@@ -378,7 +388,7 @@ RB_INLINE void apart_packet(const StdBatch<K>& b, std::size_t base, bvh::PacketR
         if (sid == UINT32_MAX) continue;
         const Hit<f8> hit = K::template hit<M>(lr, pre, b.f32.template broadcast<f8>(j));
         if (none_of<f8>(hit.mask)) continue;
-        const f8 t = join_f8(lo_d4(hit.t) + shift[0], hi_d4(hit.t) + shift[1]);
+        const f8 t = ray_t(hit.t, shift[0], shift[1]);
         bvh::packet_update<Any>(p, k, hit.mask & (t >= p.r[k].tmin) & (t <= p.tbest[k]), t, kinds::code(K::id, sid));
       }
     }
