@@ -77,8 +77,8 @@ std::vector<Row> run_lab(const Options& o);
 // double. With timing, kWholeSceneRounds timed rounds in which the rows' trees take turns, each
 // turn repeating the trace to last about kWholeSceneTurn seconds for the fast model.
 inline constexpr const char* kApartInDouble = "auto_apart_double";
-inline constexpr int kWholeSceneRounds = 7;
-inline constexpr double kWholeSceneTurn = 0.01;
+inline constexpr int kWholeSceneRounds = 15;
+inline constexpr double kWholeSceneTurn = 0.015;
 std::vector<Row> whole_scene_rows(const scene::Scene& s, const std::string& case_name, const std::string& what, std::size_t rays,
                                   bool timing, std::uint64_t seed);
 }  // namespace rb::acc

@@ -154,6 +154,10 @@ const std::vector<SceneCase>& scene_case_table() {
   static const std::vector<SceneCase> t = {
       {"ball_ground", "a ball resting on a floor near the origin, a second ball, one light (needs nothing special)", "ball_ground"},
       {"ball_ground_far", "the same scene 6.4e6 from the origin", "ball_ground_far"},
+      {"kinds_ground", "the balls with a cylinder, a cone, a mesh (320 triangles) and a torus on their floor", "kinds_ground"},
+      {.name = "kinds_ground_far_1e5", .what = "the same 1e5 from the origin", .precision = "kinds_ground", .move = 1e5},
+      {.name = "kinds_ground_far_1e7", .what = "the same 1e7 from the origin", .precision = "kinds_ground", .move = 1e7},
+      {.name = "kinds_ground_scaled_1e-4", .what = "the same scaled by 1e-4", .precision = "kinds_ground", .scale = 1e-4},
       {"planet", "the balls on a planet of radius 6.4e6, the camera 4 above its surface", "planet"},
       {"mesh_spheres_1e3", "a closed mesh (1,280 triangles), four spheres and a floor, 1e3 from the origin", "mesh_spheres_1e3"},
       {"mesh_spheres_1e5", "the same 1e5 from the origin", "mesh_spheres_1e5"},

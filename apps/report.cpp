@@ -75,6 +75,15 @@ std::vector<doc::Goal> report_goals(const std::vector<doc::Goal>& simd, const js
     g.push_back({"Rendering", "rendering at least half as fast per ray as primary-ray tracing",
                  fmt::format("{} of {} scenes", met, n), n > 0 ? int(met == n) : -1, "render_spd_balls.png"});
   }
+  if (summary.contains("plan") && summary["plan"].contains("auto_speed_goal")) {
+    // Met on every mesh it applies to, not met on one, undecided otherwise.
+    const json& a = summary["plan"]["auto_speed_goal"];
+    auto n = [&](int v) { return a.contains(doc::goal_word(v)) ? a[doc::goal_word(v)].size() : std::size_t(0); };
+    const std::size_t met = n(doc::kGoalMet), no = n(doc::kGoalNotMet), und = n(doc::kGoalUndecided);
+    g.push_back({"What each scene needs", "on every mesh where fast fails no ray, auto keeps >= 0.97x its speed and <= 1.05x its memory",
+                 fmt::format("met on {}, not met on {}, undecided on {} mesh(es)", met, no, und),
+                 no ? doc::kGoalNotMet : und ? doc::kGoalUndecided : met ? doc::kGoalMet : doc::kGoalNotMeasured, "plan_models.png"});
+  }
   if (summary.contains("accuracy"))
     for (const auto& t : summary["accuracy"]["targets"])
       g.push_back({"Accuracy and stability", t["target"].get<std::string>(), t["measured"].get<std::string>(), int(t["met"].get<bool>()), ""});

@@ -2,6 +2,7 @@
 // per primitive family a chart of speed against accuracy with its Pareto front, the table
 // "where each method fails", the targets checked against this run, and the cost of spawning
 // secondary rays with an offset.
+#include "core/median.hpp"
 #include "core/output_file.hpp"
 #include "apps/interrupt.hpp"
 #include "apps/accuracy_run.hpp"
@@ -184,6 +185,27 @@ std::vector<Target> targets(const std::vector<Row>& rows) {
   return t;
 }
 
+// The evidence for the plan's spawn scheme in this run: over every kernel's secondary cases, the
+// self-hits of the integer and the error-bound offsets and the integer offset's time over the error
+// bound's (the report's plan section checks the plan's choice against it).
+json spawn_evidence(const std::vector<Row>& rows) {
+  std::vector<double> ratios;
+  double wb_self = 0, bound_self = 0;
+  for (const Row& b : rows) {
+    if (b.case_name != "secondary_wb_offset" || b.precision != "float") continue;
+    const Row* c = find(rows, b.family, "secondary_bound_offset", b.method, "float");
+    if (!c) continue;
+    wb_self = std::max(wb_self, b.self_hit_ppm), bound_self = std::max(bound_self, c->self_hit_ppm);
+    if (std::isfinite(b.ns_per_test) && std::isfinite(c->ns_per_test) && c->ns_per_test > 0) ratios.push_back(b.ns_per_test / c->ns_per_test);
+  }
+  json j{{"kernels", ratios.size()}, {"integer_self_hit_ppm_max", wb_self}, {"bound_self_hit_ppm_max", bound_self}};
+  if (!ratios.empty()) {
+    std::sort(ratios.begin(), ratios.end());
+    j["integer_over_bound_ns"] = {{"median", rb::median(ratios)}, {"lowest", ratios.front()}, {"highest", ratios.back()}};
+  }
+  return j;
+}
+
 }  // namespace
 
 std::string report_section_accuracy(const ReportOptions& o, const fs::path& out, json& summary) {
@@ -288,7 +310,7 @@ std::string report_section_accuracy(const ReportOptions& o, const fs::path& out,
       md += "\n";
     }
   }
-  summary["accuracy"] = {{"best", best}, {"targets", tj}, {"seconds", secs}, {"rows", rows.size()}};
+  summary["accuracy"] = {{"best", best}, {"targets", tj}, {"seconds", secs}, {"rows", rows.size()}, {"spawn", spawn_evidence(rows)}};
   if (o.charts && !readable_back((out / "accuracy.json").string())) {
     md += "_Accuracy charts were not drawn: accuracy.json, which they read, is not a regular file._\n\n";
   } else if (o.charts) {

@@ -122,12 +122,14 @@ std::string report_section_plan(const ReportOptions& o, const fs::path& out, jso
         "fast / auto | failures per million rays: fast / auto / exact |\n|---|---:|---|---|---:|---:|---:|---:|\n";
   json rows = json::array(), lab_rows = json::array();
   std::size_t step = 0;
-  // The goal of auto against fast where fast fails no ray: auto keeps at least 0.97 of its speed.
-  constexpr double kAutoSpeedGoal = 0.97;
+  // The goal of auto against fast on a mesh where fast fails no ray: auto keeps at least 0.97 of its
+  // speed and at most 1.05 of its memory.
+  constexpr double kAutoSpeedGoal = 0.97, kAutoMemoryGoal = 1.05;
   std::map<int, std::vector<std::string>> by_verdict;
   // Where auto stores primitives apart in local frames: their speed against the same plan with them
   // in double (the lab's fourth row).
   std::vector<std::string> local_lines;
+  json spawn_check;
   for (const auto& src : srcs) {
     std::cerr << fmt::format("[report plan {}/{}] {}\n", ++step, srcs.size(), src.label);
     const scene::Scene s = src.make();
@@ -143,11 +145,19 @@ std::string report_section_plan(const ReportOptions& o, const fs::path& out, jso
     const auto b1 = [](double x) { return std::isfinite(x) ? fmt::format("{:.1f}", x) : std::string("-"); };
     // auto / fast round by round: fast's seconds over auto's.
     const stats::RatioInterval auto_fast = stats::paired_ratio(r[0].round_seconds, r[1].round_seconds);
-    if (r[0].failure_ppm() == 0) {
-      const stats::Verdict v = stats::verdict(auto_fast, kAutoSpeedGoal);
+    // The goal is the mesh's (every primitive a triangle): a scan's slivers must not cost its speed or
+    // memory. On scenes of a few analytic primitives auto's robust methods are its answer, not a cost
+    // of looking.
+    const bool mesh = s.triangles.size() == s.primitive_count() && s.primitive_count() > 0;
+    if (mesh && r[0].failure_ppm() == 0) {
+      stats::Verdict v = stats::verdict(auto_fast, kAutoSpeedGoal);
+      const bool heavier = std::isfinite(bytes_auto) && bytes_auto > kAutoMemoryGoal * bytes_fast;
+      if (heavier) v = stats::Verdict::not_met;
       by_verdict[v == stats::Verdict::met ? doc::kGoalMet : v == stats::Verdict::not_met ? doc::kGoalNotMet
                  : v == stats::Verdict::undecided ? doc::kGoalUndecided : doc::kGoalNotMeasured]
-          .push_back(src.label + " " + stats::interval_text(auto_fast));
+          .push_back(src.label + " " + stats::interval_text(auto_fast) +
+                     (std::isfinite(bytes_auto) ? fmt::format(", memory {:.2f}x", bytes_auto / bytes_fast) : std::string()) +
+                     (heavier ? " (memory above the goal)" : ""));
     }
     md += fmt::format("| {} | {} | {} | {} | {:.2f} / {:.2f} / {:.2f} | {} | {} / {} | {} / {} / {} |\n", src.label,
                       s.primitive_count(), tracer::frame_name(plan.frame), plan_kinds_text(plan), speed(r[0]), speed(r[1]), speed(r[2]),
@@ -169,11 +179,12 @@ std::string report_section_plan(const ReportOptions& o, const fs::path& out, jso
     }
     rows.push_back(j);
   }
-  md += fmt::format("\n**Goal: where fast fails no ray, auto keeps at least {:.2f}x its speed** (the interval clears it: met; lies "
-                    "below it: not met; straddles it: undecided): ", kAutoSpeedGoal);
+  md += fmt::format("\n**Goal: on every mesh where fast fails no ray, auto keeps at least {:.2f}x its speed and at most {:.2f}x its "
+                    "memory** (the speed's interval clears it: met; lies below it, or more memory: not met; straddles it: undecided): ",
+                    kAutoSpeedGoal, kAutoMemoryGoal);
   for (int v : {doc::kGoalMet, doc::kGoalUndecided, doc::kGoalNotMet, doc::kGoalNotMeasured}) {
     if (by_verdict[v].empty()) continue;
-    md += fmt::format("{} on {} scene(s)", doc::goal_word(v), by_verdict[v].size());
+    md += fmt::format("{} on {} mesh(es)", doc::goal_word(v), by_verdict[v].size());
     if (v != doc::kGoalMet) {
       md += " (";
       for (std::size_t i = 0; i < by_verdict[v].size(); ++i) md += (i ? "; " : "") + by_verdict[v][i];
@@ -182,7 +193,25 @@ std::string report_section_plan(const ReportOptions& o, const fs::path& out, jso
     md += "; ";
   }
   md += "auto's cost where fast fails nothing is the price of its checks and choices, and where fast does fail, the price of the "
-        "right answer.\n";
+        "right answer. On scenes of a few analytic primitives auto / fast is shown, not judged: there auto runs the methods that "
+        "the lab finds right at the scene's distances (a robust torus, a re-centred cylinder), which is its answer, not a cost of "
+        "looking.\n";
+  // The plan's spawn scheme (a fixed rule) against this run's lab: the integer offset is chosen for
+  // being free of self-hits and cheaper than the error bound on every kernel; say so when it is not.
+  if (summary.contains("accuracy") && summary["accuracy"].contains("spawn") && summary["accuracy"]["spawn"].contains("integer_over_bound_ns")) {
+    const json& sp = summary["accuracy"]["spawn"];
+    const json& q = sp["integer_over_bound_ns"];
+    const bool holds = sp["integer_self_hit_ppm_max"].get<double>() == 0 && q["highest"].get<double>() < 1;
+    md += fmt::format(
+        "\nThe spawn offset against this run's lab (section Accuracy and stability, secondary rays, {} kernels): the integer offset "
+        "the plan uses has at most {} self-hits per million (the error-bound offset {}) and takes {:.2f}x the error bound's time "
+        "(median; {:.2f}x..{:.2f}x over the kernels): {}.\n",
+        sp["kernels"].get<std::size_t>(), plan_ppm(sp["integer_self_hit_ppm_max"].get<double>()),
+        plan_ppm(sp["bound_self_hit_ppm_max"].get<double>()), q["median"].get<double>(), q["lowest"].get<double>(),
+        q["highest"].get<double>(),
+        holds ? "the plan's choice is the lab's" : "**on this machine the lab does not support the plan's choice** (self-hits, or not cheaper)");
+    spawn_check = {{"evidence", sp}, {"plan_choice_holds", holds}};
+  }
   if (!local_lines.empty()) {
     md += "\nPrimitives stored apart in local frames (each leaf's primitives in float relative to an origin of its own, the ray "
           "re-based there) against the same plan with them in double, in the same rounds:\n\n| scene | Mrays/s local frames | "
@@ -205,7 +234,7 @@ std::string report_section_plan(const ReportOptions& o, const fs::path& out, jso
 
   // A far and a scaled copy rendered beside the original.
   std::cerr << "[report plan] far and scaled copies\n";
-  const scene::Scene base = scene::precision_scene("ball_ground");
+  const scene::Scene base = scene::precision_scene("kinds_ground");
   const int size = o.quick ? 64 : 160;
   const auto ref = plan_render_rgb(base, tracer::Model::automatic, size);
   struct Copy {
@@ -221,7 +250,8 @@ std::string report_section_plan(const ReportOptions& o, const fs::path& out, jso
       {"auto, scaled by 1e4", "plan_copy_large.png", scene::scaled(base, 1e4), tracer::Model::automatic},
       {"fast, moved by (6.4e6, 0, 0)", "plan_copy_fast_far.png", scene::translated(base, {6.4e6, 0, 0}), tracer::Model::fast},
   };
-  md += "The same scene (`precision:ball_ground`: a ball resting on a floor, a smaller ball, one light) moved far from the origin "
+  md += "The same scene (`precision:kinds_ground`: a ball resting on a floor, a smaller ball, a cylinder, a cone, a mesh and a torus, "
+        "one light) moved far from the origin "
         "and scaled, each copy built in double and rendered at 160 x 160; below each image the share of pixels that differ from "
         "the original by more than 4/255 in a channel. The last copy is the fast model 6.4e6 away: the float step there is half "
         "a unit and its spawn offset 64 units.\n\n";
@@ -240,9 +270,9 @@ std::string report_section_plan(const ReportOptions& o, const fs::path& out, jso
     copies_json.push_back({{"copy", c.label}, {"image", c.file}, {"differing_pixels", d}});
   }
   md += head + "\n" + sep + "\n" + imgs + "\n" + diffs + "\n\n";
-  json goal = {{"target", kAutoSpeedGoal}};
+  json goal = {{"target", kAutoSpeedGoal}, {"memory_target", kAutoMemoryGoal}};
   for (const auto& [v, scenes] : by_verdict) goal[doc::goal_word(v)] = scenes;
-  summary["plan"] = {{"scenes", rows}, {"copies", copies_json}, {"auto_speed_goal", goal}};
+  summary["plan"] = {{"scenes", rows}, {"copies", copies_json}, {"auto_speed_goal", goal}, {"spawn_check", spawn_check}};
   return md;
 }
 

@@ -7,6 +7,9 @@
 //   ball_ground     a ball of radius 2 resting on a square floor, a second smaller ball, one light
 //                   to the side (a small scene at the origin: it needs nothing special)
 //   ball_ground_far the same moved 6.4e6 along x (x = 6400000.3 ...)
+//   kinds_ground    ball_ground with one primitive of each other kind on its floor: a cylinder, a
+//                   cone, a closed triangle mesh (an icosphere of 320 triangles) and a torus; its far
+//                   and scaled copies test every kind's plan at once
 //   planet          the balls on a planet of radius 6.4e6 (the floor is the planet), the camera a
 //                   few units above its surface
 //   mesh_spheres    a closed triangle mesh (an icosphere of 1,280 triangles), spheres and a floor
@@ -122,6 +125,19 @@ Scene ball_ground_scene(const Vec3d& at, const std::string& name) {
   PrecisionBuilder b(name);
   b.floor(at, 30.3, b.material({0.8f, 0.8f, 0.8f}, 0.8f, 0, 0, 1.0f, {0.35f, 0.35f, 0.4f}));
   put_balls(b, at);
+  return std::move(b.s);
+}
+
+Scene kinds_ground_scene() {
+  PrecisionBuilder b("precision:kinds_ground");
+  const Vec3d at{0, 0.5, 0};
+  b.floor(at, 30.3, b.material({0.8f, 0.8f, 0.8f}, 0.8f, 0, 0, 1.0f, {0.35f, 0.35f, 0.4f}));
+  put_balls(b, at);
+  const auto teal = b.material({0.2f, 0.65f, 0.6f}, 0.7f, 0.3f, 30), gold = b.material({0.9f, 0.7f, 0.2f}, 0.7f, 0.3f, 40);
+  b.s.cones.push_back({at + Vec3d{-3.1, 0, -3.3}, 0.6, at + Vec3d{-3.1, 3.1, -3.3}, 0.6, teal});   // a cylinder standing
+  b.s.cones.push_back({at + Vec3d{-1.9, 0, 2.3}, 0.7, at + Vec3d{-1.6, 1.7, 2.2}, 0.15, gold});    // a cone frustum, tilted
+  b.icosphere(at + Vec3d{4.3, 1.1, -2.9}, 1.1, 2, teal);
+  b.s.tori.push_back({at + Vec3d{-0.6, 0.45, 3.7}, {0.05, 1.0, 0.1}, 0.9, 0.3, gold});            // a ring lying on the floor
   return std::move(b.s);
 }
 
@@ -287,7 +303,7 @@ Scene pipes_scene() {
 }  // namespace
 
 std::vector<std::string> precision_scene_names() {
-  return {"ball_ground", "ball_ground_far", "planet", "mesh_spheres", "mesh_spheres_1e3", "mesh_spheres_1e5", "mesh_spheres_1e7",
+  return {"ball_ground", "ball_ground_far", "kinds_ground", "planet", "mesh_spheres", "mesh_spheres_1e3", "mesh_spheres_1e5", "mesh_spheres_1e7",
           "far_spheres", "thin_torus", "far_cylinders", "mixed_scales", "scanned", "scanned_double", "scattered", "pipes"};
 }
 
@@ -296,6 +312,7 @@ Scene precision_scene(const std::string& name) {
   // parity.
   if (name == "ball_ground") return ball_ground_scene({0, 0.5, 0}, "precision:ball_ground");
   if (name == "ball_ground_far") return ball_ground_scene({6400000.3, 0.5, 0}, "precision:ball_ground_far");
+  if (name == "kinds_ground") return kinds_ground_scene();
   if (name == "planet") return planet_scene();
   if (name == "mesh_spheres") return mesh_spheres_scene(0, "precision:mesh_spheres");
   for (int e : {3, 5, 7})

@@ -436,21 +436,25 @@ double differing(const std::vector<std::uint8_t>& a, const std::vector<std::uint
   return double(bad) / double(a.size() / 3);
 }
 
+// Both scenes: the balls on a floor, and the same with a cylinder, a cone, a triangle mesh and a
+// torus beside them (every kind's plan moved and scaled at once).
 TEST(PlanInvariance, AutoRendersAFarOrScaledCopyLikeTheOriginal) {
-  const scene::Scene s = scene::precision_scene("ball_ground");
-  const auto ref = render(s, Model::automatic);
-  // The ball's shadow is on the floor: some floor pixels are much darker than the lit floor.
-  std::size_t dark = 0;
-  for (std::size_t p = 0; p < ref.size() / 3; ++p) dark += ref[3 * p] < 40 && ref[3 * p + 1] < 40 && ref[3 * p + 2] < 50;
-  EXPECT_GT(dark, 20u);
-  // Offsets of an even number of checker cells per axis keep the floor's parity.
-  for (double off : {1e3, 1e5, 1e7}) {
-    const auto img = render(scene::translated(s, {off, -off * 2, off * 4}), Model::automatic);
-    EXPECT_LT(differing(img, ref), 0.01) << "moved by " << off;
-  }
-  for (double k : {1e-3, 1e4}) {
-    const auto img = render(scene::scaled(s, k), Model::automatic);
-    EXPECT_LT(differing(img, ref), 0.01) << "scaled by " << k;
+  for (const char* name : {"ball_ground", "kinds_ground"}) {
+    const scene::Scene s = scene::precision_scene(name);
+    const auto ref = render(s, Model::automatic);
+    // The ball's shadow is on the floor: some floor pixels are much darker than the lit floor.
+    std::size_t dark = 0;
+    for (std::size_t p = 0; p < ref.size() / 3; ++p) dark += ref[3 * p] < 40 && ref[3 * p + 1] < 40 && ref[3 * p + 2] < 50;
+    EXPECT_GT(dark, 20u) << name;
+    // Offsets of an even number of checker cells per axis keep the floor's parity.
+    for (double off : {1e3, 1e5, 1e7}) {
+      const auto img = render(scene::translated(s, {off, -off * 2, off * 4}), Model::automatic);
+      EXPECT_LT(differing(img, ref), 0.01) << name << " moved by " << off;
+    }
+    for (double k : {1e-3, 1e4}) {
+      const auto img = render(scene::scaled(s, k), Model::automatic);
+      EXPECT_LT(differing(img, ref), 0.01) << name << " scaled by " << k;
+    }
   }
 }
 
