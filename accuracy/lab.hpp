@@ -52,6 +52,8 @@ struct Row {
   std::vector<double> round_seconds;
   std::size_t false_hits = 0, false_misses = 0, leaks = 0, self_hits = 0, nans = 0, wrong_roots = 0;
   nlohmann::json json() const;
+  // A row back from json() (a report's record: `raybench report --from`). Throws on a missing key.
+  static Row from_json(const nlohmann::json& j);
   // The failure figure of the "where each method fails" table, in ppm: false hits + false misses
   // + self-hits + NaN + wrong roots; on closed meshes leaks + NaN + wrong (farther) hits.
   double failure_ppm() const;

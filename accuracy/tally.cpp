@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace rb::acc {
 
@@ -89,7 +90,30 @@ nlohmann::json Row::json() const {
           {"scaled_err_p99", v(scaled_err_p99)}, {"self_hit_ppm", v(self_hit_ppm)}, {"iterations", v(iterations)},
           {"ns_per_test", v(ns_per_test)}, {"failure_ppm", v(failure_ppm())}};
   if (!round_seconds.empty()) j["round_seconds"] = round_seconds;
+  j["counts"] = {{"false_hits", false_hits}, {"false_misses", false_misses}, {"leaks", leaks}, {"self_hits", self_hits}, {"nans", nans},
+                 {"wrong_roots", wrong_roots}};
   return j;
+}
+
+Row Row::from_json(const nlohmann::json& j) {
+  auto v = [&](const char* k) { return j.contains(k) && j[k].is_number() ? j[k].get<double>() : std::numeric_limits<double>::quiet_NaN(); };
+  Row r;
+  r.family = j.at("family").get<std::string>(), r.method = j.at("method").get<std::string>();
+  r.precision = j.at("precision").get<std::string>(), r.case_name = j.at("case").get<std::string>();
+  r.rays = j.value("rays", std::size_t(0)), r.tests = j.value("tests", std::size_t(0));
+  r.false_hit_ppm = v("false_hit_ppm"), r.false_miss_ppm = v("false_miss_ppm"), r.leak_ppm = v("leak_ppm");
+  r.multi_hit_ppm = v("multi_hit_ppm"), r.nan_ppm = v("nan_ppm"), r.wrong_root_ppm = v("wrong_root_ppm");
+  r.t_err_ulp_p50 = v("t_err_ulp_p50"), r.t_err_ulp_p99 = v("t_err_ulp_p99"), r.t_err_ulp_max = v("t_err_ulp_max");
+  r.scaled_err_p99 = v("scaled_err_p99"), r.self_hit_ppm = v("self_hit_ppm"), r.iterations = v("iterations");
+  r.ns_per_test = v("ns_per_test");
+  if (j.contains("round_seconds")) r.round_seconds = j["round_seconds"].get<std::vector<double>>();
+  if (j.contains("counts")) {
+    const nlohmann::json& c = j["counts"];
+    r.false_hits = c.value("false_hits", std::size_t(0)), r.false_misses = c.value("false_misses", std::size_t(0));
+    r.leaks = c.value("leaks", std::size_t(0)), r.self_hits = c.value("self_hits", std::size_t(0));
+    r.nans = c.value("nans", std::size_t(0)), r.wrong_roots = c.value("wrong_roots", std::size_t(0));
+  }
+  return r;
 }
 
 double Row::failure_ppm() const {

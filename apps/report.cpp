@@ -7,6 +7,7 @@
 #include "apps/paths.hpp"
 #include "apps/progress.hpp"
 #include "apps/report_doc.hpp"
+#include "apps/report_record.hpp"
 #include "apps/report_sections.hpp"
 #include "bench/ops_table.hpp"
 
@@ -111,11 +112,28 @@ std::string pgo_section(const fs::path& out) {
 
 }  // namespace
 
-int run_report(const ReportOptions& o) {
+int run_report(const ReportOptions& opts) {
   const Clock clock;
+  // Measuring, or replaying a folder's record (--from): then the options are the record's.
+  Record rec;
+  ReportOptions o = opts;
+  if (!opts.from.empty()) {
+    o.out = opts.from;
+    try {
+      rec = Record::replaying((fs::path(opts.from) / kRecordFile).string());
+    } catch (const std::exception& e) {
+      std::cerr << error_line("report", "", e.what()) << "\n";
+      return kExitError;
+    }
+  }
+  const json kept_options = rec.take("options", [&] {
+    return json{{"quick", o.quick}, {"repetitions", o.repetitions}, {"min_time", o.min_time}, {"filter", o.filter}};
+  });
+  o.quick = kept_options["quick"], o.repetitions = kept_options["repetitions"], o.min_time = kept_options["min_time"];
+  o.filter = kept_options["filter"];
   const fs::path out = o.out;
   // Nothing to do is found before the work starts: a --filter that selects no benchmark.
-  if (benchmark_names(o.filter).empty()) {
+  if (!rec.replay() && benchmark_names(o.filter).empty()) {
     std::cerr << error_line("report", "", fmt::format("--filter '{}' selects no benchmark (raybench bench --list shows them)", o.filter))
               << "\n";
     return kExitNothing;
@@ -125,22 +143,25 @@ int run_report(const ReportOptions& o) {
   constexpr int kStages = 9;
   int stage = 0;
   auto next_stage = [&](const std::string& what) {
-    std::cerr << fmt::format("[report {}/{}, {}] {}\n", ++stage, kStages, format_duration(clock.s()), what);
+    std::cerr << fmt::format("[report {}/{}, {}] {}{}\n", ++stage, kStages, format_duration(clock.s()), rec.replay() ? "(from the record) " : "", what);
     return fmt::format("[report {}/{}]", stage, kStages);
   };
-  const Machine m = machine();
+  const json m = rec.take("machine", [] {
+    const Machine here = machine();
+    return json{{"json", here.json()}, {"markdown", here.markdown()}};
+  });
   json summary;
-  summary["machine"] = m.json();
+  summary["machine"] = m["json"];
   std::string md = "# raybench report\n\n";
   if (o.quick)
     md += "**Quick mode** (`--quick`): few repetitions, few rays and small images, to check the report's layout; its figures "
           "are not the ones to quote.\n\n";
   md += "Produced by `raybench report` on the embedded default scenes; every figure below was measured in this run. "
         "Speeds are medians over " + std::to_string(o.repetitions) + " repetitions, ratios are taken within this run.\n\n";
-  md += "## Machine and build\n\n" + m.markdown() + "\n";
+  md += "## Machine and build\n\n" + m["markdown"].get<std::string>() + "\n";
 
   next_stage("operations per intersection (Counted<float>, Counted<simd8>)");
-  const auto rows = rb::opstable::build();
+  const auto rows = rb::opstable::from_json(rec.take("ops", [] { return rb::opstable::to_json(rb::opstable::build()); }));
   write_file(out / "ops.json", rb::opstable::to_json(rows).dump(2));
   md += "## 1. Operations per intersection\n\n"
         "Lecture counts (seed 000) beside the counts measured by running each kernel with `Counted<float>` on one ray that hits "
@@ -151,36 +172,41 @@ int run_report(const ReportOptions& o) {
 
   const std::string bench_label = next_stage(fmt::format("scalar vs SIMD benchmarks ({} repetitions x {} s each)", o.repetitions, o.min_time));
   const fs::path bj = out / "bench.json";
-  BenchOptions bo;
-  bo.repetitions = o.repetitions;
-  bo.min_time = o.min_time;
-  bo.filter = o.filter;
-  bo.every_repetition = true;  // every repetition kept: `raybench compare` tests two reports' repetitions
-  bo.what = bench_label + " benchmarks";
-  bo.command = "report";
-  json bench;
-  if (const int rc = run_benchmarks(bo, bench); rc != 0) return rc;
+  int bench_rc = 0;
+  json bench = rec.take("bench", [&] {
+    BenchOptions bo;
+    bo.repetitions = o.repetitions;
+    bo.min_time = o.min_time;
+    bo.filter = o.filter;
+    bo.every_repetition = true;  // every repetition kept: `raybench compare` tests two reports' repetitions
+    bo.what = bench_label + " benchmarks";
+    bo.command = "report";
+    json doc;
+    bench_rc = run_benchmarks(bo, doc);
+    return doc;
+  });
+  if (bench_rc != 0) return bench_rc;
   bench["machine"] = summary["machine"];  // bench.json is a result of its own: the block every result carries
   write_file(bj, bench.dump(2));
   std::vector<doc::Goal> goals;
   md += report_section_simd(bench, summary, goals);
 
   next_stage("scenes: load and generation times, memory");
-  md += report_section_scenes(o, out, summary);
+  md += report_section_scenes(o, rec, out, summary);
 
   next_stage("tracing whole scenes (raybench BVH beside Embree)");
-  md += report_section_tracing(o, out, summary);
+  md += report_section_tracing(o, rec, out, summary);
   next_stage("rendering: SPD, lecture and CSG scenes");
-  md += report_section_render(o, out, summary);
+  md += report_section_render(o, rec, out, summary);
 
   next_stage("accuracy lab");
-  md += report_section_accuracy(o, out, summary);
+  md += report_section_accuracy(o, rec, out, summary);
 
-  next_stage("what each scene needs: plans, their cost and failures");
-  md += report_section_plan(o, out, summary);
+  next_stage("what each scene needs: plans, their cost and their failures");
+  md += report_section_plan(o, rec, out, summary);
 
   next_stage("CSG queries, scalar against 8-ray packets");
-  md += report_section_csg(o, out, summary);
+  md += report_section_csg(o, rec, out, summary, rows);
 
   md += pgo_section(out);
 
@@ -191,6 +217,7 @@ int run_report(const ReportOptions& o) {
   for (const auto& g : all_goals)
     summary["goals"].push_back({{"section", g.section}, {"goal", g.goal}, {"measured", g.measured}, {"verdict", doc::goal_word(g.met)}});
   write_file(out / "summary.json", summary.dump(2));
+
   if (o.charts && !readable_back((out / "summary.json").string())) {
     md += "_Charts were not drawn: summary.json, which they read, is not a regular file._\n\n";
   } else if (o.charts) {
@@ -198,7 +225,11 @@ int run_report(const ReportOptions& o) {
     const int rc = run_command(cmd);
     if (rc != 0) md += "_Charts were not drawn: `" + cmd + "` failed (is python3-matplotlib installed?)._\n\n";
   }
-  md += fmt::format("---\n\nReport written in {:.0f} s by `raybench report --out {}{}`.\n", clock.s(), o.out, o.quick ? " --quick" : "");
+  const double seconds = rec.take("seconds", [&] { return json(clock.s()); });
+  // What was measured, for `raybench report --from` (a replay keeps the record it read).
+  if (!rec.replay()) write_file(out / kRecordFile, rec.document().dump(1) + "\n");
+  md += fmt::format("---\n\nReport measured in {:.0f} s by `raybench report --out {}{}`.\n", seconds, o.out, o.quick ? " --quick" : "");
+  if (rec.replay()) md += fmt::format("Written again from its record ({}) by `raybench report --from {}`.\n", kRecordFile, o.out);
   // One model, two pages: index.md and the self-contained index.html beside it.
   doc::Document page = doc::parse_markdown(md);
   doc::organise(page, all_goals, out);

@@ -22,9 +22,15 @@ struct ReportOptions {
   // A small report in about a minute (few repetitions, few rays, small images, fewer scenes): to
   // check the report's layout and links, not to quote its figures.
   bool quick = false;
+  // --from DIR: write DIR's document again from its record (DIR/measured.json) without measuring;
+  // the options above are then the record's.
+  std::string from;
   bool json = false;            // --json: the summary JSON also to json_file ("" or "-": stdout)
   std::string json_file;
 };
+
+// The record of everything a report measured, in its folder (apps/report_record.hpp).
+inline constexpr const char* kRecordFile = "measured.json";
 
 int run_report(const ReportOptions& o);
 

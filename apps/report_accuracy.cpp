@@ -8,6 +8,7 @@
 #include "apps/accuracy_run.hpp"
 #include "apps/paths.hpp"
 #include "apps/report.hpp"
+#include "apps/report_record.hpp"
 #include "apps/report_sections.hpp"
 
 #include <fmt/format.h>
@@ -208,12 +209,18 @@ json spawn_evidence(const std::vector<Row>& rows) {
 
 }  // namespace
 
-std::string report_section_accuracy(const ReportOptions& o, const fs::path& out, json& summary) {
+std::string report_section_accuracy(const ReportOptions& o, Record& rec, const fs::path& out, json& summary) {
   acc::Options ao;
   if (o.quick) ao.rays = 200, ao.real_meshes = false;  // the layout only: the real meshes' references take the longest
-  const auto t0 = std::chrono::steady_clock::now();
-  const std::vector<Row> rows = run_accuracy(ao, "[report] accuracy lab");
-  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const json kept = rec.take("accuracy", [&] {
+    const auto t0 = std::chrono::steady_clock::now();
+    json rj = json::array();
+    for (const Row& r : run_accuracy(ao, "[report] accuracy lab")) rj.push_back(r.json());
+    return json{{"rows", rj}, {"seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()}};
+  });
+  std::vector<Row> rows;
+  for (const auto& r : kept["rows"]) rows.push_back(Row::from_json(r));
+  const double secs = kept["seconds"].get<double>();
   write_output((out / "accuracy.json").string(), accuracy_json(ao, rows).dump(1) + "\n");
   std::string md = "## Accuracy and stability\n\n";
   md += fmt::format(

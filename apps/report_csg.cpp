@@ -9,6 +9,7 @@
 #include "apps/machine.hpp"
 #include "apps/progress.hpp"
 #include "apps/report.hpp"
+#include "apps/report_record.hpp"
 #include "apps/report_sections.hpp"
 #include "bench/ops_table.hpp"
 #include "scene/csg.hpp"
@@ -188,14 +189,17 @@ std::string csg_markdown(const json& speed, const std::vector<opstable::Row>& ro
   return md;
 }
 
-std::string report_section_csg(const ReportOptions& o, const std::filesystem::path& out, json& summary) {
-  const auto rows = opstable::build();
-  ProgressBar bar("  CSG scenes");
-  const json speed = measure_csg_speed(o.quick ? 1 : std::max(3, o.repetitions), o.quick ? 1 << 11 : 1 << 15, &bar);
-  bar.done();
+std::string report_section_csg(const ReportOptions& o, Record& rec, const std::filesystem::path& out, json& summary,
+                               const std::vector<opstable::Row>& ops) {
+  const json speed = rec.take("csg", [&] {
+    ProgressBar bar("  CSG scenes");
+    json j = measure_csg_speed(o.quick ? 1 : std::max(3, o.repetitions), o.quick ? 1 << 11 : 1 << 15, &bar);
+    bar.done();
+    return j;
+  });
   write_output((out / "csg.json").string(), speed.dump(2) + "\n");
   summary["csg"] = speed;
-  return csg_markdown(speed, rows);
+  return csg_markdown(speed, ops);
 }
 
 namespace {

@@ -7,6 +7,7 @@
 #include "accuracy/lab.hpp"
 #include "apps/paths.hpp"
 #include "apps/report.hpp"
+#include "apps/report_record.hpp"
 #include "apps/report_doc.hpp"
 #include "apps/report_sections.hpp"
 #include "apps/stats.hpp"
@@ -79,7 +80,7 @@ double plan_differing(const std::vector<std::uint8_t>& a, const std::vector<std:
 
 }  // namespace
 
-std::string report_section_plan(const ReportOptions& o, const fs::path& out, json& summary) {
+std::string report_section_plan(const ReportOptions& o, Record& rec, const fs::path& out, json& summary) {
   std::string md = "## What each scene needs: the plan, its cost and its failures\n\n";
   md += "Model no more than a scene needs. Before tracing, raybench reads the scene's numerical profile (per primitive kind: the "
         "float step at its coordinates against its sizes, how far away it is seen, how large it is against the smallest object) "
@@ -132,23 +133,35 @@ std::string report_section_plan(const ReportOptions& o, const fs::path& out, jso
   json spawn_check;
   for (const auto& src : srcs) {
     std::cerr << fmt::format("[report plan {}/{}] {}\n", ++step, srcs.size(), src.label);
-    const scene::Scene s = src.make();
-    const tracer::Plan plan = tracer::make_plan(s, tracer::Model::automatic);
-    const auto r = acc::whole_scene_rows(s, src.label, s.name, o.quick ? src.rays / 16 : src.rays, true, 1);
+    // The scene's plan, its models' rows against the reference, and their memory.
+    const json kept = rec.take("plan/" + src.label, [&] {
+      const scene::Scene s = src.make();
+      const tracer::Plan plan = tracer::make_plan(s, tracer::Model::automatic);
+      json rj = json::array();
+      for (const acc::Row& x : acc::whole_scene_rows(s, src.label, s.name, o.quick ? src.rays / 16 : src.rays, true, 1)) rj.push_back(x.json());
+      // The memory each model's tree and batches take (tracer/accel.hpp), per primitive.
+      auto bytes = [&](tracer::Model m) -> json {
+        return double(tracer::SceneAccel::build(s, tracer::make_plan(s, m)).bytes()) / double(std::max<std::size_t>(1, s.primitive_count()));
+      };
+      // Two more builds per scene: left out of --quick (the layout only).
+      return json{{"primitives", s.primitive_count()},  {"triangles", s.triangles.size()}, {"frame", tracer::frame_name(plan.frame)},
+                  {"kinds", plan_kinds_text(plan)},     {"plan", plan.json()},              {"rows", rj},
+                  {"bytes_fast", o.quick ? json(nullptr) : bytes(tracer::Model::fast)},
+                  {"bytes_auto", o.quick ? json(nullptr) : bytes(tracer::Model::automatic)}};
+    });
+    std::vector<acc::Row> r;
+    for (const auto& x : kept["rows"]) r.push_back(acc::Row::from_json(x));
+    const std::size_t primitives = kept["primitives"].get<std::size_t>();
     auto speed = [](const acc::Row& x) { return 1e3 / x.ns_per_test; };
-    // The memory each model's tree and batches take (tracer/accel.hpp), per primitive.
-    auto bytes = [&](tracer::Model m) {
-      return double(tracer::SceneAccel::build(s, tracer::make_plan(s, m)).bytes()) / double(std::max<std::size_t>(1, s.primitive_count()));
-    };
-    // Two more builds per scene: left out of --quick (the layout only).
-    const double bytes_fast = o.quick ? double(NAN) : bytes(tracer::Model::fast), bytes_auto = o.quick ? double(NAN) : bytes(tracer::Model::automatic);
+    auto number = [](const json& x) { return x.is_number() ? x.get<double>() : double(NAN); };
+    const double bytes_fast = number(kept["bytes_fast"]), bytes_auto = number(kept["bytes_auto"]);
     const auto b1 = [](double x) { return std::isfinite(x) ? fmt::format("{:.1f}", x) : std::string("-"); };
     // auto / fast round by round: fast's seconds over auto's.
     const stats::RatioInterval auto_fast = stats::paired_ratio(r[0].round_seconds, r[1].round_seconds);
     // The goal is the mesh's (every primitive a triangle): a scan's slivers must not cost its speed or
     // memory. On scenes of a few analytic primitives auto's robust methods are its answer, not a cost
     // of looking.
-    const bool mesh = s.triangles.size() == s.primitive_count() && s.primitive_count() > 0;
+    const bool mesh = kept["triangles"].get<std::size_t>() == primitives && primitives > 0;
     if (mesh && r[0].failure_ppm() == 0) {
       stats::Verdict v = stats::verdict(auto_fast, kAutoSpeedGoal);
       const bool heavier = std::isfinite(bytes_auto) && bytes_auto > kAutoMemoryGoal * bytes_fast;
@@ -160,10 +173,10 @@ std::string report_section_plan(const ReportOptions& o, const fs::path& out, jso
                      (heavier ? " (memory above the goal)" : ""));
     }
     md += fmt::format("| {} | {} | {} | {} | {:.2f} / {:.2f} / {:.2f} | {} | {} / {} | {} / {} / {} |\n", src.label,
-                      s.primitive_count(), tracer::frame_name(plan.frame), plan_kinds_text(plan), speed(r[0]), speed(r[1]), speed(r[2]),
+                      primitives, kept["frame"].get<std::string>(), kept["kinds"].get<std::string>(), speed(r[0]), speed(r[1]), speed(r[2]),
                       stats::interval_text(auto_fast), b1(bytes_fast), b1(bytes_auto), plan_ppm(r[0].failure_ppm()), plan_ppm(r[1].failure_ppm()),
                       plan_ppm(r[2].failure_ppm()));
-    json j{{"scene", src.label}, {"primitives", s.primitive_count()}, {"plan", plan.json()}, {"auto_vs_fast", stats::interval_json(auto_fast)}};
+    json j{{"scene", src.label}, {"primitives", primitives}, {"plan", kept["plan"]}, {"auto_vs_fast", stats::interval_json(auto_fast)}};
     if (r.size() > 3) {
       const stats::RatioInterval local_double = stats::paired_ratio(r[3].round_seconds, r[1].round_seconds);
       j["apart_local_vs_double"] = stats::interval_json(local_double);
@@ -234,40 +247,45 @@ std::string report_section_plan(const ReportOptions& o, const fs::path& out, jso
 
   // A far and a scaled copy rendered beside the original.
   std::cerr << "[report plan] far and scaled copies\n";
-  const scene::Scene base = scene::precision_scene("kinds_ground");
   const int size = o.quick ? 64 : 160;
-  const auto ref = plan_render_rgb(base, tracer::Model::automatic, size);
-  struct Copy {
-    std::string label, file;
-    scene::Scene s;
-    tracer::Model m;
-  };
-  std::vector<Copy> copies = {
-      {"auto, at the origin", "plan_copy_origin.png", base, tracer::Model::automatic},
-      {"auto, moved by (1e3, -2e3, 4e3)", "plan_copy_1e3.png", scene::translated(base, {1e3, -2e3, 4e3}), tracer::Model::automatic},
-      {"auto, moved by (1e7, -2e7, 4e7)", "plan_copy_1e7.png", scene::translated(base, {1e7, -2e7, 4e7}), tracer::Model::automatic},
-      {"auto, scaled by 1e-3", "plan_copy_small.png", scene::scaled(base, 1e-3), tracer::Model::automatic},
-      {"auto, scaled by 1e4", "plan_copy_large.png", scene::scaled(base, 1e4), tracer::Model::automatic},
-      {"fast, moved by (6.4e6, 0, 0)", "plan_copy_fast_far.png", scene::translated(base, {6.4e6, 0, 0}), tracer::Model::fast},
-  };
-  md += "The same scene (`precision:kinds_ground`: a ball resting on a floor, a smaller ball, a cylinder, a cone, a mesh and a torus, "
-        "one light) moved far from the origin "
-        "and scaled, each copy built in double and rendered at 160 x 160; below each image the share of pixels that differ from "
-        "the original by more than 4/255 in a channel. The last copy is the fast model 6.4e6 away: the float step there is half "
-        "a unit and its spawn offset 64 units.\n\n";
+  // Each copy rendered (its image written) and compared with the original: {copy, image, differing_pixels}.
+  const json copies_json = rec.take("plan/copies", [&] {
+    const scene::Scene base = scene::precision_scene("kinds_ground");
+    const auto ref = plan_render_rgb(base, tracer::Model::automatic, size);
+    struct Copy {
+      std::string label, file;
+      scene::Scene s;
+      tracer::Model m;
+    };
+    const std::vector<Copy> copies = {
+        {"auto, at the origin", "plan_copy_origin.png", base, tracer::Model::automatic},
+        {"auto, moved by (1e3, -2e3, 4e3)", "plan_copy_1e3.png", scene::translated(base, {1e3, -2e3, 4e3}), tracer::Model::automatic},
+        {"auto, moved by (1e7, -2e7, 4e7)", "plan_copy_1e7.png", scene::translated(base, {1e7, -2e7, 4e7}), tracer::Model::automatic},
+        {"auto, scaled by 1e-3", "plan_copy_small.png", scene::scaled(base, 1e-3), tracer::Model::automatic},
+        {"auto, scaled by 1e4", "plan_copy_large.png", scene::scaled(base, 1e4), tracer::Model::automatic},
+        {"fast, moved by (6.4e6, 0, 0)", "plan_copy_fast_far.png", scene::translated(base, {6.4e6, 0, 0}), tracer::Model::fast},
+    };
+    json cj = json::array();
+    for (const auto& c : copies) {
+      const auto img = c.label.rfind("auto, at", 0) == 0 ? ref : plan_render_rgb(c.s, c.m, size);
+      std::vector<float> f(img.size());
+      for (std::size_t i = 0; i < img.size(); ++i) f[i] = float(img[i]) / 255.0f;
+      render::write_png((out / c.file).string(), size, size, f);
+      cj.push_back({{"copy", c.label}, {"image", c.file}, {"differing_pixels", plan_differing(img, ref)}});
+    }
+    return cj;
+  });
+  md += fmt::format("The same scene (`precision:kinds_ground`: a ball resting on a floor, a smaller ball, a cylinder, a cone, a mesh and a "
+                    "torus, one light) moved far from the origin and scaled, each copy built in double and rendered at {} x {}; below "
+                    "each image the share of pixels that differ from the original by more than 4/255 in a channel. The last copy is "
+                    "the fast model 6.4e6 away: the float step there is half a unit and its spawn offset 64 units.\n\n", size, size);
   std::string head = "|", sep = "|", imgs = "|", diffs = "|";
-  json copies_json = json::array();
-  for (const auto& c : copies) {
-    const auto img = c.label.rfind("auto, at", 0) == 0 ? ref : plan_render_rgb(c.s, c.m, size);
-    std::vector<float> f(img.size());
-    for (std::size_t i = 0; i < img.size(); ++i) f[i] = float(img[i]) / 255.0f;
-    render::write_png((out / c.file).string(), size, size, f);
-    const double d = plan_differing(img, ref);
-    head += " " + c.label + " |";
+  for (const auto& c : copies_json) {
+    const std::string label = c["copy"].get<std::string>(), file = c["image"].get<std::string>();
+    head += " " + label + " |";
     sep += "---|";
-    imgs += fmt::format(" ![{}]({}) |", c.label, c.file);
-    diffs += fmt::format(" {:.2f} % |", 100 * d);
-    copies_json.push_back({{"copy", c.label}, {"image", c.file}, {"differing_pixels", d}});
+    imgs += fmt::format(" ![{}]({}) |", label, file);
+    diffs += fmt::format(" {:.2f} % |", 100 * c["differing_pixels"].get<double>());
   }
   md += head + "\n" + sep + "\n" + imgs + "\n" + diffs + "\n\n";
   json goal = {{"target", kAutoSpeedGoal}, {"memory_target", kAutoMemoryGoal}};

@@ -3,6 +3,7 @@
 // split, Mrays/s and the ratio to primary-ray tracing throughput on the same scene and threads.
 #include "apps/render_run.hpp"
 #include "apps/report.hpp"
+#include "apps/report_record.hpp"
 #include "apps/report_sections.hpp"
 #include "apps/trace_run.hpp"
 #include "scene/csg.hpp"
@@ -53,7 +54,7 @@ std::uint64_t poly_like(const json& j) {
 
 }  // namespace
 
-std::string report_section_render(const ReportOptions& o, const fs::path& out, json& summary) {
+std::string report_section_render(const ReportOptions& o, Record& rec, const fs::path& out, json& summary) {
   const int threads = 2;
   const int size = o.quick ? 128 : 512;
   std::string md = "## Rendering: the recursive ray tracer\n\n";
@@ -77,8 +78,8 @@ std::string report_section_render(const ReportOptions& o, const fs::path& out, j
   const auto names = scene::spd_names();
   std::size_t step = 0;
   const std::size_t total = names.size() + 1 + scene::lecture_scene_names().size() + scene::csg_scene_names().size();
-  auto render_one = [&](const std::string& src, bool spd, const std::string& png) {
-    std::cerr << fmt::format("[report render {}/{}] {}\n", ++step, total, src);
+  // A render and the primary-ray trace of the same scene, measured (writing its image) or replayed.
+  auto measure_one = [&](const std::string& src, bool spd, const std::string& png) {
     RenderRunOptions ro;
     ro.scene = src;
     ro.out = (out / png).string();
@@ -104,6 +105,11 @@ std::string report_section_render(const ReportOptions& o, const fs::path& out, j
     const json tj = run_trace(t, false);
     j["trace_primary_mrays_per_s"] = tj["mrays_per_s"];
     j["png"] = png;
+    return j;
+  };
+  auto render_one = [&](const std::string& src, bool spd, const std::string& png) {
+    std::cerr << fmt::format("[report render {}/{}] {}\n", ++step, total, src);
+    json j = rec.take("render/" + src, [&] { return measure_one(src, spd, png); });
     rows.push_back(j);
     return j;
   };

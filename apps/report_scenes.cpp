@@ -3,6 +3,7 @@
 #include "core/output_file.hpp"
 #include "apps/paths.hpp"
 #include "apps/report.hpp"
+#include "apps/report_record.hpp"
 #include "apps/report_sections.hpp"
 #include "apps/scene_info.hpp"
 #include "scene/sources.hpp"
@@ -77,9 +78,8 @@ void write_grid_ply(const fs::path& p, std::uint32_t nx, std::uint32_t ny) {
   if (!f) throw std::runtime_error("cannot write " + p.string());
 }
 
-}  // namespace
-
-std::string report_section_scenes(const ReportOptions&, const fs::path& out, json& summary) {
+// Loads and generates every embedded scene: {"loads", "scenes", "pending"}.
+json measure_scenes(const fs::path& out) {
   std::vector<Timed> done;
   std::vector<std::string> pending;
   // Embedded meshes.
@@ -141,7 +141,16 @@ std::string report_section_scenes(const ReportOptions&, const fs::path& out, jso
     rows.push_back(t.row);
     infos.push_back(t.info);
   }
-  const json doc = {{"loads", rows}, {"scenes", infos}, {"pending", pending}};
+  return {{"loads", rows}, {"scenes", infos}, {"pending", pending}};
+}
+
+}  // namespace
+
+std::string report_section_scenes(const ReportOptions&, Record& rec, const fs::path& out, json& summary) {
+  const json doc = rec.take("scenes", [&] { return measure_scenes(out); });
+  const json& rows = doc["loads"];
+  const json& infos = doc["scenes"];
+  const std::vector<std::string> pending = doc["pending"].get<std::vector<std::string>>();
   write_output((out / "scenes.json").string(), doc.dump(2) + "\n");
   summary["scenes"] = rows;
 

@@ -1,5 +1,6 @@
-// Report sections contributed by other parts of the engine. Each returns markdown (with a
-// heading of level 2) and adds its figures to `summary` (written as report/summary.json);
+// Report sections contributed by other parts of the engine. Each takes every figure it prints from
+// a measurement of the record `rec` (measured now, or replayed by `report --from`), returns markdown
+// (with a heading of level 2) and adds its figures to `summary` (written as report/summary.json);
 // `out` is the report folder for any JSON or PNG the section writes.
 #pragma once
 
@@ -9,20 +10,26 @@
 #include <string>
 #include <vector>
 
+namespace rb::opstable {
+struct Row;
+}
 namespace rb::app {
 namespace doc {
 struct Goal;
 }
 struct ReportOptions;
+class Record;
 // Section "Scalar against SIMD" from the kernel benchmarks' document (apps/bench_run.cpp): adds
 // its goals (the speed goals and the 4x target) to `goals`.  // report_simd.cpp
 std::string report_section_simd(const nlohmann::json& bench, nlohmann::json& summary, std::vector<doc::Goal>& goals);
 // The speedup of the better of the two SIMD mappings in one row of summary["simd_vs_scalar"].
 double better_mapping(const nlohmann::json& row);  // report_simd.cpp
-std::string report_section_tracing(const ReportOptions& o, const std::filesystem::path& out, nlohmann::json& summary);  // report_trace.cpp
-std::string report_section_scenes(const ReportOptions& o, const std::filesystem::path& out, nlohmann::json& summary);  // report_scenes.cpp
-std::string report_section_render(const ReportOptions& o, const std::filesystem::path& out, nlohmann::json& summary);  // report_render.cpp
-std::string report_section_accuracy(const ReportOptions& o, const std::filesystem::path& out, nlohmann::json& summary);  // report_accuracy.cpp
-std::string report_section_plan(const ReportOptions& o, const std::filesystem::path& out, nlohmann::json& summary);  // report_plan.cpp
-std::string report_section_csg(const ReportOptions& o, const std::filesystem::path& out, nlohmann::json& summary);  // report_csg.cpp
+std::string report_section_tracing(const ReportOptions& o, Record& rec, const std::filesystem::path& out, nlohmann::json& summary);  // report_trace.cpp
+std::string report_section_scenes(const ReportOptions& o, Record& rec, const std::filesystem::path& out, nlohmann::json& summary);  // report_scenes.cpp
+std::string report_section_render(const ReportOptions& o, Record& rec, const std::filesystem::path& out, nlohmann::json& summary);  // report_render.cpp
+std::string report_section_accuracy(const ReportOptions& o, Record& rec, const std::filesystem::path& out, nlohmann::json& summary);  // report_accuracy.cpp
+std::string report_section_plan(const ReportOptions& o, Record& rec, const std::filesystem::path& out, nlohmann::json& summary);  // report_plan.cpp
+// (`ops`: the ops table's rows, for the CSG queries' counts.)
+std::string report_section_csg(const ReportOptions& o, Record& rec, const std::filesystem::path& out, nlohmann::json& summary,
+                               const std::vector<opstable::Row>& ops);  // report_csg.cpp
 }  // namespace rb::app

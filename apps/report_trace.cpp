@@ -3,6 +3,7 @@
 #include "core/output_file.hpp"
 #include "apps/paths.hpp"
 #include "apps/report.hpp"
+#include "apps/report_record.hpp"
 #include "apps/report_doc.hpp"
 #include "apps/report_sections.hpp"
 #include "apps/stats.hpp"
@@ -17,6 +18,7 @@
 #include <fstream>
 #include <functional>
 #include <iostream>
+#include <optional>
 
 namespace rb::app {
 
@@ -48,7 +50,7 @@ std::string vs_embree(const json& row) {
 
 }  // namespace
 
-std::string report_section_tracing(const ReportOptions& o, const fs::path& out, json& summary) {
+std::string report_section_tracing(const ReportOptions& o, Record& rec, const fs::path& out, json& summary) {
   const std::string data = data_dir() + "/meshes/";
   const std::size_t count = o.quick ? 1u << 12 : 1u << 18;
   // 7 rounds: from 6 the ratio to Embree has its 95 % interval (apps/stats.hpp).
@@ -98,24 +100,36 @@ std::string report_section_tracing(const ReportOptions& o, const fs::path& out, 
   json goal_rows = json::array();
   for (const auto& m : meshes) {
     std::cerr << "[report] tracing: " << m.label << "\n";
-    rb::scene::Scene s = m.make();
+    // The mesh and its session are made only when something is measured (not in a replay).
+    std::optional<rb::scene::Scene> scene;
+    std::optional<TraceSession> session;
+    auto mesh = [&]() -> rb::scene::Scene& {
+      if (!scene) scene.emplace(m.make());
+      return *scene;
+    };
+    auto sess = [&]() -> TraceSession& {
+      if (!session) session.emplace(std::move(mesh()), m.label, 2, true);
+      return *session;
+    };
     // Builds: medians of kBuildReps at one and two threads, both engines, after one untimed build
     // of each (the first build of a thread count also pays for starting its threads).
-    json bj = json::object();
-    json times = json::object();
-    for (int th : {1, 2}) {
-      const json t = time_builds(s, m.label, th, o.quick ? 1 : kBuildReps, !o.quick, true);
-      if (th == 1) bj = t["first"];
-      times[fmt::format("build_ms_{}t", th)] = t["build_ms"];
-      times[fmt::format("embree_build_ms_{}t", th)] = t["embree_build_ms"];
-      // Each build session builds both engines back to back: Embree's time over ours, paired.
-      const auto runs = [&](const char* k) { return t[k].get<std::vector<double>>(); };
-      times[fmt::format("embree_over_ours_{}t", th)] =
-          stats::interval_json(stats::paired_ratio(runs("embree_build_ms_runs"), runs("build_ms_runs")));
-    }
-    bj.update(times);
-    const std::size_t prims = s.triangles.size();
-    TraceSession sess(std::move(s), m.label, 2, true);
+    json bj = rec.take("tracing/" + m.label + "/builds", [&] {
+      json first = json::object(), times = json::object();
+      for (int th : {1, 2}) {
+        const json t = time_builds(mesh(), m.label, th, o.quick ? 1 : kBuildReps, !o.quick, true);
+        if (th == 1) first = t["first"];
+        times[fmt::format("build_ms_{}t", th)] = t["build_ms"];
+        times[fmt::format("embree_build_ms_{}t", th)] = t["embree_build_ms"];
+        // Each build session builds both engines back to back: Embree's time over ours, paired.
+        const auto runs = [&](const char* k) { return t[k].get<std::vector<double>>(); };
+        times[fmt::format("embree_over_ours_{}t", th)] =
+            stats::interval_json(stats::paired_ratio(runs("embree_build_ms_runs"), runs("build_ms_runs")));
+      }
+      first.update(times);
+      first["triangles"] = mesh().triangles.size();
+      return first;
+    });
+    const std::size_t prims = bj["triangles"].get<std::size_t>();
     md += fmt::format("#### {} ({} triangles)\n\n", m.label, prims);
     md += fmt::format("Build, median of {} after one untimed build: raybench {:.1f} ms at one thread, {:.1f} ms at two; Embree {} ms and {} ms "
                       "(raybench / Embree {} and {}; `raybench trace SCENE --threads 1 --builds 5` reproduces the one-thread figure). Memory: raybench "
@@ -145,7 +159,7 @@ std::string report_section_tracing(const ReportOptions& o, const fs::path& out, 
           t.count = count;
           t.repetitions = reps;
           t.brute_rays = 0;
-          json j = sess.run(t, true);
+          json j = rec.take(fmt::format("tracing/{}/{}/{}/{}t", m.label, set, packet, th), [&] { return sess().run(t, true); });
           j["mesh"] = m.label;
           mrows.push_back(j);
           rows.push_back(j);  // with the seconds of every run: `raybench compare` tests two reports' repetitions
@@ -286,8 +300,11 @@ std::string report_section_tracing(const ReportOptions& o, const fs::path& out, 
   std::cerr << "[report] tracing: Embree's tree through raybench's traversal\n";
   json trees = json::array();
   {
-    rb::scene::Scene s = rb::scene::load_scene(data + "stanford-bunny.obj");
-    TraceSession sess(std::move(s), "stanford-bunny.obj", 1, true, "auto", "embree");
+    std::optional<TraceSession> session;  // made only when something is measured
+    auto sess = [&]() -> TraceSession& {
+      if (!session) session.emplace(rb::scene::load_scene(data + "stanford-bunny.obj"), "stanford-bunny.obj", 1, true, "auto", "embree");
+      return *session;
+    };
     md += "### Tree against kernel: Embree's tree through raybench's traversal (bunny, one thread, packets of 8)\n\n"
           "Embree's own builder (`rtcBuildBVH`, medium quality, leaves of at most 8, SAH block 8, the same SAH costs) makes the "
           "binary tree; raybench collapses it to its 8-wide nodes as it does its own and traces it with the same traversal and "
@@ -303,7 +320,7 @@ std::string report_section_tracing(const ReportOptions& o, const fs::path& out, 
       t.repetitions = reps;
       t.brute_rays = 0;
       t.builder = "embree";
-      json j = sess.run(t, true);
+      json j = rec.take(fmt::format("tracing/embree_tree/{}", set), [&] { return sess().run(t, true); });
       const json& st = j["sah_tree"];
       md += fmt::format("| {} | {} | {} | {} | {:.2f}, {:.2f} | {:.1f}, {:.1f} | {:.1f}, {:.1f} |\n", set, f2(st["mrays_per_s"]),
                         f2(j["mrays_per_s"]), f2(j["embree_mrays_per_s"]), st["nodes_per_ray"].get<double>(), j["nodes_per_ray"].get<double>(),
@@ -327,13 +344,14 @@ std::string report_section_tracing(const ReportOptions& o, const fs::path& out, 
         "| scene | primitives | raybench ns/ray | Embree ns/ray | raybench build ms | Embree build ms | raybench B/prim | Embree B/prim | "
         "mismatch vs Embree |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const auto& src : srcs) {
-    rb::scene::Scene s = src.make();
-    TraceSession sess(std::move(s), src.label, 1, true);
-    TraceRunOptions t;
-    t.count = count;
-    t.repetitions = reps;
-    t.brute_rays = 0;
-    json j = sess.run(t, true);
+    const json j = rec.take("tracing/by_size/" + src.label, [&] {
+      TraceSession sess(src.make(), src.label, 1, true);
+      TraceRunOptions t;
+      t.count = count;
+      t.repetitions = reps;
+      t.brute_rays = 0;
+      return sess.run(t, true);
+    });
     const double ns = 1e3 / j["mrays_per_s"].get<double>();
     const json ens = j["embree_mrays_per_s"].is_null() ? json(nullptr) : json(1e3 / j["embree_mrays_per_s"].get<double>());
     md += fmt::format("| {} | {} | {:.1f} | {} | {:.1f} | {} | {:.1f} | {} | {} |\n", src.label, j["primitives"].get<std::size_t>(), ns,

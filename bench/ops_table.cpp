@@ -136,6 +136,30 @@ nlohmann::json to_json(const std::vector<Row>& rows) {
   return a;
 }
 
+std::vector<Row> from_json(const nlohmann::json& rows) {
+  auto counts = [](const nlohmann::json& j) {
+    OpCounts c;
+    c.add = j.at("add"), c.mul = j.at("mul"), c.div = j.at("div"), c.cmp = j.at("cmp"), c.sqrt = j.at("sqrt");
+    c.minmax = j.at("minmax"), c.select = j.at("select"), c.fma = j.at("fma");
+    return c;
+  };
+  std::vector<Row> out;
+  for (const auto& j : rows) {
+    Row r;
+    r.kernel = j.at("kernel"), r.method = j.at("method"), r.kase = j.at("case"), r.number = j.at("number");
+    if (!j.at("lecture").is_null()) {
+      const auto& l = j["lecture"];
+      r.lecture = Lecture{l.at("add"), l.at("mul"), l.at("div"), l.at("cmp"), l.at("sqrt")};
+    }
+    r.measured = counts(j.at("measured"));
+    if (j.contains("measured_uniform_packet")) r.uniform = counts(j["measured_uniform_packet"]);
+    r.note = j.at("note");
+    if (j.contains("iterations")) r.iterations = std::make_pair(j["iterations"].at("mean").get<double>(), j["iterations"].at("max").get<double>());
+    out.push_back(std::move(r));
+  }
+  return out;
+}
+
 std::string to_markdown(const std::vector<Row>& rows) {
   std::string s =
       "| kernel | method | case | lecture | measured float | diff | SIMD per lane (mixed packet) | SIMD, uniform packet | note |\n"

@@ -42,6 +42,8 @@ struct Diff {
 Diff diff(const Row& r);
 
 nlohmann::json to_json(const std::vector<Row>& rows);
+// The rows back from to_json (a report's record: `raybench report --from`); throws on a missing key.
+std::vector<Row> from_json(const nlohmann::json& rows);
 std::string to_markdown(const std::vector<Row>& rows);
 // The terminal table within 80 columns; `notes`: the reason for every difference under its row.
 std::string to_text(const std::vector<Row>& rows, bool notes = false);

@@ -150,3 +150,39 @@ TEST(CliInput, OpsAndCsgFilterTheirRows) {
 }
 
 }  // namespace
+
+namespace {
+
+// `report --from DIR` takes its figures, and so the options that chose them, from DIR's record: a
+// folder without one, a record that is not one, and options that would change what was measured are
+// refused with one line naming the folder or the file (a record of another format, or edited since:
+// its digest).
+TEST(CliInput, ReportFromTakesOnlyAFolderWithARecord) {
+  Scratch s("report-from");
+  fs::create_directory(s.dir / "empty");
+  Outcome r = run_in(s.dir, "report --from empty --no-charts");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(has(r.err, "empty/measured.json") && has(r.err, "cannot be read")) << r.err;
+  fs::create_directory(s.dir / "bad");
+  std::ofstream(s / "bad/measured.json") << "{\"measurements\": {\"options\": {\"quick\": true}}}";
+  r = run_in(s.dir, "report --from bad --no-charts");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(has(r.err, "bad/measured.json") && has(r.err, "another format")) << r.err;
+  // An edited record: its measurements no longer match their digest.
+  std::ofstream(s / "bad/measured.json") << "{\"format\": 1, \"digest\": \"0123456789abcdef\", \"measurements\": {\"options\": {}}}";
+  r = run_in(s.dir, "report --from bad --no-charts");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(has(r.err, "bad/measured.json") && has(r.err, "digest")) << r.err;
+  std::ofstream(s / "bad/measured.json") << "[1, 2";
+  r = run_in(s.dir, "report --from bad --no-charts");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(has(r.err, "not JSON")) << r.err;
+  for (const char* opt : {"--quick", "-r 3", "--filter sphere", "--out x", "--min-time 0.01"}) {
+    r = run_in(s.dir, std::string("report --from bad ") + opt);
+    EXPECT_EQ(r.status, 1) << opt;
+    EXPECT_TRUE(has(r.err, "not taken with --from")) << opt << ": " << r.err;
+    EXPECT_EQ(r.err_lines().size(), 1u) << r.err;
+  }
+}
+
+}  // namespace

@@ -386,6 +386,19 @@ TEST(Outputs, AReportFollowsTheRuleForEveryFileItWrites) {
   }
   EXPECT_TRUE(is_json(slurp(s / "rep/tracing.json")));
   EXPECT_TRUE(temporaries(s.dir / "rep").empty() && temporaries(s.dir).empty());
+
+  // The same page again from the folder's record, without measuring: the one line that says so added.
+  const std::string first = slurp(s / "kept.md");
+  auto html2 = read_fifo(s / "rep/index.html");
+  const Outcome again = run_in(s.dir, "report --from rep --no-charts");
+  EXPECT_TRUE(has(html2.get(), "</html>"));
+  EXPECT_EQ(again.status, 0) << again.err;
+  std::string second = slurp(s / "kept.md");
+  const std::string added = "Written again from its record (measured.json) by `raybench report --from rep`.\n";
+  ASSERT_TRUE(has(second, added)) << second.substr(second.size() > 400 ? second.size() - 400 : 0);
+  second.erase(second.find(added), added.size());
+  EXPECT_EQ(second, first);
+  EXPECT_FALSE(has(again.err, "  load ")) << "nothing measured again (no scene loaded): " << again.err;
 }
 
 // A folder the user may not write to, for every command's outputs (the history file itself is

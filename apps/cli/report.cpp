@@ -25,14 +25,34 @@ class ReportCommand final : public Command {
     sub_->add_option("--history", report_history, "Keep the run in this results history\n(default: $RAYBENCH_HISTORY, else\nresults/history.sqlite)")
         ->type_name("FILE");
     sub_->add_flag("--no-history", report_no_history, "Do not keep the run in a results history");
+    sub_->add_option("--from", ro.from, "Write the report in DIR again from what it\nmeasured (DIR/measured.json), without\nmeasuring: after a change of the page, not\nof the numbers")
+        ->type_name("DIR");
     sub_->footer(
         "Runs the ops table, the scalar-vs-SIMD kernel benchmarks, scene loading, tracing\n"
         "beside Embree, the recursive renderer, the accuracy lab and CSG on the embedded\n"
         "scenes, and writes OUT/index.md with JSON and PNG charts beside it (a few\n"
         "minutes on a 2-core machine). Two report folders compare with\n"
-        "`raybench compare A B`; each run is kept in results/history.sqlite.");
+        "`raybench compare A B`; each run is kept in results/history.sqlite.\n"
+        "Everything measured is kept in OUT/measured.json: `raybench report --from OUT`\n"
+        "writes the page again from it in seconds.");
   }
   int run(Context& c) override {
+    if (!ro.from.empty()) {
+      // The figures, and so the options that chose them, are the folder's.
+      for (const char* opt : {"--out", "--repetitions", "--min-time", "--filter", "--quick"})
+        if (sub_->count(opt)) {
+          std::cerr << error_line("report", ro.from, std::string("--from writes the folder's report from its record: ") + opt +
+                                                         " would change what was measured, so it is not taken with --from")
+                    << "\n";
+          return kExitError;
+        }
+      if (const std::string why = check_output_dir(ro.from); !why.empty()) {
+        std::cerr << error_line("report", ro.from, why) << "\n";
+        return kExitError;
+      }
+      ro.json = sub_->count("--json") > 0;
+      return run_report(ro);  // nothing measured: nothing for the history
+    }
     if (const std::string why = check_output_dir(ro.out); !why.empty()) {
       std::cerr << error_line("report", ro.out, why) << "\n";
       return kExitError;
