@@ -9,6 +9,13 @@
 
 namespace rb {
 
+// `s` without the blanks (spaces, tabs, line ends) at either end.
+inline std::string trim(const std::string& s) {
+  const auto a = s.find_first_not_of(" \t\r\n");
+  if (a == std::string::npos) return "";
+  return s.substr(a, s.find_last_not_of(" \t\r\n") - a + 1);
+}
+
 // Display columns of UTF-8 text (continuation bytes take none).
 inline std::size_t display_width(const std::string& s) {
   std::size_t n = 0;

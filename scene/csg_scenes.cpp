@@ -1,4 +1,4 @@
-// The embedded CSG scenes (csg:NAME): JSON scenes of the format scene/csg.cpp reads, each a CSG
+// The embedded CSG scenes (csg:NAME): JSON scenes of the format scene/json_scene.cpp reads, each a CSG
 // object over a floor, with the lights and materials they share.
 #include "core/suggest.hpp"
 #include "scene/csg.hpp"

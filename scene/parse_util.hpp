@@ -19,7 +19,7 @@ namespace rb::scene::detail {
 
 // Reads a whole file; SceneError if it cannot be opened or read.
 std::string read_file(const std::string& path);
-// Material i of n's name in the JSON scene format's output (scene/csg.cpp).
+// Material i of n's name in the JSON scene format's output (scene/json_scene.cpp).
 std::string material_name(std::uint32_t i, std::size_t n);
 
 [[noreturn]] inline void fail_line(std::string_view file, std::size_t line, std::string_view what) {

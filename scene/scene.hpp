@@ -138,7 +138,7 @@ struct Scene {
   std::size_t primitive_count() const {
     return spheres.size() + cones.size() + polygons.size() + triangles.size() + csgs.size() + tori.size();
   }
-  std::size_t csg_tree_bytes() const;  // nodes and leaves of every CSG tree (scene/csg.cpp)
+  std::size_t csg_tree_bytes() const;  // nodes and leaves of every CSG tree
   // Bytes of the input-form arrays (sizes, not capacities).
   std::size_t memory_bytes() const {
     return lights.size() * sizeof(Light) + materials.size() * sizeof(Material) + spheres.size() * sizeof(SphereIn) +
