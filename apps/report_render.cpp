@@ -12,7 +12,9 @@
 #include <fmt/format.h>
 
 #include <filesystem>
+#include <initializer_list>
 #include <iostream>
+#include <vector>
 
 namespace rb::app {
 
@@ -50,6 +52,83 @@ std::string haines_prims(const std::string& src) {
 }
 std::uint64_t poly_like(const json& j) {
   return j["prim_tests"]["polygon"].get<std::uint64_t>() + j["prim_tests"]["triangle"].get<std::uint64_t>();
+}
+
+// The SPD scenes' rays and intersection tests beside Haines' published counts.
+std::string render_spd_tables(const std::vector<json>& spd) {
+  std::string md;
+  md += "### Rays: ours beside Haines'\n\n| scene | prims | Haines' prims | eye | eye hits | Haines | reflection | Haines | refraction | Haines | "
+        "shadow | Haines |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const auto& j : spd) {
+    const json h = j.contains("haines") ? j["haines"] : json(nullptr);
+    auto cell = [&](const char* k) {
+      const auto v = j[k].get<std::uint64_t>();
+      return h.is_null() ? fmt::format("{} | -", sep(v)) : fmt::format("{} | {} ({})", sep(v), numd(h, k), dev(v, h[k]));
+    };
+    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} |\n", j["scene"].get<std::string>(), u(j["primitives"]),
+                      haines_prims(j["scene"].get<std::string>()), u(j["eye_rays"]), cell("eye_hit_rays"), cell("reflect_rays"),
+                      cell("refract_rays"), cell("shadow_rays"));
+  }
+  md += "\nHaines' published ray counts cover balls, teapot, tetra and tree; gears, mount and rings are rendered with the same "
+        "protocol. The generators' default size factors give Haines' primitive counts except for the teapot: its default "
+        "size 6 has 2,292 primitives, Haines' 9,264 are size 12, so the teapot is rendered at both (`spd:teapot:12`). The "
+        "eye-hit, reflection and shadow counts hardly depend on the teapot's tessellation (the silhouette is the same).\n\n";
+
+  md += "### Intersection tests: ours beside Haines' hierarchy\n\nBox tests count every child box a node visit tests (8 per "
+        "wide node, fewer where a node has fewer children); primitive tests count every real primitive slot a leaf visit "
+        "tests, by kind.\n\n| scene | box tests | Haines | polygon + triangle tests | Haines (polygons) | sphere tests | "
+        "Haines | cylinder + cone tests |\n|---|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const auto& j : spd) {
+    const json h = j.contains("haines") ? j["haines"] : json(nullptr);
+    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} |\n", j["scene"].get<std::string>(), u(j["box_tests"]),
+                      numd(h, "box_tests"), sep(poly_like(j)), numd(h, "polygon_tests"), u(j["prim_tests"]["sphere"]),
+                      numd(h, "sphere_tests"),
+                      sep(j["prim_tests"]["cylinder"].get<std::uint64_t>() + j["prim_tests"]["cone"].get<std::uint64_t>()));
+  }
+
+  md += "\nThe two hierarchies differ in shape, so the totals do not compare one to one: each of our leaves is one 8-slot lane "
+        "group of one kind, tested by one SIMD kernel call, and a wide node tests its up to 8 child boxes in one 8-lane slab "
+        "test. Primitive tests therefore count up to 8 per leaf visit (more than a hierarchy with a primitive or two per "
+        "leaf) and box tests count 8 per node visit; the kernel calls are about an eighth of each count.\n";
+  return md;
+}
+
+// Every render's time, rate and rate against primary-ray tracing, and the goal on that ratio
+// (its verdict in `summary`).
+std::string render_time_table(int threads, std::initializer_list<const std::vector<json>*> groups, json& summary) {
+  std::string md;
+  md += fmt::format("\n### Time and throughput ({} threads)\n\nPreprocessing is the scene's generation and the BVH build; tracing "
+                    "is every ray of the image (eye, reflection, refraction, shadow, with the counting traversal that gives the "
+                    "test counts above). The last column divides the render's rate (all rays) by the primary-ray rate of "
+                    "`raybench trace SCENE --rays primary --packet 8 --threads {} --count 262144 --no-embree` (median of 3) in the "
+                    "same run. Packets: the eye rays' and the other rays' packet size, each the fastest in the trial renders.\n\n"
+                    "| scene | rays | packets (eye / others) | load ms | BVH ms | trace ms | Mrays/s | primary trace Mrays/s | "
+                    "render / primary |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n", threads, threads);
+  for (const auto* group : groups)
+    for (const auto& j : *group) {
+      const double a = j["mrays_per_s"].get<double>();
+      const json& p = j["trace_primary_mrays_per_s"];
+      md += fmt::format("| {} | {} | {} / {} | {:.1f} | {:.1f} | {:.1f} | {:.2f} | {} | {} |\n", j["scene"].get<std::string>(),
+                        u(j["total_rays"]), j["eye_packet"].get<int>(), j["secondary_packet"].get<int>(), j["load_ms"].get<double>(), j["build_ms"].get<double>(),
+                        j["trace_ms"].get<double>(), a, p.is_null() ? "-" : fmt::format("{:.2f}", p.get<double>()),
+                        p.is_null() || p.get<double>() <= 0 ? "-" : fmt::format("{:.2f}", a / p.get<double>()));
+    }
+
+  int met = 0, all = 0;
+  for (const auto* group : groups)
+    for (const auto& j : *group) {
+      const json& p = j["trace_primary_mrays_per_s"];
+      if (p.is_null() || p.get<double>() <= 0) continue;
+      ++all;
+      met += j["mrays_per_s"].get<double>() >= 0.5 * p.get<double>();
+    }
+  md += fmt::format("\nGoal: rendering (all rays of every kind) at least half as fast per ray as primary-ray tracing: met on {} of {} "
+                    "scenes in this run. Primary rays are the cheapest rays there are (coherent 8-ray packets, nothing but the "
+                    "closest hit); a rendered ray also pays for its generation (normalised in double), its shading (the hit's "
+                    "normal and material, Lambert, Phong) and the traversal of reflection, refraction and shadow rays, which are less "
+                    "coherent than eye rays.\n", met, all);
+  summary["render_goal_half_of_primary"] = {{"met", met}, {"scenes", all}};
+  return md;
 }
 
 }  // namespace
@@ -100,6 +179,7 @@ std::string report_section_render(const ReportOptions& o, Record& rec, const fs:
     t.packet = 8;
     t.count = std::size_t(size) * std::size_t(size);
     t.repetitions = o.quick ? 1 : 3;
+    t.min_time = o.quick ? 0.0 : 0.1;
     t.brute_rays = 0;
     t.embree = false;
     const json tj = run_trace(t, false);
@@ -123,70 +203,8 @@ std::string report_section_render(const ReportOptions& o, Record& rec, const fs:
   std::vector<json> csgs;  // the embedded CSG scenes (the JSON scene format's camera, lights, materials)
   for (const auto& n : scene::csg_scene_names()) csgs.push_back(render_one("csg:" + n, false, "render_csg_" + n + ".png"));
 
-  md += "### Rays: ours beside Haines'\n\n| scene | prims | Haines' prims | eye | eye hits | Haines | reflection | Haines | refraction | Haines | "
-        "shadow | Haines |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-  for (const auto& j : spd) {
-    const json h = j.contains("haines") ? j["haines"] : json(nullptr);
-    auto cell = [&](const char* k) {
-      const auto v = j[k].get<std::uint64_t>();
-      return h.is_null() ? fmt::format("{} | -", sep(v)) : fmt::format("{} | {} ({})", sep(v), numd(h, k), dev(v, h[k]));
-    };
-    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} |\n", j["scene"].get<std::string>(), u(j["primitives"]),
-                      haines_prims(j["scene"].get<std::string>()), u(j["eye_rays"]), cell("eye_hit_rays"), cell("reflect_rays"),
-                      cell("refract_rays"), cell("shadow_rays"));
-  }
-  md += "\nHaines' published ray counts cover balls, teapot, tetra and tree; gears, mount and rings are rendered with the same "
-        "protocol. The generators' default size factors give Haines' primitive counts except for the teapot: its default "
-        "size 6 has 2,292 primitives, Haines' 9,264 are size 12, so the teapot is rendered at both (`spd:teapot:12`). The "
-        "eye-hit, reflection and shadow counts hardly depend on the teapot's tessellation (the silhouette is the same).\n\n";
-
-  md += "### Intersection tests: ours beside Haines' hierarchy\n\nBox tests count every child box a node visit tests (8 per "
-        "wide node, fewer where a node has fewer children); primitive tests count every real primitive slot a leaf visit "
-        "tests, by kind.\n\n| scene | box tests | Haines | polygon + triangle tests | Haines (polygons) | sphere tests | "
-        "Haines | cylinder + cone tests |\n|---|---:|---:|---:|---:|---:|---:|---:|\n";
-  for (const auto& j : spd) {
-    const json h = j.contains("haines") ? j["haines"] : json(nullptr);
-    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} |\n", j["scene"].get<std::string>(), u(j["box_tests"]),
-                      numd(h, "box_tests"), sep(poly_like(j)), numd(h, "polygon_tests"), u(j["prim_tests"]["sphere"]),
-                      numd(h, "sphere_tests"),
-                      sep(j["prim_tests"]["cylinder"].get<std::uint64_t>() + j["prim_tests"]["cone"].get<std::uint64_t>()));
-  }
-
-  md += "\nThe two hierarchies differ in shape, so the totals do not compare one to one: each of our leaves is one 8-slot lane "
-        "group of one kind, tested by one SIMD kernel call, and a wide node tests its up to 8 child boxes in one 8-lane slab "
-        "test. Primitive tests therefore count up to 8 per leaf visit (more than a hierarchy with a primitive or two per "
-        "leaf) and box tests count 8 per node visit; the kernel calls are about an eighth of each count.\n";
-  md += fmt::format("\n### Time and throughput ({} threads)\n\nPreprocessing is the scene's generation and the BVH build; tracing "
-                    "is every ray of the image (eye, reflection, refraction, shadow, with the counting traversal that gives the "
-                    "test counts above). The last column divides the render's rate (all rays) by the primary-ray rate of "
-                    "`raybench trace SCENE --rays primary --packet 8 --threads {} --count 262144 --no-embree` (median of 3) in the "
-                    "same run. Packets: the eye rays' and the other rays' packet size, each the fastest in the trial renders.\n\n"
-                    "| scene | rays | packets (eye / others) | load ms | BVH ms | trace ms | Mrays/s | primary trace Mrays/s | "
-                    "render / primary |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n", threads, threads);
-  for (const auto* group : {&spd, &lect, &csgs})
-    for (const auto& j : *group) {
-      const double a = j["mrays_per_s"].get<double>();
-      const json& p = j["trace_primary_mrays_per_s"];
-      md += fmt::format("| {} | {} | {} / {} | {:.1f} | {:.1f} | {:.1f} | {:.2f} | {} | {} |\n", j["scene"].get<std::string>(),
-                        u(j["total_rays"]), j["eye_packet"].get<int>(), j["secondary_packet"].get<int>(), j["load_ms"].get<double>(), j["build_ms"].get<double>(),
-                        j["trace_ms"].get<double>(), a, p.is_null() ? "-" : fmt::format("{:.2f}", p.get<double>()),
-                        p.is_null() || p.get<double>() <= 0 ? "-" : fmt::format("{:.2f}", a / p.get<double>()));
-    }
-
-  int met = 0, all = 0;
-  for (const auto* group : {&spd, &lect, &csgs})
-    for (const auto& j : *group) {
-      const json& p = j["trace_primary_mrays_per_s"];
-      if (p.is_null() || p.get<double>() <= 0) continue;
-      ++all;
-      met += j["mrays_per_s"].get<double>() >= 0.5 * p.get<double>();
-    }
-  md += fmt::format("\nGoal: rendering (all rays of every kind) at least half as fast per ray as primary-ray tracing: met on {} of {} "
-                    "scenes in this run. Primary rays are the cheapest rays there are (coherent 8-ray packets, nothing but the "
-                    "closest hit); a rendered ray also pays for its generation (normalised in double), its shading (the hit's "
-                    "normal and material, Lambert, Phong) and the traversal of reflection, refraction and shadow rays, which are less "
-                    "coherent than eye rays.\n", met, all);
-  summary["render_goal_half_of_primary"] = {{"met", met}, {"scenes", all}};
+  md += render_spd_tables(spd);
+  md += render_time_table(threads, {&spd, &lect, &csgs}, summary);
   std::vector<const json*> rows_lc;
   md += "\n### The lecture's scenes and the CSG scenes\n\n512 x 512, one ray per pixel centre, depth 5, two-sided surfaces.\n\n| scene | eye hits | "
         "reflection | refraction | shadow | box tests | primitive tests |\n|---|---:|---:|---:|---:|---:|---:|\n";

@@ -46,6 +46,22 @@ Summary summarize(const std::vector<double>& v) {
   return s;
 }
 
+std::vector<std::size_t> tukey_outliers(const std::vector<double>& v) {
+  std::vector<std::size_t> out;
+  if (v.size() < 4) return out;
+  std::vector<double> s = v;
+  std::sort(s.begin(), s.end());
+  auto quantile = [&](double q) {
+    const double x = q * double(s.size() - 1);
+    const std::size_t i = std::size_t(x);
+    return i + 1 < s.size() ? s[i] + (x - double(i)) * (s[i + 1] - s[i]) : s[i];
+  };
+  const double q1 = quantile(0.25), q3 = quantile(0.75), fence = q3 + 1.5 * (q3 - q1);
+  for (std::size_t i = 0; i < v.size(); ++i)
+    if (v[i] > fence) out.push_back(i);
+  return out;
+}
+
 namespace {
 
 // P(U' >= u) for the null distribution of the Mann-Whitney U of samples of sizes m and n (no

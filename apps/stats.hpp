@@ -27,6 +27,10 @@ struct Summary {
   double median = kNaN, min = kNaN, max = kNaN, cv = kNaN;
 };
 Summary summarize(const std::vector<double>& v);
+// The indices of the values above Tukey's upper fence, Q3 + 1.5 (Q3 - Q1) (quartiles by linear
+// interpolation): the runs a busy moment slowed, reported beside the median (which they barely
+// move), never dropped. Fewer than 4 values: none.
+std::vector<std::size_t> tukey_outliers(const std::vector<double>& v);
 
 // Two-sided Mann-Whitney U test of the samples a and b, computed as SciPy's
 // scipy.stats.mannwhitneyu(a, b, alternative="two-sided") with its defaults (method "auto",

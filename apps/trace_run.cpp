@@ -12,7 +12,9 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <chrono>
+#include <limits>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -122,42 +124,72 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   const bvh::Slab slab = to.slab_given ? to.slab : accel_.plan().slab;
 
   trace::ThreadScope ts(o.threads);
-  const int runs = std::max(0, o.warmup) + o.repetitions;
   // Embree: every call it offers for this packet size, on the native and the AVX2 device; the
   // coherent flag for the coherent sets (primary and shadow rays), incoherent for the others.
   const bool coherent = set == tracer::RaySet::primary || set == tracer::RaySet::shadow;
   const std::vector<trace::EmbreeMode> modes = embree_.ok ? trace::embree_modes(o.packet, coherent) : std::vector<trace::EmbreeMode>{};
-  const int steps = runs * int(1 + modes.size() + (sah_ ? 1 : 0)) + 2;
-  int step = 0;
   ProgressBar bar(fmt::format("trace {} {}", source_, o.ray_set), progress ? ProgressBar::Mode::automatic : ProgressBar::Mode::off);
-  auto tick = [&](int, int) { bar.update(double(++step) / steps); };
 
   std::vector<bvh::HitRec> ours, sah_out;
   std::vector<std::vector<bvh::HitRec>> theirs(modes.size());
   const std::size_t tile = 256;  // a multiple of every packet and stream size
   trace::Tracer mine = [&](std::size_t b, std::size_t e, bvh::HitRec* out) { accel_.trace(rays, b, e, out, to); };
   trace::Tracer sah_t = [&](std::size_t b, std::size_t e, bvh::HitRec* out) { sah_->trace(rays, b, e, out, to); };
-  // Warm-up runs first (caches, page faults, the thread pool's start; not in the median), then the
-  // engines alternate run by run (raybench, the SAH tree when another builder's tree is traced,
-  // then each Embree mode), so that a change in the machine's load falls on all alike.
-  std::vector<double> secs, sah_secs;
-  std::vector<std::vector<double>> es(modes.size());
-  // The machine around the rounds: its load average before and after, and the CPU time the
+  std::vector<trace::Tracer> embree_t;
+  for (const trace::EmbreeMode& mode : modes)
+    embree_t.push_back([&, mode](std::size_t b0, std::size_t e0, bvh::HitRec* out) { trace::embree_trace(embree_, mode, rays, b0, e0, out, any); });
+  // Seconds per pass over the ray set, of `passes` passes in a row.
+  auto per_pass = [&](const trace::Tracer& t, std::vector<bvh::HitRec>& out, int passes) {
+    double sum = 0;
+    for (const double x : trace::time_runs(ts, t, n, out, passes, tile)) sum += x;
+    return sum / passes;
+  };
+  // The machine around the runs: its load average before and after, and the CPU time the
   // hypervisor took from this guest while they ran.
   const LoadWatch watch;
-  for (int r = 0; r < runs; ++r) {
-    const double s = trace::time_runs(ts, mine, n, ours, 1, tile, tick).front();
-    if (r >= o.warmup) secs.push_back(s);
-    if (sah_) {
-      const double t = trace::time_runs(ts, sah_t, n, sah_out, 1, tile, tick).front();
-      if (r >= o.warmup) sah_secs.push_back(t);
-    }
+
+  // 1. Warm-up until stable (caches, page faults, the thread pool's start, the clock's boost): the
+  // engines alternate run by run, for at least --warmup rounds and on while ours or Embree's fastest
+  // mode still moved by more than kSettled from its previous run (at most kMaxWarmup rounds).
+  constexpr double kSettled = 0.05;
+  constexpr int kMaxWarmup = 6;
+  std::vector<double> warm_ours;
+  std::vector<std::vector<double>> warm_modes(modes.size());
+  auto moved = [&](const std::vector<double>& v) { return v.size() < 2 || std::fabs(v.back() / v[v.size() - 2] - 1) > kSettled; };
+  for (int w = 0; w < std::max(kMaxWarmup, o.warmup); ++w) {
+    warm_ours.push_back(per_pass(mine, ours, 1));
+    if (sah_) per_pass(sah_t, sah_out, 1);
+    std::size_t fastest = 0;
     for (std::size_t m = 0; m < modes.size(); ++m) {
-      const trace::EmbreeMode& mode = modes[m];
-      trace::Tracer theirs_t = [&](std::size_t b0, std::size_t e0, bvh::HitRec* out) { trace::embree_trace(embree_, mode, rays, b0, e0, out, any); };
-      const double e = trace::time_runs(ts, theirs_t, n, theirs[m], 1, tile, tick).front();
-      if (r >= o.warmup) es[m].push_back(e);
+      warm_modes[m].push_back(per_pass(embree_t[m], theirs[m], 1));
+      if (warm_modes[m].back() < warm_modes[fastest].back()) fastest = m;
     }
+    bar.update(0.1 * double(w + 1) / std::max(kMaxWarmup, o.warmup));
+    if (w + 1 >= std::max(1, o.warmup) && !moved(warm_ours) && (modes.empty() || !moved(warm_modes[fastest]))) break;
+  }
+  // 2. Passes per repetition: enough for ours to last --min-time by its last warm-up run (more passes,
+  // never fewer rays); every engine makes the same passes.
+  const int passes = int(std::clamp(std::ceil(o.min_time / std::max(warm_ours.back(), 1e-9)), 1.0, 1e6));
+  // 3. Embree's modes in the timed rounds: the fastest in the warm-up and every mode within
+  // kModeSpread of it (the others are clearly slower: their warm-up figures are kept in the JSON).
+  constexpr double kModeSpread = 1.10;
+  std::vector<std::size_t> timed;
+  if (!modes.empty()) {
+    double best = std::numeric_limits<double>::infinity();
+    for (const auto& wm : warm_modes) best = std::min(best, wm.back());
+    for (std::size_t m = 0; m < modes.size(); ++m)
+      if (warm_modes[m].back() <= kModeSpread * best) timed.push_back(m);
+  }
+  // 4. The timed rounds: the engines alternate repetition by repetition (raybench, the SAH tree when
+  // another builder's tree is traced, then each timed Embree mode), so that a change in the
+  // machine's load falls on all alike.
+  std::vector<double> secs, sah_secs;
+  std::vector<std::vector<double>> es(modes.size());
+  for (int r = 0; r < o.repetitions; ++r) {
+    secs.push_back(per_pass(mine, ours, passes));
+    if (sah_) sah_secs.push_back(per_pass(sah_t, sah_out, passes));
+    for (const std::size_t m : timed) es[m].push_back(per_pass(embree_t[m], theirs[m], passes));
+    bar.update(0.1 + 0.85 * double(r + 1) / o.repetitions);
   }
   const json machine_load = watch.json();
   const double mrays = double(n) / rb::median(secs) / 1e6;
@@ -174,7 +206,6 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   {
     std::vector<bvh::HitRec> tmp(rays.size());
     ts.run([&] { accel_.trace_counted(rays, 0, rays.size(), tmp.data(), to, cnt); });
-    tick(0, 0);
   }
 
   json j;
@@ -190,6 +221,13 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   j["slab"] = bvh::slab_name(slab);
   j["repetitions"] = o.repetitions;
   j["warmup"] = o.warmup;
+  // The protocol as it ran: warm-up runs until stable (their seconds), passes per repetition for
+  // --min-time, and the repetitions far above the others (Tukey's fence), kept in every figure.
+  j["warmup_seconds"] = warm_ours;
+  j["min_time"] = o.min_time;
+  j["passes"] = passes;
+  j["repetition_seconds"] = rb::median(secs) * passes;
+  j["outliers"] = stats::tukey_outliers(secs);
   j["mrays_per_s"] = mrays;
   j["seconds"] = secs;
   j["machine_load"] = machine_load;
@@ -241,12 +279,18 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
     std::size_t best = 0;
     double best_mr = -1, native_best = -1, avx2_best = -1;
     for (std::size_t m = 0; m < modes.size(); ++m) {
-      const double mr = double(n) / rb::median(es[m]) / 1e6;
       const tracer::Compare c = tracer::compare(ours, theirs[m], n, any);
       const auto& dev = embree_.devices[std::size_t(modes[m].isa)];
       json row{{"mode", modes[m].name(any)}, {"call", modes[m].call_name(any)}, {"device", trace::embree_isa_label(modes[m].isa)},
-               {"config", dev.config}, {"isa", dev.isa}, {"coherent", modes[m].coherent}, {"mrays_per_s", mr}, {"seconds", es[m]},
-               {"mismatches", c.mismatches}};
+               {"config", dev.config}, {"isa", dev.isa}, {"coherent", modes[m].coherent}, {"mismatches", c.mismatches},
+               {"warmup_mrays_per_s", double(n) / warm_modes[m].back() / 1e6}, {"timed", !es[m].empty()}};
+      if (es[m].empty()) {  // clearly slower in the warm-up: not timed in the rounds
+        ms.push_back(row);
+        continue;
+      }
+      const double mr = double(n) / rb::median(es[m]) / 1e6;
+      row["mrays_per_s"] = mr;
+      row["seconds"] = es[m];
       spread(row, "", es[m]);
       ms.push_back(row);
       if (mr > best_mr) { best_mr = mr; best = m; }
@@ -298,7 +342,6 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
     j["brute_mrays_per_s"] = nullptr;
     j["brute_mismatch_rate"] = nullptr;
   }
-  tick(0, 0);
   bar.done();
   return j;
 }
@@ -406,9 +449,13 @@ std::string trace_text(const json& j) {
                        j[p + "cv"].is_null() ? "" : fmt::format(", CV {:.1f} %", 100 * j[p + "cv"].get<double>()));
   };
   if (j.contains("machine_load")) o += wrap_words("machine    " + load_text(j["machine_load"]), 80, "           ");
-  o += fmt::format("trace      raybench packet {}, {} thread(s), {} slab test, {} warm-up run(s):\n", j["packet"].get<int>(),
-                   j["threads"].get<int>(), j["slab"].get<std::string>(), j["warmup"].get<int>());
+  o += fmt::format("trace      raybench packet {}, {} thread(s), {} slab test, {} warm-up run(s) until the times settled;\n"
+                   "           {} pass(es) over the rays per repetition ({:.2f} s, at least {} s):\n",
+                   j["packet"].get<int>(), j["threads"].get<int>(), j["slab"].get<std::string>(), j["warmup_seconds"].size(),
+                   j["passes"].get<int>(), j["repetition_seconds"].get<double>(), j["min_time"].get<double>());
   o += "           " + timing("") + "\n";
+  if (!j["outliers"].empty())
+    o += fmt::format("           {} repetition(s) far above the others (Tukey's fence), kept in every figure\n", j["outliers"].size());
   o += fmt::format("           {:.2f} nodes, {:.2f} box tests, {:.2f} primitive tests per ray\n", j["nodes_per_ray"].get<double>(),
                    j["box_tests_per_ray"].get<double>(), j["prim_tests_per_ray"].get<double>());
   if (j.contains("sah_tree") && j["sah_tree"].contains("mrays_per_s")) {
@@ -425,8 +472,11 @@ std::string trace_text(const json& j) {
                      j["embree_mode"].get<std::string>(), j["embree_isa"].get<std::string>(), timing("embree_"));
     std::string each;
     for (const json& m : j["embree_modes"])
-      each += fmt::format("{}{} {:.2f}", each.empty() ? "" : ", ", m["mode"].get<std::string>(), m["mrays_per_s"].get<double>());
-    o += fmt::format("           every mode (Mrays/s): {}\n", each);
+      each += fmt::format("{}{} {:.2f}{}", each.empty() ? "" : ", ", m["mode"].get<std::string>(),
+                          m.contains("mrays_per_s") ? m["mrays_per_s"].get<double>() : m["warmup_mrays_per_s"].get<double>(),
+                          m.contains("mrays_per_s") ? "" : " (warm-up)");
+    o += wrap_words("           every mode (Mrays/s; modes over 10 % slower in the warm-up are left out of the rounds): " + each, 80,
+                    "           ");
     const stats::RatioInterval vr = stats::interval_from_json(j["vs_embree"]);
     o += fmt::format("           raybench / Embree ({}):\n           {}: the median of {} rounds' ratios{}\n",
                      j["embree_mode"].get<std::string>(), stats::interval_text(vr), vr.n,

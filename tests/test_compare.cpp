@@ -139,6 +139,14 @@ TEST(Stats, MedianCvGeometricMeanAndSmallestP) {
   EXPECT_EQ(s.max, 5);
 }
 
+// Tukey's upper fence: quartiles of {10, 10.2, 10.4, 10.6, 10.8, 11, 30} are 10.3 and 10.9 (linear
+// interpolation), the fence 10.9 + 1.5 x 0.6 = 11.8: the 30 (index 5) is an outlier, 11 is not.
+TEST(Stats, TukeyOutliersAreTheRunsAboveTheUpperFence) {
+  EXPECT_EQ(rb::stats::tukey_outliers({10, 10.2, 10.4, 10.6, 10.8, 30, 11}), (std::vector<std::size_t>{5}));
+  EXPECT_TRUE(rb::stats::tukey_outliers({10, 10.2, 10.4, 10.6, 10.8, 11, 11.7}).empty());
+  EXPECT_TRUE(rb::stats::tukey_outliers({1, 100, 1}).empty());  // too few to judge
+}
+
 // A Google Benchmark JSON document: every repetition of each benchmark at the given rates.
 json bench_doc(const std::vector<std::pair<std::string, std::vector<double>>>& rows, const std::string& git = "abc") {
   json j = {{"context", {{"raybench_seed", "1"}}}, {"benchmarks", json::array()}, {"machine", {{"cpu", "X"}, {"git", git}}}};

@@ -25,7 +25,9 @@ class TraceCommand final : public Command {
         ->check(one_of({"plan", "conservative", "fast", "robust"}))->capture_default_str();
     sub_->add_option("-r,--repetitions", to.repetitions, "Timed rounds, engines alternating (the median is\nquoted; from 6 rounds raybench / Embree has a\n95 % interval)")
         ->check(CLI::Range(1, 100))->capture_default_str();
-    sub_->add_option("--warmup", to.warmup, "Untimed runs per engine before the timed ones")->check(CLI::Range(0, 100))->capture_default_str();
+    sub_->add_option("--warmup", to.warmup, "Untimed runs per engine before the timed ones,\nat least: more while a run still moves by over\n5 % (up to 6)")->check(CLI::Range(0, 100))->capture_default_str();
+    sub_->add_option("--min-time", to.min_time, "Seconds a timed repetition lasts at least: the\nray set traced that many times over (the\nfigures are per pass)")
+        ->check(CLI::Range(0.0, 60.0))->capture_default_str();
     sub_->add_option("--brute", to.brute_rays, "Rays checked against the brute-force loop\n(-1: a budget by scene size, 0: none)")
         ->capture_default_str();
     sub_->add_flag("!--no-embree", to.embree, "Skip Embree");
@@ -46,7 +48,10 @@ class TraceCommand final : public Command {
         "the same process, on a device with its native ISA and one limited to AVX2, with\n"
         "the call for the packet size (rtcIntersect1/8/16, rtcIntersect1M streams for 64\n"
         "and 256; rtcOccluded* for shadow rays); the fastest is the yardstick. After\n"
-        "--warmup untimed runs the engines alternate run by run; the table gives the\n"
+        "untimed runs until the times settle (at least --warmup), the engines alternate\n"
+        "repetition by repetition, each repetition tracing the rays as often as makes\n"
+        "it last --min-time (Embree's modes clearly slower in the warm-up are left out\n"
+        "of the rounds); the table gives the\n"
         "median Mrays/s with its range and coefficient of variation, build time, memory,\n"
         "traversal cost and the rate of rays the engines disagree on. A warning follows\n"
         "when the runs varied by over 5 % or the machine was busy. Arrays of 2 MiB and\n"

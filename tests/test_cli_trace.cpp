@@ -1,0 +1,125 @@
+// `raybench trace` on the built binary: the timing protocol as it ran (warm-up until stable, passes
+// per repetition, rounds alternating with Embree and their interval), builds timed as the report
+// does, Embree's best mode and Embree's tree.
+#include "apps/cli.hpp"
+#include "cli_test_util.hpp"
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <fstream>
+#include <vector>
+
+namespace {
+
+using namespace rbtest;
+
+TEST(Cli, TraceGivesMedianRangeAndCvAfterWarmupBesideEmbree) {
+  Scratch s("trace");
+  std::ofstream(s / "oct.obj") << kOctahedron;
+  const Outcome r = run_in(s.dir, "trace oct.obj --count 256 -r 3 --warmup 2 --threads 0 --json t.json");
+  EXPECT_EQ(r.status, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(slurp(s / "t.json"));
+  EXPECT_EQ(j["warmup"], 2);
+  EXPECT_EQ(j["seconds"].size(), 3u);          // the warm-up runs are not timed into the median
+  EXPECT_EQ(j["embree_seconds"].size(), 3u);   // Embree's runs, alternating with ours
+  EXPECT_LE(j["mrays_per_s_min"].get<double>(), j["mrays_per_s"].get<double>());
+  EXPECT_GE(j["mrays_per_s_max"].get<double>(), j["mrays_per_s"].get<double>());
+  EXPECT_TRUE(j["cv"].is_number());
+  EXPECT_EQ(j["threads"], int(rb::app::hardware_threads()));  // --threads 0: every hardware thread
+  EXPECT_TRUE(has(r.err, std::to_string(rb::app::hardware_threads()) + " thread(s) of")) << r.err;
+  EXPECT_TRUE(has(r.out, "median of 3, range")) << r.out;
+  EXPECT_TRUE(has(r.out, "CV ")) << r.out;
+  // At least --warmup untimed runs, more while the times still moved by over 5 %; then each
+  // repetition traces the rays as often as makes it last --min-time (0.1 s by default).
+  EXPECT_GE(j["warmup_seconds"].size(), 2u);
+  EXPECT_TRUE(has(r.out, fmt::format("{} warm-up", j["warmup_seconds"].size()))) << r.out;
+  EXPECT_TRUE(has(r.out, fmt::format("{} pass(es) over the rays per repetition", j["passes"].get<int>()))) << r.out;
+  EXPECT_GE(j["passes"].get<int>(), 1);
+  EXPECT_DOUBLE_EQ(j["min_time"].get<double>(), 0.1);
+  EXPECT_LE(widest(r.out), 80u) << r.out;
+  // raybench over Embree from the 3 paired rounds: the median of their ratios, and [min, max] with
+  // the confidence that range holds (3 rounds cannot give 95 %).
+  const auto& v = j["vs_embree"];
+  EXPECT_EQ(v["rounds"], 3);
+  std::vector<double> q;
+  for (int i = 0; i < 3; ++i) q.push_back(j["embree_seconds"][i].get<double>() / j["seconds"][i].get<double>());
+  std::sort(q.begin(), q.end());
+  EXPECT_DOUBLE_EQ(v["ratio"].get<double>(), q[1]);
+  EXPECT_DOUBLE_EQ(v["lo"].get<double>(), q[0]);
+  EXPECT_DOUBLE_EQ(v["hi"].get<double>(), q[2]);
+  EXPECT_DOUBLE_EQ(v["coverage"].get<double>(), 0.75);
+  EXPECT_TRUE(has(r.out, "[range of 3: ")) << r.out;
+  // The machine around the rounds: load average before and after, the share of CPU time stolen.
+  const auto& m = j["machine_load"];
+  EXPECT_TRUE(m["load_average_before"].is_number() && m["load_average_after"].is_number()) << m;
+  if (!m["steal_share"].is_null()) {
+    EXPECT_GE(m["steal_share"].get<double>(), 0.0);
+    EXPECT_LE(m["steal_share"].get<double>(), 1.0);
+  }
+  EXPECT_TRUE(has(r.out, "machine    load average ")) << r.out;
+}
+
+TEST(Cli, TraceTimesManyBuildsAsTheReportDoes) {
+  Scratch s("trace-builds");
+  std::ofstream(s / "oct.obj") << kOctahedron;
+  const Outcome r = run_in(s.dir, "trace oct.obj --count 256 -r 1 --warmup 0 --builds 3 --json t.json");
+  EXPECT_EQ(r.status, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(slurp(s / "t.json"));
+  EXPECT_EQ(j["builds"], 3);
+  for (const char* engine : {"", "embree_"}) {
+    const nlohmann::json& runs = j[std::string(engine) + "build_ms_runs"];
+    ASSERT_EQ(runs.size(), 3u) << engine;
+    std::vector<double> v;
+    for (const auto& x : runs) v.push_back(x.get<double>());
+    std::sort(v.begin(), v.end());
+    EXPECT_DOUBLE_EQ(j[std::string(engine) + "build_ms"].get<double>(), v[1]) << engine;  // the median
+  }
+  EXPECT_TRUE(has(r.out, "medians of 3 builds")) << r.out;
+  EXPECT_LE(widest(r.out), 80u) << r.out;
+  // One build (the default): the traced session's own, no runs listed.
+  const Outcome one = run_in(s.dir, "trace oct.obj --count 256 -r 1 --warmup 0 --json one.json");
+  EXPECT_EQ(one.status, 0) << one.err;
+  const nlohmann::json k = nlohmann::json::parse(slurp(s / "one.json"));
+  EXPECT_EQ(k["builds"], 1);
+  EXPECT_FALSE(k.contains("build_ms_runs"));
+  EXPECT_EQ(run_in(s.dir, "trace oct.obj --builds 0").status, 1);
+}
+
+TEST(Cli, TraceComparesWithEmbreesBestModeAndEmbreesTree) {
+  Scratch s("trace-embree");
+  std::ofstream(s / "oct.obj") << kOctahedron;
+  const Outcome r = run_in(s.dir, "trace oct.obj --count 256 -r 2 --warmup 0 --packet 16 --builder embree --json t.json");
+  EXPECT_EQ(r.status, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(slurp(s / "t.json"));
+  // Both devices warmed up with the packet size's call, the faster (and any within 10 % of it) timed in
+  // the rounds; the yardstick is the fastest timed. The protocol is recorded: warm-up runs until
+  // stable (two at least), passes per repetition, outliers.
+  ASSERT_EQ(j["embree_modes"].size(), 2u);
+  double best = 0;
+  for (const auto& m : j["embree_modes"]) {
+    EXPECT_TRUE(m["warmup_mrays_per_s"].is_number()) << m;
+    if (m["timed"].get<bool>()) best = std::max(best, m["mrays_per_s"].get<double>());
+  }
+  EXPECT_DOUBLE_EQ(j["embree_mrays_per_s"].get<double>(), best);
+  EXPECT_GE(j["warmup_seconds"].size(), 2u);
+  EXPECT_GE(j["passes"].get<int>(), 1);
+  EXPECT_TRUE(j["outliers"].is_array());
+  EXPECT_EQ(j["embree_call"], "rtcIntersect16");
+  EXPECT_TRUE(has(j["embree_mode"].get<std::string>(), "rtcIntersect16 ")) << j["embree_mode"];
+  EXPECT_TRUE(has(j["embree_mode"].get<std::string>(), " coherent")) << j["embree_mode"];  // primary rays
+  EXPECT_TRUE(j["embree_isa"].is_string());
+  EXPECT_TRUE(has(j["embree_avx2_config"].get<std::string>(), "isa=avx2"));
+  // Embree's builder's tree traced by raybench, the SAH tree beside it with its counters.
+  EXPECT_EQ(j["builder"], "embree");
+  EXPECT_TRUE(j["sah_tree"]["mrays_per_s"].is_number());
+  EXPECT_TRUE(j["sah_tree"]["box_tests_per_ray"].is_number());
+  EXPECT_EQ(j["sah_tree"]["mismatches_vs_builder_tree"], 0);
+  EXPECT_EQ(j["mismatches"], 0);
+  EXPECT_TRUE(has(r.out, "raybench / Embree (rtcIntersect16")) << r.out;
+  EXPECT_LE(widest(r.out), 80u) << r.out;
+}
+
+}  // namespace
