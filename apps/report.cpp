@@ -110,13 +110,36 @@ std::string pgo_section(const fs::path& out) {
   return "<!-- pgo-section -->\n" + body + "<!-- /pgo-section -->\n\n";
 }
 
-}  // namespace
+// Section "Operations per intersection": the ops table's rows (ops.json beside the page).
+std::string section_ops(const std::vector<rb::opstable::Row>& rows, const fs::path& out) {
+  write_file(out / "ops.json", rb::opstable::to_json(rows).dump(2));
+  std::string md = "## 1. Operations per intersection\n\n"
+                   "Lecture counts (seed 000) beside the counts measured by running each kernel with `Counted<float>` on one ray that hits "
+                   "and one that misses, and with `Counted<simd8>` (per lane: SIMD code runs the whole kernel when its lanes disagree). "
+                   "`\u00b1` add/sub, `*` mul, `/` div, cmp comparisons; min/max, selects and FMAs are listed separately "
+                   "(an FMA is compared with the slide as 1\u00b1 + 1*). Negation and sign operations are free. Raw rows: [ops.json](ops.json).\n\n";
+  md += rb::opstable::to_markdown(rows) + "\n";
+  return md;
+}
 
-int run_report(const ReportOptions& opts) {
-  const Clock clock;
-  // Measuring, or replaying a folder's record (--from): then the options are the record's.
-  Record rec;
-  ReportOptions o = opts;
+// The kernel benchmarks of section "Scalar against SIMD" (every repetition kept: `raybench compare`
+// tests two reports' repetitions); `rc` gets run_benchmarks' status.
+json measure_bench(const ReportOptions& o, const std::string& label, int& rc) {
+  BenchOptions bo;
+  bo.repetitions = o.repetitions;
+  bo.min_time = o.min_time;
+  bo.filter = o.filter;
+  bo.every_repetition = true;
+  bo.what = label + " benchmarks";
+  bo.command = "report";
+  json doc;
+  rc = run_benchmarks(bo, doc);
+  return doc;
+}
+
+// The record a report measures into, or (--from) the folder's record to replay, whose options then
+// replace the command line's. 0, or the exit status of an unreadable record.
+int open_record(const ReportOptions& opts, Record& rec, ReportOptions& o) {
   if (!opts.from.empty()) {
     o.out = opts.from;
     try {
@@ -131,6 +154,17 @@ int run_report(const ReportOptions& opts) {
   });
   o.quick = kept_options["quick"], o.repetitions = kept_options["repetitions"], o.min_time = kept_options["min_time"];
   o.filter = kept_options["filter"];
+  return 0;
+}
+
+}  // namespace
+
+int run_report(const ReportOptions& opts) {
+  const Clock clock;
+  // Measuring, or replaying a folder's record (--from): then the options are the record's.
+  Record rec;
+  ReportOptions o = opts;
+  if (const int rc = open_record(opts, rec, o); rc != 0) return rc;
   const fs::path out = o.out;
   // Nothing to do is found before the work starts: a --filter that selects no benchmark.
   if (!rec.replay() && benchmark_names(o.filter).empty()) {
@@ -162,29 +196,12 @@ int run_report(const ReportOptions& opts) {
 
   next_stage("operations per intersection (Counted<float>, Counted<simd8>)");
   const auto rows = rb::opstable::from_json(rec.take("ops", [] { return rb::opstable::to_json(rb::opstable::build()); }));
-  write_file(out / "ops.json", rb::opstable::to_json(rows).dump(2));
-  md += "## 1. Operations per intersection\n\n"
-        "Lecture counts (seed 000) beside the counts measured by running each kernel with `Counted<float>` on one ray that hits "
-        "and one that misses, and with `Counted<simd8>` (per lane: SIMD code runs the whole kernel when its lanes disagree). "
-        "`\u00b1` add/sub, `*` mul, `/` div, cmp comparisons; min/max, selects and FMAs are listed separately "
-        "(an FMA is compared with the slide as 1\u00b1 + 1*). Negation and sign operations are free. Raw rows: [ops.json](ops.json).\n\n";
-  md += rb::opstable::to_markdown(rows) + "\n";
+  md += section_ops(rows, out);
 
   const std::string bench_label = next_stage(fmt::format("scalar vs SIMD benchmarks ({} repetitions x {} s each)", o.repetitions, o.min_time));
   const fs::path bj = out / "bench.json";
   int bench_rc = 0;
-  json bench = rec.take("bench", [&] {
-    BenchOptions bo;
-    bo.repetitions = o.repetitions;
-    bo.min_time = o.min_time;
-    bo.filter = o.filter;
-    bo.every_repetition = true;  // every repetition kept: `raybench compare` tests two reports' repetitions
-    bo.what = bench_label + " benchmarks";
-    bo.command = "report";
-    json doc;
-    bench_rc = run_benchmarks(bo, doc);
-    return doc;
-  });
+  json bench = rec.take("bench", [&] { return measure_bench(o, bench_label, bench_rc); });
   if (bench_rc != 0) return bench_rc;
   bench["machine"] = summary["machine"];  // bench.json is a result of its own: the block every result carries
   write_file(bj, bench.dump(2));

@@ -188,44 +188,50 @@ bool make_thumbnail(const fs::path& png, const fs::path& thumb, int width, std::
   return true;
 }
 
-void organise(Document& d, const std::vector<Goal>& goals, const fs::path& out, const OrganiseOptions& o) {
-  // 1. Galleries: a run of images (each with an optional caption line before it) becomes one grid.
-  {
-    std::vector<Block> b;
-    for (std::size_t i = 0; i < d.blocks.size(); ++i) {
-      std::vector<Picture> run;
-      std::size_t j = i;
-      while (j < d.blocks.size()) {
-        std::string cap;
-        if (d.blocks[j].kind == Block::Kind::text && j + 1 < d.blocks.size() && d.blocks[j + 1].kind == Block::Kind::gallery &&
-            caption_line(d.blocks[j].text, cap)) {
-          Picture p = d.blocks[j + 1].pictures.front();
-          p.caption = cap;
-          run.push_back(p);
-          j += 2;
-        } else if (d.blocks[j].kind == Block::Kind::gallery) {
-          run.push_back(d.blocks[j].pictures.front());
-          ++j;
-        } else {
-          break;
-        }
-      }
-      if (run.size() >= o.gallery_min) {
-        Block g{Block::Kind::gallery, 0, "", "", {}, run};
-        fs::create_directories(out / "thumbs");
-        for (auto& p : g.pictures) {
-          const fs::path t = fs::path("thumbs") / fs::path(p.src).filename();
-          std::string why;
-          if (make_thumbnail(out / p.src, out / t, o.thumb_width, &why)) p.thumb = t.generic_string();
-        }
-        b.push_back(g);
-        i = j - 1;
+namespace {
+// A run of images (each with an optional caption line before it) becomes one grid of thumbnails
+// (written to out/thumbs) once it has at least o.gallery_min images.
+void make_galleries(Document& d, const fs::path& out, const OrganiseOptions& o) {
+  std::vector<Block> b;
+  for (std::size_t i = 0; i < d.blocks.size(); ++i) {
+    std::vector<Picture> run;
+    std::size_t j = i;
+    while (j < d.blocks.size()) {
+      std::string cap;
+      if (d.blocks[j].kind == Block::Kind::text && j + 1 < d.blocks.size() && d.blocks[j + 1].kind == Block::Kind::gallery &&
+          caption_line(d.blocks[j].text, cap)) {
+        Picture p = d.blocks[j + 1].pictures.front();
+        p.caption = cap;
+        run.push_back(p);
+        j += 2;
+      } else if (d.blocks[j].kind == Block::Kind::gallery) {
+        run.push_back(d.blocks[j].pictures.front());
+        ++j;
       } else {
-        b.push_back(d.blocks[i]);
+        break;
       }
     }
-    d.blocks = std::move(b);
+    if (run.size() >= o.gallery_min) {
+      Block g{Block::Kind::gallery, 0, "", "", {}, run};
+      fs::create_directories(out / "thumbs");
+      for (auto& p : g.pictures) {
+        const fs::path t = fs::path("thumbs") / fs::path(p.src).filename();
+        std::string why;
+        if (make_thumbnail(out / p.src, out / t, o.thumb_width, &why)) p.thumb = t.generic_string();
+      }
+      b.push_back(g);
+      i = j - 1;
+    } else {
+      b.push_back(d.blocks[i]);
+    }
   }
+  d.blocks = std::move(b);
+}
+}  // namespace
+
+void organise(Document& d, const std::vector<Goal>& goals, const fs::path& out, const OrganiseOptions& o) {
+  // 1. Galleries.
+  make_galleries(d, out, o);
   // 2. Numbered sections and their anchors.
   int n2 = 0, n3 = 0;
   std::map<std::string, std::string> section_id;  // title without number -> id

@@ -108,179 +108,121 @@ json TraceSession::build_json() const {
   return j;
 }
 
-json TraceSession::run(const TraceRunOptions& o, bool progress) {
-  const tracer::RaySet set = tracer::parse_ray_set(o.ray_set);
-  tracer::RaySetInfo info;
-  const RaySoA& rays = this->rays(set, o.count, o.seed, info);
-  const std::size_t n = rays.count;
-  const bool any = set == tracer::RaySet::shadow;
-  tracer::TraceOptions to;
-  to.packet = o.packet;
-  to.any = any;
-  if (o.slab != "plan") {
-    to.slab_given = true;
-    to.slab = o.slab == "conservative" ? bvh::Slab::conservative : o.slab == "fast" ? bvh::Slab::fast : bvh::Slab::robust;
-  }
-  const bvh::Slab slab = to.slab_given ? to.slab : accel_.plan().slab;
+namespace {
 
-  trace::ThreadScope ts(o.threads);
-  // Embree: every call it offers for this packet size, on the native and the AVX2 device; the
-  // coherent flag for the coherent sets (primary and shadow rays), incoherent for the others.
-  const bool coherent = set == tracer::RaySet::primary || set == tracer::RaySet::shadow;
-  const std::vector<trace::EmbreeMode> modes = embree_.ok ? trace::embree_modes(o.packet, coherent) : std::vector<trace::EmbreeMode>{};
-  ProgressBar bar(fmt::format("trace {} {}", source_, o.ray_set), progress ? ProgressBar::Mode::automatic : ProgressBar::Mode::off);
+// An engine a trace run times: a tracer over the run's rays and where its hits go.
+struct Engine {
+  trace::Tracer trace;
+  std::vector<bvh::HitRec>* out;
+};
 
-  std::vector<bvh::HitRec> ours, sah_out;
-  std::vector<std::vector<bvh::HitRec>> theirs(modes.size());
+// What the timing protocol measured, in seconds per pass over the ray set.
+struct Timings {
+  std::vector<double> warm_ours;                // the warm-up runs of raybench
+  std::vector<std::vector<double>> warm_modes;  // and of each Embree mode
+  int passes = 1;                               // passes per timed repetition
+  std::vector<double> ours, sah;                // raybench, and the SAH tree beside another builder's
+  std::vector<std::vector<double>> modes;       // each Embree mode (empty: left out of the rounds)
+};
+
+// The timing protocol of `raybench trace` (docs/DESIGN.md, command-line conventions): warm-up until
+// stable, passes for --min-time, Embree's clearly slower modes left out, then the engines alternating
+// repetition by repetition.
+Timings time_engines(trace::ThreadScope& ts, std::size_t n, const Engine& ours, const Engine* sah, const std::vector<Engine>& modes,
+                     const TraceRunOptions& o, ProgressBar& bar) {
   const std::size_t tile = 256;  // a multiple of every packet and stream size
-  trace::Tracer mine = [&](std::size_t b, std::size_t e, bvh::HitRec* out) { accel_.trace(rays, b, e, out, to); };
-  trace::Tracer sah_t = [&](std::size_t b, std::size_t e, bvh::HitRec* out) { sah_->trace(rays, b, e, out, to); };
-  std::vector<trace::Tracer> embree_t;
-  for (const trace::EmbreeMode& mode : modes)
-    embree_t.push_back([&, mode](std::size_t b0, std::size_t e0, bvh::HitRec* out) { trace::embree_trace(embree_, mode, rays, b0, e0, out, any); });
   // Seconds per pass over the ray set, of `passes` passes in a row.
-  auto per_pass = [&](const trace::Tracer& t, std::vector<bvh::HitRec>& out, int passes) {
+  auto per_pass = [&](const Engine& e, int passes) {
     double sum = 0;
-    for (const double x : trace::time_runs(ts, t, n, out, passes, tile)) sum += x;
+    for (const double x : trace::time_runs(ts, e.trace, n, *e.out, passes, tile)) sum += x;
     return sum / passes;
   };
-  // The machine around the runs: its load average before and after, and the CPU time the
-  // hypervisor took from this guest while they ran.
-  const LoadWatch watch;
-
+  Timings t;
+  t.warm_modes.resize(modes.size());
+  t.modes.resize(modes.size());
   // 1. Warm-up until stable (caches, page faults, the thread pool's start, the clock's boost): the
   // engines alternate run by run, for at least --warmup rounds and on while ours or Embree's fastest
   // mode still moved by more than kSettled from its previous run (at most kMaxWarmup rounds).
   constexpr double kSettled = 0.05;
   constexpr int kMaxWarmup = 6;
-  std::vector<double> warm_ours;
-  std::vector<std::vector<double>> warm_modes(modes.size());
   auto moved = [&](const std::vector<double>& v) { return v.size() < 2 || std::fabs(v.back() / v[v.size() - 2] - 1) > kSettled; };
   for (int w = 0; w < std::max(kMaxWarmup, o.warmup); ++w) {
-    warm_ours.push_back(per_pass(mine, ours, 1));
-    if (sah_) per_pass(sah_t, sah_out, 1);
+    t.warm_ours.push_back(per_pass(ours, 1));
+    if (sah) per_pass(*sah, 1);
     std::size_t fastest = 0;
     for (std::size_t m = 0; m < modes.size(); ++m) {
-      warm_modes[m].push_back(per_pass(embree_t[m], theirs[m], 1));
-      if (warm_modes[m].back() < warm_modes[fastest].back()) fastest = m;
+      t.warm_modes[m].push_back(per_pass(modes[m], 1));
+      if (t.warm_modes[m].back() < t.warm_modes[fastest].back()) fastest = m;
     }
     bar.update(0.1 * double(w + 1) / std::max(kMaxWarmup, o.warmup));
-    if (w + 1 >= std::max(1, o.warmup) && !moved(warm_ours) && (modes.empty() || !moved(warm_modes[fastest]))) break;
+    if (w + 1 >= std::max(1, o.warmup) && !moved(t.warm_ours) && (modes.empty() || !moved(t.warm_modes[fastest]))) break;
   }
   // 2. Passes per repetition: enough for ours to last --min-time by its last warm-up run (more passes,
   // never fewer rays); every engine makes the same passes.
-  const int passes = int(std::clamp(std::ceil(o.min_time / std::max(warm_ours.back(), 1e-9)), 1.0, 1e6));
+  t.passes = int(std::clamp(std::ceil(o.min_time / std::max(t.warm_ours.back(), 1e-9)), 1.0, 1e6));
   // 3. Embree's modes in the timed rounds: the fastest in the warm-up and every mode within
   // kModeSpread of it (the others are clearly slower: their warm-up figures are kept in the JSON).
   constexpr double kModeSpread = 1.10;
   std::vector<std::size_t> timed;
-  if (!modes.empty()) {
-    double best = std::numeric_limits<double>::infinity();
-    for (const auto& wm : warm_modes) best = std::min(best, wm.back());
-    for (std::size_t m = 0; m < modes.size(); ++m)
-      if (warm_modes[m].back() <= kModeSpread * best) timed.push_back(m);
-  }
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& wm : t.warm_modes) best = std::min(best, wm.back());
+  for (std::size_t m = 0; m < modes.size(); ++m)
+    if (t.warm_modes[m].back() <= kModeSpread * best) timed.push_back(m);
   // 4. The timed rounds: the engines alternate repetition by repetition (raybench, the SAH tree when
   // another builder's tree is traced, then each timed Embree mode), so that a change in the
   // machine's load falls on all alike.
-  std::vector<double> secs, sah_secs;
-  std::vector<std::vector<double>> es(modes.size());
   for (int r = 0; r < o.repetitions; ++r) {
-    secs.push_back(per_pass(mine, ours, passes));
-    if (sah_) sah_secs.push_back(per_pass(sah_t, sah_out, passes));
-    for (const std::size_t m : timed) es[m].push_back(per_pass(embree_t[m], theirs[m], passes));
+    t.ours.push_back(per_pass(ours, t.passes));
+    if (sah) t.sah.push_back(per_pass(*sah, t.passes));
+    for (const std::size_t m : timed) t.modes[m].push_back(per_pass(modes[m], t.passes));
     bar.update(0.1 + 0.85 * double(r + 1) / o.repetitions);
   }
-  const json machine_load = watch.json();
-  const double mrays = double(n) / rb::median(secs) / 1e6;
-  // Spread of the timed runs: the range in Mrays/s and the coefficient of variation of the times.
-  auto spread = [&](json& j, const std::string& prefix, const std::vector<double>& t) {
-    const stats::Summary sm = stats::summarize(t);
-    j[prefix + "mrays_per_s_min"] = double(n) / sm.max / 1e6;
-    j[prefix + "mrays_per_s_max"] = double(n) / sm.min / 1e6;
-    j[prefix + "cv"] = std::isfinite(sm.cv) ? json(sm.cv) : json(nullptr);
-  };
+  return t;
+}
 
-  // Traversal cost per ray (one extra single-threaded counted pass, not timed).
-  bvh::TraceCounters cnt;
-  {
-    std::vector<bvh::HitRec> tmp(rays.size());
-    ts.run([&] { accel_.trace_counted(rays, 0, rays.size(), tmp.data(), to, cnt); });
+// Spread of timed runs (seconds per pass over n rays): the range in Mrays/s and the coefficient of
+// variation of the times, under `prefix`.
+void put_spread(json& j, const std::string& prefix, const std::vector<double>& t, std::size_t n) {
+  const stats::Summary sm = stats::summarize(t);
+  j[prefix + "mrays_per_s_min"] = double(n) / sm.max / 1e6;
+  j[prefix + "mrays_per_s_max"] = double(n) / sm.min / 1e6;
+  j[prefix + "cv"] = std::isfinite(sm.cv) ? json(sm.cv) : json(nullptr);
+}
+
+// Every ray's answer in one FNV-1a digest: the same for any thread count, packet size and
+// schedule (docs/DESIGN.md sections 12 and 19). A closest hit's answer is its primitive and the
+// bits of its t; an any-hit (shadow) ray's is whether it is blocked, since which blocker it meets
+// first depends on the order of the walk.
+std::string hits_digest(const std::vector<bvh::HitRec>& ours, std::size_t n, bool any) {
+  std::uint64_t d = 1469598103934665603ull;
+  for (std::size_t i = 0; i < n; ++i) {
+    std::uint32_t tb;
+    std::memcpy(&tb, &ours[i].t, sizeof tb);
+    const std::uint32_t prim = any ? std::uint32_t(ours[i].prim != bvh::kNoPrim) : ours[i].prim;
+    if (any) tb = 0;
+    for (const std::uint32_t v : {prim, tb})
+      for (int k = 0; k < 4; ++k) d = (d ^ ((v >> (8 * k)) & 0xFFu)) * 1099511628211ull;
   }
+  return fmt::format("{:016x}", d);
+}
 
-  json j;
-  j["scene"] = source_;
-  j["primitives"] = accel_.scene_prims();
-  j["rays"] = n;
-  j["ray_set"] = o.ray_set;
-  j["camera"] = info.camera;
-  j["light"] = info.light;
-  j["seed"] = o.seed;
-  j["threads"] = o.threads;
-  j["packet"] = o.packet;
-  j["slab"] = bvh::slab_name(slab);
-  j["repetitions"] = o.repetitions;
-  j["warmup"] = o.warmup;
-  // The protocol as it ran: warm-up runs until stable (their seconds), passes per repetition for
-  // --min-time, and the repetitions far above the others (Tukey's fence), kept in every figure.
-  j["warmup_seconds"] = warm_ours;
-  j["min_time"] = o.min_time;
-  j["passes"] = passes;
-  j["repetition_seconds"] = rb::median(secs) * passes;
-  j["outliers"] = stats::tukey_outliers(secs);
-  j["mrays_per_s"] = mrays;
-  j["seconds"] = secs;
-  j["machine_load"] = machine_load;
-  spread(j, "", secs);
-  j["nodes_per_ray"] = double(cnt.nodes) / double(std::max<std::size_t>(1, n));
-  j["box_tests_per_ray"] = double(cnt.boxes) / double(std::max<std::size_t>(1, n));
-  j["prim_tests_per_ray"] = double(cnt.prims) / double(std::max<std::size_t>(1, n));
-  std::size_t hits = 0;
-  for (std::size_t i = 0; i < n; ++i) hits += ours[i].prim != bvh::kNoPrim;
-  j["hit_fraction"] = double(hits) / double(std::max<std::size_t>(1, n));
-  // Every ray's answer in one FNV-1a digest: the same for any thread count, packet size and
-  // schedule (docs/DESIGN.md sections 12 and 19). A closest hit's answer is its primitive and the
-  // bits of its t; an any-hit (shadow) ray's is whether it is blocked, since which blocker it meets
-  // first depends on the order of the walk.
-  {
-    std::uint64_t d = 1469598103934665603ull;
-    for (std::size_t i = 0; i < n; ++i) {
-      std::uint32_t tb;
-      std::memcpy(&tb, &ours[i].t, sizeof tb);
-      const std::uint32_t prim = any ? std::uint32_t(ours[i].prim != bvh::kNoPrim) : ours[i].prim;
-      if (any) tb = 0;
-      for (const std::uint32_t v : {prim, tb})
-        for (int k = 0; k < 4; ++k) d = (d ^ ((v >> (8 * k)) & 0xFFu)) * 1099511628211ull;
-    }
-    j["hits_fnv1a"] = fmt::format("{:016x}", d);
-  }
-  const json b = build_json();
-  for (auto it = b.begin(); it != b.end(); ++it) j[it.key()] = it.value();
-
-  if (sah_) {
-    bvh::TraceCounters sc;
-    std::vector<bvh::HitRec> tmp(rays.size());
-    ts.run([&] { sah_->trace_counted(rays, 0, rays.size(), tmp.data(), to, sc); });
-    json t = j["sah_tree"];
-    t["mrays_per_s"] = double(n) / rb::median(sah_secs) / 1e6;
-    t["seconds"] = sah_secs;
-    spread(t, "", sah_secs);
-    t["nodes_per_ray"] = double(sc.nodes) / double(std::max<std::size_t>(1, n));
-    t["box_tests_per_ray"] = double(sc.boxes) / double(std::max<std::size_t>(1, n));
-    t["prim_tests_per_ray"] = double(sc.prims) / double(std::max<std::size_t>(1, n));
-    const tracer::Compare c = tracer::compare(ours, sah_out, n, any);
-    t["mismatches_vs_builder_tree"] = c.mismatches;
-    j["sah_tree"] = t;
-  }
-
-  if (embree_.ok) {
+// Embree's figures: every mode (its median where it was timed, its warm-up rate where it was not),
+// the fastest timed mode as the yardstick, the rays the engines disagree on, and raybench / Embree
+// round by round with its interval.
+void put_embree(json& j, const trace::EmbreeBuild& embree, const std::vector<trace::EmbreeMode>& modes, const Timings& tm,
+                const std::vector<bvh::HitRec>& ours, const std::vector<std::vector<bvh::HitRec>>& theirs, std::size_t n, bool any) {
+  const std::vector<double>& secs = tm.ours;
+  const std::vector<std::vector<double>>& warm_modes = tm.warm_modes;
+  const std::vector<std::vector<double>>& es = tm.modes;
+  auto spread = [&](json& row, const std::string& prefix, const std::vector<double>& t) { put_spread(row, prefix, t, n); };
+  if (embree.ok) {
     // Every mode's median; the fastest is the yardstick.
     json ms = json::array();
     std::size_t best = 0;
     double best_mr = -1, native_best = -1, avx2_best = -1;
     for (std::size_t m = 0; m < modes.size(); ++m) {
       const tracer::Compare c = tracer::compare(ours, theirs[m], n, any);
-      const auto& dev = embree_.devices[std::size_t(modes[m].isa)];
+      const auto& dev = embree.devices[std::size_t(modes[m].isa)];
       json row{{"mode", modes[m].name(any)}, {"call", modes[m].call_name(any)}, {"device", trace::embree_isa_label(modes[m].isa)},
                {"config", dev.config}, {"isa", dev.isa}, {"coherent", modes[m].coherent}, {"mismatches", c.mismatches},
                {"warmup_mrays_per_s", double(n) / warm_modes[m].back() / 1e6}, {"timed", !es[m].empty()}};
@@ -297,7 +239,7 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
       double& slot = modes[m].isa == trace::EmbreeIsa::native ? native_best : avx2_best;
       slot = std::max(slot, mr);
     }
-    const auto& bdev = embree_.devices[std::size_t(modes[best].isa)];
+    const auto& bdev = embree.devices[std::size_t(modes[best].isa)];
     j["embree_modes"] = ms;
     j["embree_mrays_per_s"] = best_mr;
     j["embree_native_mrays_per_s"] = native_best > 0 ? json(native_best) : json(nullptr);
@@ -322,15 +264,21 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
     j["vs_embree"] = nullptr;
   }
 
-  // The brute-force loop over all objects on a prefix of the rays: the oracle and the baseline.
+}
+
+// The brute-force loop over all objects on a prefix of the rays (`brute_rays`; -1: a budget by
+// the scene's size): the oracle and the baseline.
+void put_brute(json& j, const tracer::SceneAccel& accel, trace::ThreadScope& ts, const RaySoA& rays, const std::vector<bvh::HitRec>& ours,
+               long long brute_rays, bool any) {
+  const std::size_t n = rays.count;
   std::size_t nb = 0;
-  if (o.brute_rays < 0) nb = std::min<std::size_t>(n, std::max<std::size_t>(64, std::size_t(4e8 / double(std::max<std::size_t>(1, accel_.scene_prims())))));
-  else nb = std::min<std::size_t>(n, std::size_t(o.brute_rays));
+  if (brute_rays < 0) nb = std::min<std::size_t>(n, std::max<std::size_t>(64, std::size_t(4e8 / double(std::max<std::size_t>(1, accel.scene_prims())))));
+  else nb = std::min<std::size_t>(n, std::size_t(brute_rays));
   nb = nb / 16 * 16;
   if (nb > 0) {
     std::vector<bvh::HitRec> brute(nb);
     const auto t0 = std::chrono::steady_clock::now();
-    ts.parallel_for(nb, 16, [&](std::size_t i) { brute[i] = accel_.brute_force(rays.get(i), any); });
+    ts.parallel_for(nb, 16, [&](std::size_t i) { brute[i] = accel.brute_force(rays.get(i), any); });
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const tracer::Compare c = tracer::compare(ours, brute, nb, any);
     j["brute_rays"] = nb;
@@ -342,6 +290,112 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
     j["brute_mrays_per_s"] = nullptr;
     j["brute_mismatch_rate"] = nullptr;
   }
+}
+
+}  // namespace
+
+json TraceSession::run(const TraceRunOptions& o, bool progress) {
+  const tracer::RaySet set = tracer::parse_ray_set(o.ray_set);
+  tracer::RaySetInfo info;
+  const RaySoA& rays = this->rays(set, o.count, o.seed, info);
+  const std::size_t n = rays.count;
+  const bool any = set == tracer::RaySet::shadow;
+  tracer::TraceOptions to;
+  to.packet = o.packet;
+  to.any = any;
+  if (o.slab != "plan") {
+    to.slab_given = true;
+    to.slab = o.slab == "conservative" ? bvh::Slab::conservative : o.slab == "fast" ? bvh::Slab::fast : bvh::Slab::robust;
+  }
+  const bvh::Slab slab = to.slab_given ? to.slab : accel_.plan().slab;
+
+  trace::ThreadScope ts(o.threads);
+  // Embree: every call it offers for this packet size, on the native and the AVX2 device; the
+  // coherent flag for the coherent sets (primary and shadow rays), incoherent for the others.
+  const bool coherent = set == tracer::RaySet::primary || set == tracer::RaySet::shadow;
+  const std::vector<trace::EmbreeMode> modes = embree_.ok ? trace::embree_modes(o.packet, coherent) : std::vector<trace::EmbreeMode>{};
+  ProgressBar bar(fmt::format("trace {} {}", source_, o.ray_set), progress ? ProgressBar::Mode::automatic : ProgressBar::Mode::off);
+
+  std::vector<bvh::HitRec> ours, sah_out;
+  std::vector<std::vector<bvh::HitRec>> theirs(modes.size());
+  trace::Tracer mine = [&](std::size_t b, std::size_t e, bvh::HitRec* out) { accel_.trace(rays, b, e, out, to); };
+  std::vector<Engine> embree_engines;
+  for (std::size_t m = 0; m < modes.size(); ++m) {
+    const trace::EmbreeMode mode = modes[m];
+    embree_engines.push_back({[&, mode](std::size_t b0, std::size_t e0, bvh::HitRec* out) { trace::embree_trace(embree_, mode, rays, b0, e0, out, any); },
+                              &theirs[m]});
+  }
+  const Engine sah_engine{[&](std::size_t b, std::size_t e, bvh::HitRec* out) { sah_->trace(rays, b, e, out, to); }, &sah_out};
+  // The machine around the runs: its load average before and after, and the CPU time the
+  // hypervisor took from this guest while they ran.
+  const LoadWatch watch;
+  const Timings tm = time_engines(ts, n, {mine, &ours}, sah_ ? &sah_engine : nullptr, embree_engines, o, bar);
+  const std::vector<double>& secs = tm.ours;
+  const std::vector<double>& sah_secs = tm.sah;
+  const int passes = tm.passes;
+  const json machine_load = watch.json();
+  const double mrays = double(n) / rb::median(secs) / 1e6;
+  auto spread = [&](json& j, const std::string& prefix, const std::vector<double>& t) { put_spread(j, prefix, t, n); };
+
+  // Traversal cost per ray (one extra single-threaded counted pass, not timed).
+  bvh::TraceCounters cnt;
+  {
+    std::vector<bvh::HitRec> tmp(rays.size());
+    ts.run([&] { accel_.trace_counted(rays, 0, rays.size(), tmp.data(), to, cnt); });
+  }
+
+  json j;
+  j["scene"] = source_;
+  j["primitives"] = accel_.scene_prims();
+  j["rays"] = n;
+  j["ray_set"] = o.ray_set;
+  j["camera"] = info.camera;
+  j["light"] = info.light;
+  j["seed"] = o.seed;
+  j["threads"] = o.threads;
+  j["packet"] = o.packet;
+  j["slab"] = bvh::slab_name(slab);
+  j["repetitions"] = o.repetitions;
+  j["warmup"] = o.warmup;
+  // The protocol as it ran: warm-up runs until stable (their seconds), passes per repetition for
+  // --min-time, and the repetitions far above the others (Tukey's fence), kept in every figure.
+  j["warmup_seconds"] = tm.warm_ours;
+  j["min_time"] = o.min_time;
+  j["passes"] = passes;
+  j["repetition_seconds"] = rb::median(secs) * passes;
+  j["outliers"] = stats::tukey_outliers(secs);
+  j["mrays_per_s"] = mrays;
+  j["seconds"] = secs;
+  j["machine_load"] = machine_load;
+  spread(j, "", secs);
+  j["nodes_per_ray"] = double(cnt.nodes) / double(std::max<std::size_t>(1, n));
+  j["box_tests_per_ray"] = double(cnt.boxes) / double(std::max<std::size_t>(1, n));
+  j["prim_tests_per_ray"] = double(cnt.prims) / double(std::max<std::size_t>(1, n));
+  std::size_t hits = 0;
+  for (std::size_t i = 0; i < n; ++i) hits += ours[i].prim != bvh::kNoPrim;
+  j["hit_fraction"] = double(hits) / double(std::max<std::size_t>(1, n));
+  j["hits_fnv1a"] = hits_digest(ours, n, any);
+  const json b = build_json();
+  for (auto it = b.begin(); it != b.end(); ++it) j[it.key()] = it.value();
+
+  if (sah_) {
+    bvh::TraceCounters sc;
+    std::vector<bvh::HitRec> tmp(rays.size());
+    ts.run([&] { sah_->trace_counted(rays, 0, rays.size(), tmp.data(), to, sc); });
+    json t = j["sah_tree"];
+    t["mrays_per_s"] = double(n) / rb::median(sah_secs) / 1e6;
+    t["seconds"] = sah_secs;
+    spread(t, "", sah_secs);
+    t["nodes_per_ray"] = double(sc.nodes) / double(std::max<std::size_t>(1, n));
+    t["box_tests_per_ray"] = double(sc.boxes) / double(std::max<std::size_t>(1, n));
+    t["prim_tests_per_ray"] = double(sc.prims) / double(std::max<std::size_t>(1, n));
+    const tracer::Compare c = tracer::compare(ours, sah_out, n, any);
+    t["mismatches_vs_builder_tree"] = c.mismatches;
+    j["sah_tree"] = t;
+  }
+
+  put_embree(j, embree_, modes, tm, ours, theirs, n, any);
+  put_brute(j, accel_, ts, rays, ours, o.brute_rays, any);
   bar.done();
   return j;
 }
