@@ -234,17 +234,17 @@ RatioInterval interval_from_json(const nlohmann::json& j) {
   return r;
 }
 
-std::string interval_text(const RatioInterval& r) {
-  char buf[96];
+std::string interval_text(const RatioInterval& r, const char* unit) {
+  char buf[128];
   if (!std::isfinite(r.ratio)) return "-";
   if (!r.valid()) {
-    std::snprintf(buf, sizeof buf, "%.2fx", r.ratio);
+    std::snprintf(buf, sizeof buf, "%.2f%s", r.ratio, unit);
     return buf;
   }
   if (r.coverage < 0.95)
-    std::snprintf(buf, sizeof buf, "%.2fx [range of %zu: %.2f-%.2f]", r.ratio, r.n, r.lo, r.hi);
+    std::snprintf(buf, sizeof buf, "%.2f%s [range of %zu: %.2f-%.2f]", r.ratio, unit, r.n, r.lo, r.hi);
   else
-    std::snprintf(buf, sizeof buf, "%.2fx [%.2f-%.2f]", r.ratio, r.lo, r.hi);
+    std::snprintf(buf, sizeof buf, "%.2f%s [%.2f-%.2f]", r.ratio, unit, r.lo, r.hi);
   return buf;
 }
 

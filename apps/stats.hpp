@@ -78,8 +78,9 @@ RatioInterval unpaired_ratio(const std::vector<double>& a, const std::vector<dou
 // and back (a missing or null object gives an interval that is not valid).
 nlohmann::json interval_json(const RatioInterval& r);
 RatioInterval interval_from_json(const nlohmann::json& j);
-// "1.12x [1.08-1.15]" ("1.12x [range of 5: 1.05-1.18]" below the level's rounds; "-" when none).
-std::string interval_text(const RatioInterval& r);
+// "1.12x [1.08-1.15]" ("1.12x [range of 5: 1.05-1.18]" below the level's rounds; "-" when none);
+// `unit` replaces the "x" of a ratio (a rate's median over rounds: " G/s").
+std::string interval_text(const RatioInterval& r, const char* unit = "x");
 
 // A goal on a ratio: met when the whole interval clears the target (lo >= target), not met when
 // it lies below (hi < target), undecided when it straddles it; not measured without an interval.
