@@ -3,7 +3,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
-#include <sstream>
+#include <stdexcept>
 
 namespace rb::app {
 
@@ -29,7 +29,7 @@ Record Record::replaying(const std::string& file) {
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(f);
-  } catch (const nlohmann::json::parse_error& e) {
+  } catch (const nlohmann::json::exception& e) {  // a parse error, or a number beyond double
     throw std::runtime_error(file + ": not JSON (" + e.what() + ")");
   }
   if (!j.is_object() || !j.contains("measurements") || !j["measurements"].is_object())
