@@ -10,11 +10,11 @@
 // and a change of the machine's load falls on both; a benchmark's repetitions are its rounds, and
 // a ratio between two benchmarks is taken round by round (stats::paired_ratio).
 #include "apps/cli.hpp"
-#include "apps/machine.hpp"
+#include "apps/results/machine.hpp"
 #include "apps/progress.hpp"
-#include "apps/report.hpp"
-#include "apps/results.hpp"
-#include "apps/stats.hpp"
+#include "apps/report/report.hpp"
+#include "apps/results/results.hpp"
+#include "apps/results/stats.hpp"
 #include "bench/register.hpp"
 
 #include <benchmark/benchmark.h>

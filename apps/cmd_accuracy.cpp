@@ -5,7 +5,7 @@
 #include "apps/accuracy_run.hpp"
 #include "apps/cli.hpp"
 #include "apps/commands.hpp"
-#include "apps/machine.hpp"
+#include "apps/results/machine.hpp"
 #include "apps/paths.hpp"
 #include "apps/progress.hpp"
 

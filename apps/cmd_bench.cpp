@@ -4,10 +4,10 @@
 // `raybench compare` read).
 #include "apps/cli.hpp"
 #include "apps/commands.hpp"
-#include "apps/machine.hpp"
-#include "apps/report.hpp"
-#include "apps/results.hpp"
-#include "apps/stats.hpp"
+#include "apps/results/machine.hpp"
+#include "apps/report/report.hpp"
+#include "apps/results/results.hpp"
+#include "apps/results/stats.hpp"
 
 #include <fmt/format.h>
 

@@ -1,8 +1,8 @@
 // `raybench compare A B`: two results of one kind, row by row (apps/compare.hpp).
 #include "apps/cli.hpp"
 #include "apps/commands.hpp"
-#include "apps/compare.hpp"
-#include "apps/history.hpp"
+#include "apps/results/compare.hpp"
+#include "apps/results/history.hpp"
 
 #include <fmt/format.h>
 

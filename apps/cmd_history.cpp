@@ -3,9 +3,9 @@
 #include "apps/interrupt.hpp"
 #include "apps/cli.hpp"
 #include "apps/commands.hpp"
-#include "apps/history.hpp"
+#include "apps/results/history.hpp"
 #include "apps/paths.hpp"
-#include "apps/stats.hpp"
+#include "apps/results/stats.hpp"
 #include "core/output_file.hpp"
 
 #include <fmt/format.h>

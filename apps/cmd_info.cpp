@@ -3,11 +3,11 @@
 #include "core/output_file.hpp"
 #include "apps/commands.hpp"
 #include "apps/scene_info.hpp"
-#include "kernels/csg.hpp"
+#include "kernels/csg_ray.hpp"
 #include "tracer/leaves.hpp"
 #include "tracer/plan.hpp"
 #include "tracer/profile.hpp"
-#include "scene/csg.hpp"
+#include "scene/csg_scene.hpp"
 #include "scene/sources.hpp"
 
 #include <fmt/format.h>

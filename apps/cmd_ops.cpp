@@ -1,7 +1,7 @@
 // `raybench ops` (the operations table) and `raybench machine` (what every result records).
 #include "apps/cli.hpp"
 #include "apps/commands.hpp"
-#include "apps/machine.hpp"
+#include "apps/results/machine.hpp"
 #include "bench/ops_table.hpp"
 
 namespace rb::app {

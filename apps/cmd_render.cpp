@@ -1,7 +1,7 @@
 // `raybench render SCENE [-o image.png]`: the recursive ray tracer, with ray and test statistics.
 #include "apps/cli.hpp"
 #include "apps/commands.hpp"
-#include "apps/machine.hpp"
+#include "apps/results/machine.hpp"
 #include "apps/render_run.hpp"
 #include "core/output_file.hpp"
 #ifdef RB_HAVE_MPI

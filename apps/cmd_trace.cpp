@@ -1,7 +1,7 @@
 // `raybench trace SCENE`: trace a whole scene with the BVH, beside Embree on the same rays.
 #include "apps/cli.hpp"
 #include "apps/commands.hpp"
-#include "apps/machine.hpp"
+#include "apps/results/machine.hpp"
 #include "apps/trace_run.hpp"
 
 #include <fmt/format.h>

@@ -4,7 +4,7 @@
 
 #include "apps/cli.hpp"
 #include "apps/progress.hpp"
-#include "apps/stats.hpp"
+#include "apps/results/stats.hpp"
 #include "tracer/parallel.hpp"
 #include "scene/sources.hpp"
 #ifdef RB_HAVE_MPI
@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <utility>
 
 namespace rb::app {
 
@@ -50,6 +51,110 @@ std::optional<HainesFigures> haines_figures(const std::string& name) {
   return std::nullopt;
 }
 
+namespace {
+
+// The image size: as given; the camera's own when neither is given; one of them given, the other
+// from the camera's aspect ratio (square without one).
+std::pair<int, int> image_size(const RenderRunOptions& o, const scene::Scene& s) {
+  int w = o.width, h = o.height;
+  const bool aspect = !o.spd && s.camera.width > 0 && s.camera.height > 0;
+  if (aspect && w == 0 && h == 0) w = s.camera.width, h = s.camera.height;
+  if (w == 0 && h > 0) w = aspect ? std::max(1, int(std::lround(double(h) * s.camera.width / s.camera.height))) : h;
+  if (w == 0) w = 512;
+  if (h == 0) h = aspect ? std::max(1, int(std::lround(double(w) * s.camera.height / s.camera.width))) : w;
+  return {w, h};
+}
+
+// The image's float samples in one FNV-1a digest: the same for any thread or rank count and any
+// packet sizes.
+std::string image_digest(const std::vector<float>& img) {
+  std::uint64_t digest = 1469598103934665603ull;
+  for (const float v : img) {
+    std::uint32_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    for (int k = 0; k < 4; ++k) digest = (digest ^ ((bits >> (8 * k)) & 0xFFu)) * 1099511628211ull;
+  }
+  return fmt::format("{:016x}", digest);
+}
+
+// What the renders leave: the last render's samples and counts, the timed renders' seconds, the
+// trial renders' rows and the machine's load over them.
+struct RenderTimes {
+  std::vector<float> samples;
+  std::vector<double> trace_seconds;
+  render::RenderStats st;
+  json trial_rows = json::array();
+  json machine_load;
+  int trials = 0;
+  int ranks = 1;
+  bool rank0 = true;
+};
+
+// The warm-up renders and the trial renders first (not in the median), then the timed ones; the
+// image and the counts are those of the last render (every render computes the same image).
+// Packet sizes: given, or (0: auto) the fastest in this run. The trial renders after the warm-up
+// ones try the candidates (eye rays in packets of 64, 16 and 8; the other rays one by one and in
+// octant-ordered packets of 8), a candidate per render in turn, and each generation takes the size
+// whose trace time was least (summed over threads; under MPI each rank chooses from its own tiles).
+// `ro` leaves with the packet sizes of the timed renders.
+RenderTimes time_renders(const RenderRunOptions& o, const scene::Scene& s, const tracer::SceneAccel& accel, render::RenderOptions& ro,
+                         const render::MpiSession* mpi) {
+  RenderTimes out;
+  const std::vector<int> eye_sizes = o.eye_packet == 0 ? std::vector<int>{64, 16, 8} : std::vector<int>{o.eye_packet};
+  const std::vector<int> sec_sizes = o.secondary_packet == 0 ? std::vector<int>{1, 8} : std::vector<int>{o.secondary_packet};
+  const int trials = o.eye_packet == 0 || o.secondary_packet == 0 ? int(std::max(eye_sizes.size(), sec_sizes.size())) : 0;
+  out.trials = trials;
+  const double never = std::numeric_limits<double>::infinity();
+  std::vector<double> eye_s(eye_sizes.size(), never), sec_s(sec_sizes.size(), never);  // least seconds per candidate
+  auto fastest = [](const std::vector<int>& sizes, const std::vector<double>& secs) {
+    return sizes[std::size_t(std::min_element(secs.begin(), secs.end()) - secs.begin())];
+  };
+  ro.eye_packet = eye_sizes[0];
+  ro.secondary_packet = sec_sizes[0];
+  int rank = 0;
+#ifdef RB_HAVE_MPI
+  if (mpi) rank = mpi->rank(), out.ranks = mpi->size();
+  if (mpi) mpi->barrier();
+#endif
+  out.rank0 = rank == 0;
+  const bool show = o.progress && rank == 0;
+  ProgressBar bar(fmt::format("render {}", o.scene), show ? ProgressBar::Mode::automatic : ProgressBar::Mode::off);
+  const int warmup = std::max(0, o.warmup), untimed = warmup + trials;
+  const int runs = untimed + std::max(1, o.repetitions);
+  int run = 0;
+  auto progress = [&](std::size_t done, std::size_t total) {
+    bar.update((double(run) + double(done) / double(std::max<std::size_t>(1, total))) / double(runs));
+  };
+  const LoadWatch watch;
+  for (run = 0; run < runs; ++run) {
+    const bool trial = run >= warmup && run < untimed;
+    const std::size_t e = std::size_t(run - warmup) % eye_sizes.size(), k = std::size_t(run - warmup) % sec_sizes.size();
+    if (trial) ro.eye_packet = eye_sizes[e], ro.secondary_packet = sec_sizes[k];
+    if (run == untimed && trials > 0) ro.eye_packet = fastest(eye_sizes, eye_s), ro.secondary_packet = fastest(sec_sizes, sec_s);
+    const render::Renderer r(s, accel, ro);
+    const auto t1 = std::chrono::steady_clock::now();
+#ifdef RB_HAVE_MPI
+    if (mpi) out.st = render::render_tiles_mpi(*mpi, r, out.samples, o.threads, progress);
+    else out.st = render::render_tiles(r, out.samples, o.threads, 0, 1, progress);
+#else
+    (void)mpi;
+    out.st = render::render_tiles(r, out.samples, o.threads, 0, 1, progress);
+#endif
+    if (run >= untimed) out.trace_seconds.push_back(ms_since(t1) / 1e3);
+    if (trial) {
+      eye_s[e] = std::min(eye_s[e], out.st.eye_trace_s);
+      sec_s[k] = std::min(sec_s[k], out.st.secondary_trace_s);
+      out.trial_rows.push_back({{"eye_packet", ro.eye_packet}, {"secondary_packet", ro.secondary_packet},
+                                {"eye_trace_ms", 1e3 * out.st.eye_trace_s}, {"secondary_trace_ms", 1e3 * out.st.secondary_trace_s}});
+    }
+  }
+  out.machine_load = watch.json();
+  bar.done();
+  return out;
+}
+
+}  // namespace
+
 json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
   const auto t0 = std::chrono::steady_clock::now();
   scene::Scene s = scene::load_scene(o.scene);
@@ -65,109 +170,34 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
     ts.run([&] { accel = tracer::SceneAccel::build(s, plan); });
   }
   const double build_ms = accel.build_ms;
-
-  // The image size: as given; the camera's own when neither is given; one of them given, the other
-  // from the camera's aspect ratio (square without one).
-  int w = o.width, h = o.height;
-  const bool aspect = !o.spd && s.camera.width > 0 && s.camera.height > 0;
-  if (aspect && w == 0 && h == 0) w = s.camera.width, h = s.camera.height;
-  if (w == 0 && h > 0) w = aspect ? std::max(1, int(std::lround(double(h) * s.camera.width / s.camera.height))) : h;
-  if (w == 0) w = 512;
-  if (h == 0) h = aspect ? std::max(1, int(std::lround(double(w) * s.camera.height / s.camera.width))) : w;
+  const auto [w, h] = image_size(o, s);
   render::RenderOptions ro;
   if (o.spd) ro = render::spd_options(s, w, h, o.depth);
   else ro.width = w, ro.height = h, ro.depth = o.depth;
   ro.count_tests = o.count_tests;
-  // Packet sizes: given, or (0: auto) the fastest in this run. Then trial renders after the
-  // warm-up ones try the candidates (eye rays in packets of 64, 16 and 8; the other rays one by one
-  // and in octant-ordered packets of 8), a candidate per render in turn, and each generation takes
-  // the size whose trace time was least (summed over threads; under MPI each rank chooses from its
-  // own tiles).
-  const std::vector<int> eye_sizes = o.eye_packet == 0 ? std::vector<int>{64, 16, 8} : std::vector<int>{o.eye_packet};
-  const std::vector<int> sec_sizes = o.secondary_packet == 0 ? std::vector<int>{1, 8} : std::vector<int>{o.secondary_packet};
-  const int trials = o.eye_packet == 0 || o.secondary_packet == 0 ? int(std::max(eye_sizes.size(), sec_sizes.size())) : 0;
-  const double never = std::numeric_limits<double>::infinity();
-  std::vector<double> eye_s(eye_sizes.size(), never), sec_s(sec_sizes.size(), never);  // least seconds per candidate
-  json trial_rows = json::array();
-  auto fastest = [](const std::vector<int>& sizes, const std::vector<double>& secs) {
-    return sizes[std::size_t(std::min_element(secs.begin(), secs.end()) - secs.begin())];
-  };
-  ro.eye_packet = eye_sizes[0];
-  ro.secondary_packet = sec_sizes[0];
-
-  int rank = 0, ranks = 1;
-#ifdef RB_HAVE_MPI
-  if (mpi) rank = mpi->rank(), ranks = mpi->size();
-  if (mpi) mpi->barrier();
-#endif
-  const bool show = o.progress && rank == 0;
-  ProgressBar bar(fmt::format("render {}", o.scene), show ? ProgressBar::Mode::automatic : ProgressBar::Mode::off);
-  // The warm-up renders and the trial renders first (not in the median), then the timed ones; the
-  // image and the counts are those of the last render (every render computes the same image).
-  const int warmup = std::max(0, o.warmup), untimed = warmup + trials;
-  const int runs = untimed + std::max(1, o.repetitions);
-  int run = 0;
-  auto progress = [&](std::size_t done, std::size_t total) {
-    bar.update((double(run) + double(done) / double(std::max<std::size_t>(1, total))) / double(runs));
-  };
-  std::vector<float> samples;
-  std::vector<double> trace_seconds;
-  render::RenderStats st;
-  const LoadWatch watch;
-  for (run = 0; run < runs; ++run) {
-    const bool trial = run >= warmup && run < untimed;
-    const std::size_t e = std::size_t(run - warmup) % eye_sizes.size(), k = std::size_t(run - warmup) % sec_sizes.size();
-    if (trial) ro.eye_packet = eye_sizes[e], ro.secondary_packet = sec_sizes[k];
-    if (run == untimed && trials > 0) ro.eye_packet = fastest(eye_sizes, eye_s), ro.secondary_packet = fastest(sec_sizes, sec_s);
-    const render::Renderer r(s, accel, ro);
-    const auto t1 = std::chrono::steady_clock::now();
-#ifdef RB_HAVE_MPI
-    if (mpi) st = render::render_tiles_mpi(*mpi, r, samples, o.threads, progress);
-    else st = render::render_tiles(r, samples, o.threads, 0, 1, progress);
-#else
-    (void)mpi;
-    st = render::render_tiles(r, samples, o.threads, 0, 1, progress);
-#endif
-    if (run >= untimed) trace_seconds.push_back(ms_since(t1) / 1e3);
-    if (trial) {
-      eye_s[e] = std::min(eye_s[e], st.eye_trace_s);
-      sec_s[k] = std::min(sec_s[k], st.secondary_trace_s);
-      trial_rows.push_back({{"eye_packet", ro.eye_packet}, {"secondary_packet", ro.secondary_packet},
-                            {"eye_trace_ms", 1e3 * st.eye_trace_s}, {"secondary_trace_ms", 1e3 * st.secondary_trace_s}});
-    }
-  }
-  const render::Renderer r(s, accel, ro);
-  const json machine_load = watch.json();
-  const stats::Summary spread = stats::summarize(trace_seconds);
+  const RenderTimes rt = time_renders(o, s, accel, ro, mpi);
+  if (!rt.rank0) return json();
+  const render::RenderStats& st = rt.st;
+  const stats::Summary spread = stats::summarize(rt.trace_seconds);
   const double trace_ms = 1e3 * spread.median;
-  bar.done();
-  if (rank != 0) return json();
-
-  const std::vector<float> img = r.resolve(samples);
+  const render::Renderer r(s, accel, ro);
+  const std::vector<float> img = r.resolve(rt.samples);
   if (!o.out.empty()) render::write_png(o.out, w, h, img);
 
   json prim = json::object();
   // A kind's tests in both of its batches (leaf tags k and kKinds + k: its primitives stored apart).
   for (int k = 0; k < kinds::kKinds; ++k) prim[kinds::kind_name(kinds::Kind(k))] = st.cost.kind_prims[k] + st.cost.kind_prims[kinds::kKinds + k];
   const double rays = double(st.rays());
-  // The image's float samples in one FNV-1a digest: the same for any thread or rank count and any
-  // packet sizes.
-  std::uint64_t digest = 1469598103934665603ull;
-  for (const float v : img) {
-    std::uint32_t bits;
-    std::memcpy(&bits, &v, sizeof bits);
-    for (int k = 0; k < 4; ++k) digest = (digest ^ ((bits >> (8 * k)) & 0xFFu)) * 1099511628211ull;
-  }
   json j{{"scene", o.scene},
          {"scene_name", s.name},
-         {"image_fnv1a", fmt::format("{:016x}", digest)},
+         {"image_fnv1a", image_digest(img)},
          {"width", w},
          {"height", h},
          {"depth", ro.depth},
          {"spd", o.spd},
          {"two_sided", ro.two_sided},
          {"threads", o.threads},
-         {"ranks", ranks},
+         {"ranks", rt.ranks},
          {"primitives", s.primitive_count()},
          {"eye_rays", st.eye},
          {"eye_hit_rays", st.eye_hit},
@@ -180,7 +210,7 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
          {"eye_packet", ro.eye_packet},
          {"packet_choice", {{"eye", o.eye_packet == 0 ? "fastest in the trial renders" : "given"},
                             {"secondary", o.secondary_packet == 0 ? "fastest in the trial renders" : "given"},
-                            {"trials", trial_rows}}},
+                            {"trials", rt.trial_rows}}},
          {"node_visits", st.cost.nodes},
          {"box_tests", st.cost.boxes},
          {"prim_tests", prim},
@@ -193,13 +223,13 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
          {"trace_ms", trace_ms},
          {"mrays_per_s", trace_ms > 0 ? rays / (trace_ms * 1e3) : 0.0},
          {"warmup", std::max(0, o.warmup)},
-         {"trial_renders", trials},
-         {"repetitions", trace_seconds.size()},
-         {"trace_seconds", trace_seconds},
+         {"trial_renders", rt.trials},
+         {"repetitions", rt.trace_seconds.size()},
+         {"trace_seconds", rt.trace_seconds},
          {"trace_ms_min", 1e3 * spread.min},
          {"trace_ms_max", 1e3 * spread.max},
          {"cv", std::isfinite(spread.cv) ? json(spread.cv) : json(nullptr)},
-         {"machine_load", machine_load}};
+         {"machine_load", rt.machine_load}};
   if (!o.out.empty()) j["image"] = o.out;
   if (const auto f = haines_figures(spd_name(o.scene))) {
     j["haines"] = {{"eye_hit_rays", f->eye_hit}, {"reflect_rays", f->reflect}, {"refract_rays", f->refract},

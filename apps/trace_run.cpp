@@ -4,7 +4,7 @@
 
 #include "apps/cli.hpp"
 #include "apps/progress.hpp"
-#include "apps/stats.hpp"
+#include "apps/results/stats.hpp"
 #include "core/median.hpp"
 #include "bench/embree_build.hpp"
 #include "scene/sources.hpp"

@@ -4,7 +4,7 @@
 
 #include "apps/trace_options.hpp"
 #include "bench/embree_trace.hpp"
-#include "bench/trace.hpp"
+#include "bench/timed_trace.hpp"
 
 #include <nlohmann/json.hpp>
 

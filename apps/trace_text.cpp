@@ -3,7 +3,7 @@
 #include "apps/trace_run.hpp"
 
 #include "apps/cli.hpp"
-#include "apps/stats.hpp"
+#include "apps/results/stats.hpp"
 
 #include <fmt/format.h>
 

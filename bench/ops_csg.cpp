@@ -1,9 +1,9 @@
-// Operations per CSG query (kernels/csg.hpp) on the embedded CSG scenes: the whole query (leaf
+// Operations per CSG query (kernels/csg_ray.hpp) on the embedded CSG scenes: the whole query (leaf
 // lists, node boxes, merges) for a ray that hits and one that misses after passing the root's box,
 // as Counted<float> and as the per-lane count of an 8-ray packet (Counted<simd8>). For the two
 // two-sphere scenes the note splits the float count into the leaves, the boxes and the merge.
 #include "bench/ops_detail.hpp"
-#include "scene/csg.hpp"
+#include "scene/csg_scene.hpp"
 
 #include <fmt/format.h>
 

@@ -142,8 +142,7 @@ struct Builder {
     std::size_t mid = begin;
     std::pair<Box, Box> lb, rb;  // children's boxes and centroid boxes when the partition made them
     bool have_bounds = false;
-    // Fewer bins for small nodes (their few centroids fill few bins anyway). Measured on the 202k
-    // dragon: 0.91x the build time at one thread, SAH cost +0.35 %, node visits per ray +0.4 %.
+    // Fewer bins for small nodes: their few centroids fill few bins anyway (docs/DESIGN.md section 12).
     const int nb = std::clamp(std::min(opt.bins, 8 + int(std::min<std::size_t>(n / 16, kMaxBins))), 2, kMaxBins);
     float ext[3];
     int axis = 0;

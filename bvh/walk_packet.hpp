@@ -212,7 +212,7 @@ RB_INLINE void child_masks(const WNode& n, const SlabFrustum& fr, const Packet<G
 }
 
 // Where the packet goes from a node: the hit children (bits, at least one) near to far (closest
-// hit) or in slot order (any hit: sorting shadow packets' children cost 4-14 % of their rate), the
+// hit) or in slot order (any hit: sorting does not pay; docs/DESIGN.md section 12), the
 // nearest next (ref, mask), the others pushed with their distance and mask.
 template <bool Robust, bool Any, int G>
 RB_INLINE void push_children(const WNode& n, const f8& tn, unsigned bits, const RayMask<G> (&cm)[8], std::uint32_t& ref, RayMask<G>& mask,

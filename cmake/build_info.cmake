@@ -1,7 +1,5 @@
-# Runs at every build (target rb_build_info, apps/CMakeLists.txt): records the git revision and
-# whether the tracked files differed from it, so that a binary names the source it was built from
-# and never the tree checked out when it runs. configure_file rewrites the header only when its
-# content changes, so an unchanged revision recompiles nothing.
+# Runs at every build (target rb_build_info, apps/CMakeLists.txt): writes the git revision, dirty flag
+# and commit time into the header that names the source a binary was built from (docs/BUILD.md).
 # Inputs: -DSRC=<source dir> -DOUT=<header> -DTEMPLATE=<header.in> -DVERSION=<project version>
 set(RB_GIT_REVISION "unknown")
 set(RB_GIT_DIRTY 0)

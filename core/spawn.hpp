@@ -1,7 +1,7 @@
 // Where a secondary ray starts: a point computed on a surface lies within rounding error of it, on
 // either side, so a ray spawned there can hit its own surface again ("self-hit", shadow acne).
 // Three schemes, all in float (the tracer's frame coordinates), shared by the accuracy lab
-// (accuracy/secondary.cpp measures each one's self-hits and cost) and the tracer (tracer/plan.hpp
+// (accuracy/secondary_cases.cpp measures each one's self-hits and cost) and the tracer (tracer/plan.hpp
 // picks one per scene):
 //   - extent epsilon: the point moved along the normal by a fixed fraction of the scene's size
 //     (simple and scale-aware, but at 6.4e6 from the origin a fraction of the extent is hundreds

@@ -4,7 +4,7 @@
 // must pass check_numbers or be refused by it with SceneError: no crash, hang, leak or other
 // exception. Run one for longer with e.g.
 //   build/libfuzzer/fuzz/fuzz_ply -max_total_time=600 -max_len=4096 CORPUS_DIR
-#include "scene/csg.hpp"
+#include "scene/csg_scene.hpp"
 #include "scene/loaders.hpp"
 #include "scene/sources.hpp"
 

@@ -1,6 +1,6 @@
 // The compiled CSG queries (each instantiation once): scalar float, 8-ray packets; normals and
 // point membership.
-#include "scene/csg.hpp"
+#include "scene/csg_scene.hpp"
 
 #include <cmath>
 

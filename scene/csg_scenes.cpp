@@ -1,7 +1,7 @@
 // The embedded CSG scenes (csg:NAME): JSON scenes of the format scene/json_scene.cpp reads, each a CSG
 // object over a floor, with the lights and materials they share.
 #include "core/suggest.hpp"
-#include "scene/csg.hpp"
+#include "scene/csg_scene.hpp"
 
 #include <nlohmann/json.hpp>
 

@@ -1,6 +1,6 @@
 // Reading the JSON scene format (internal to scene/): values at a JSON path with an error that
 // names the path ("objects[2].radius: expected a positive number"; the caller prefixes the file),
-// and what the scene reader (scene/json_scene.cpp) asks of the CSG builder (scene/csg.cpp).
+// and what the scene reader (scene/json_scene.cpp) asks of the CSG builder (scene/csg_scene.cpp).
 #pragma once
 
 #include "scene/scene.hpp"
@@ -66,7 +66,7 @@ inline void only_keys(const json& j, const std::string& path, const std::vector<
 }
 
 // The material a node names ("material"), else `inherited`; names resolved through `materials`
-// (null: not resolved, the inherited one kept). scene/csg.cpp.
+// (null: not resolved, the inherited one kept). scene/csg_scene.cpp.
 std::uint32_t node_material(const json& node, const std::string& path, const std::map<std::string, std::uint32_t>* materials,
                             std::uint32_t inherited);
 // The CSG tree of a node placed by M, its leaves' material `mat` unless they name one.

@@ -1,7 +1,7 @@
-// The JSON scene format (scene/csg.hpp): camera, background, lights, named materials and objects
+// The JSON scene format (scene/csg_scene.hpp): camera, background, lights, named materials and objects
 // (spheres, tori and polygons as primitives of their own; everything else a CSG object, built by
-// scene/csg.cpp), each error naming the file and the JSON path.
-#include "scene/csg.hpp"
+// scene/csg_scene.cpp), each error naming the file and the JSON path.
+#include "scene/csg_scene.hpp"
 #include "scene/json_read.hpp"
 #include "scene/parse_util.hpp"
 

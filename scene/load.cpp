@@ -1,5 +1,5 @@
 // load_scene: one name for files and embedded generators; shared loader helpers.
-#include "scene/csg.hpp"
+#include "scene/csg_scene.hpp"
 #include "scene/loaders.hpp"
 #include "scene/parse_util.hpp"
 #include "scene/sources.hpp"

@@ -1,5 +1,5 @@
 #include "scene/scene.hpp"
-#include "kernels/csg.hpp"
+#include "kernels/csg_ray.hpp"
 #include "scene/sources.hpp"
 
 #include <fmt/format.h>

@@ -24,7 +24,7 @@
 #include <vector>
 
 namespace rb {
-struct CsgTree;  // kernels/csg.hpp
+struct CsgTree;  // kernels/csg_ray.hpp
 }
 
 namespace rb::scene {
@@ -90,7 +90,7 @@ struct TorusIn {
   std::uint32_t mat;
 };
 
-// A CSG solid (kernels/csg.hpp; built by scene/csg.hpp from JSON). Materials are per leaf (each
+// A CSG solid (kernels/csg_ray.hpp; built by scene/csg_scene.hpp from JSON). Materials are per leaf (each
 // leaf's surface keeps its own); `mat` is the object's default. The tree is shared, immutable;
 // `tree` is placed in world coordinates (rounded to float there), `in_frame(origin)` builds the
 // same tree with every coordinate taken relative to `origin` before it is rounded.
@@ -99,7 +99,7 @@ struct CsgIn {
   std::uint32_t mat;
   std::function<std::shared_ptr<const CsgTree>(const Vec3d& origin)> in_frame;
   // The node as the JSON scene format wrote it, every "material" renamed "m<index>" (the index
-  // into Scene::materials): what scene_json (scene/csg.hpp) writes back.
+  // into Scene::materials): what scene_json (scene/csg_scene.hpp) writes back.
   std::string json;
 };
 

@@ -1,6 +1,6 @@
 // The JSON scene format written back (scene_json): a scene the format can hold, as indented JSON
 // that loads back to the same scene (scene/json_scene.cpp reads it).
-#include "scene/csg.hpp"
+#include "scene/csg_scene.hpp"
 #include "scene/parse_util.hpp"
 
 #include <nlohmann/json.hpp>

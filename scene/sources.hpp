@@ -2,8 +2,8 @@
 //   path/to/file.obj | .ply | .nff        a file, by extension
 //   spd:NAME[:SIZE]                       Haines' SPD generators: balls gears mount rings teapot tetra tree
 //   lecture:NAME                          the lecture's scenes (seed 004's images)
-//   path/to/scene.json                    the JSON scene format: CSG trees and analytic primitives (scene/csg.hpp)
-//   csg:NAME                              embedded CSG scenes (scene/csg.hpp)
+//   path/to/scene.json                    the JSON scene format: CSG trees and analytic primitives (scene/csg_scene.hpp)
+//   csg:NAME                              embedded CSG scenes (scene/csg_scene.hpp)
 //   precision:NAME                        scenes that test a tracer's precision (scene/precision_scenes.cpp)
 //   heightfield[:NXxNY]                   a wavy height field of NX x NY quads (default 708x707: 1,001,112 triangles)
 // Errors (unknown name, unreadable or malformed file) throw rb::scene::SceneError whose

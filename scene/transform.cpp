@@ -1,6 +1,6 @@
 #include "scene/transform.hpp"
 
-#include "kernels/csg.hpp"
+#include "kernels/csg_ray.hpp"
 
 #include <cmath>
 #include <stdexcept>

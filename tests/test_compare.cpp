@@ -1,9 +1,9 @@
 // `raybench compare` and its statistics: the Mann-Whitney U test against SciPy's test vectors
 // (tests/data/mannwhitney), the row matching, verdicts, summary and --threshold on results of every
 // kind, and the binary comparing two runs of its own.
-#include "apps/compare.hpp"
-#include "apps/results.hpp"
-#include "apps/stats.hpp"
+#include "apps/results/compare.hpp"
+#include "apps/results/results.hpp"
+#include "apps/results/stats.hpp"
 #include "cli_test_util.hpp"
 
 #include <gtest/gtest.h>
@@ -124,15 +124,13 @@ TEST(Stats, PairedRatioIntervalHasItsStatedCoverage) {
   }
 }
 
-TEST(Stats, MedianCvGeometricMeanAndSmallestP) {
+TEST(Stats, MedianCvGeometricMean) {
   EXPECT_DOUBLE_EQ(rb::stats::median({3, 1, 2}), 2);
   EXPECT_DOUBLE_EQ(rb::stats::median({4, 1, 2, 3}), 2.5);
   EXPECT_TRUE(std::isnan(rb::stats::median({})));
   EXPECT_NEAR(rb::stats::cv({9, 10, 11}), 0.1, 1e-12);
   EXPECT_TRUE(std::isnan(rb::stats::cv({5})));
   EXPECT_NEAR(rb::stats::geometric_mean({2, 8, -1, std::nan("")}), 4, 1e-12);  // positive finite values only
-  EXPECT_NEAR(rb::stats::smallest_p(3, 3), 0.1, 1e-12);
-  EXPECT_LT(rb::stats::smallest_p(5, 5), 0.01);
   const auto s = rb::stats::summarize({5, 1, 3});
   EXPECT_EQ(s.n, 3u);
   EXPECT_EQ(s.min, 1);
@@ -178,10 +176,12 @@ TEST(Compare, BenchRowsVerdictsAndSummary) {
   for (const auto& r : c.rows) by[r.a.name] = &r;
   EXPECT_EQ(by["k/m/scalar/hit"]->verdict, "faster");
   EXPECT_NEAR(by["k/m/scalar/hit"]->ratio, 1.2, 1e-9);
-  EXPECT_LT(by["k/m/scalar/hit"]->p, 0.001);
+  EXPECT_GT(by["k/m/scalar/hit"]->interval.lo, 1.15);  // 1.2 with a 1 % spread on each side
+  EXPECT_LT(by["k/m/scalar/hit"]->interval.hi, 1.25);
   EXPECT_EQ(by["k/m/rays_in_lanes/hit"]->verdict, "slower");
   EXPECT_EQ(by["k/m/scalar/miss"]->verdict, "");  // 0.2 % inside a 2 % spread: noise
-  EXPECT_GT(by["k/m/scalar/miss"]->p, 0.05);
+  EXPECT_LT(by["k/m/scalar/miss"]->interval.lo, 1);
+  EXPECT_GT(by["k/m/scalar/miss"]->interval.hi, 1);
   EXPECT_EQ(c.faster, 1u);
   EXPECT_EQ(c.slower, 1u);
   EXPECT_NEAR(c.geomean_gain, std::cbrt(1.2 * 0.9 * 1.002), 1e-9);
@@ -213,13 +213,15 @@ TEST(Compare, BenchRowsVerdictsAndSummary) {
   EXPECT_THROW(rb::app::compare_results(ra, rb_, o), rb::app::NothingToDo);
 }
 
-TEST(Compare, FewRepetitionsCannotBeBeyondNoiseAndSingleFiguresUseTheNoiseBand) {
+TEST(Compare, FewRepetitionsAreNotJudgedAndSingleFiguresUseTheNoiseBand) {
   const json a = bench_doc({{"k/m/scalar/hit", {100, 101, 102}}}), b = bench_doc({{"k/m/scalar/hit", {200, 201, 202}}});
   const rb::app::Comparison c = rb::app::compare_results(rb::app::figures_of("bench", a), rb::app::figures_of("bench", b), {});
-  EXPECT_NEAR(c.rows[0].p, 0.1, 1e-12);
-  EXPECT_EQ(c.rows[0].verdict, "");  // twice as fast, but 3 against 3 repetitions cannot show it
+  // Twice as fast, but 3 against 3 repetitions give only the range of the ratios (90 %).
+  EXPECT_NEAR(c.rows[0].interval.coverage, 0.9, 1e-12);
+  EXPECT_NEAR(c.rows[0].interval.lo, 200.0 / 102, 1e-12);
+  EXPECT_EQ(c.rows[0].verdict, "");
   bool noted = false;
-  for (const auto& n : c.notes) noted |= has(n, "smallest possible p is 0.100");
+  for (const auto& n : c.notes) noted |= has(n, "too few repetitions for a 95 % interval") && has(n, "90.0 %");
   EXPECT_TRUE(noted);
   // csg figures are single numbers: beyond the 5 % noise band or not.
   const json ca = {{"rows", {{{"scene", "csg:die"}, {"simd8_queries_per_s", 1e6}, {"scalar_queries_per_s", 1e6}}}}};
@@ -376,7 +378,7 @@ TEST(Compare, BinaryComparesItsOwnRunsAndGuardsWithThreshold) {
 
   // A synthetic regression built from run A alone (run B's own timings could differ from A's by
   // any factor on a loaded machine): nine repetitions per row around A's first repetition, and B
-  // the same at half the rate. 3 against 3 repetitions cannot reach p < 0.05: the guard needs more.
+  // the same at half the rate. 3 against 3 repetitions cannot reach a 95 % interval: the guard needs more.
   json a9 = json::parse(slurp(s / "a.json"));
   std::map<std::string, double> first;
   json more = json::array();

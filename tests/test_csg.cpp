@@ -2,9 +2,9 @@
 // along seeded rays, normals of subtracted surfaces, transformed CSG against CSG of transformed
 // leaves, SIMD packets against scalar (the JSON format's errors and CSG queries: test_csg_json.cpp).
 #include "core/counted.hpp"
-#include "kernels/csg.hpp"
+#include "kernels/csg_ray.hpp"
 #include "apps/query.hpp"
-#include "scene/csg.hpp"
+#include "scene/csg_scene.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // The JSON scene format's CSG nodes: each error names the file and the JSON path, and `raybench
 // query` answers a CSG tree with its closest hit, normal and interval list.
 #include "apps/query.hpp"
-#include "scene/csg.hpp"
+#include "scene/csg_scene.hpp"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

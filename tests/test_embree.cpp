@@ -3,7 +3,7 @@
 // (bench/embree_build.hpp), traced by raybench, finds what the loop over all objects finds.
 #include "bench/embree_build.hpp"
 #include "bench/embree_trace.hpp"
-#include "bench/trace.hpp"
+#include "bench/timed_trace.hpp"
 #include "tracer/accel.hpp"
 #include "scene/sources.hpp"
 

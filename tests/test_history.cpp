@@ -2,8 +2,8 @@
 // with --history and RAYBENCH_HISTORY, `raybench history` listing runs and following a metric (with
 // its chart), and the git revision recorded when the binary was built, not when it runs.
 #include "apps/build_info.hpp"
-#include "apps/history.hpp"
-#include "apps/machine.hpp"
+#include "apps/results/history.hpp"
+#include "apps/results/machine.hpp"
 #include "cli_test_util.hpp"
 
 #include <gtest/gtest.h>

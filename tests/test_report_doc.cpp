@@ -2,7 +2,7 @@
 // sections, the summary of goals and the contents at the top, images in a row as a thumbnail grid
 // (thumbnails made and small), long tables in the appendix, and every image and link of the HTML
 // page resolving; a missing file, a missing anchor and a network address are each found.
-#include "apps/report_doc.hpp"
+#include "apps/report/report_doc.hpp"
 
 #include <gtest/gtest.h>
 

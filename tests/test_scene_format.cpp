@@ -1,7 +1,7 @@
 // The JSON scene format's example file and the export (`raybench info SCENE --dump-json`): the
 // example loads with every kind it shows, and an exported scene loads back to the same scene
 // (the same camera, lights, materials and numbers, CSG trees that answer every ray alike).
-#include "scene/csg.hpp"
+#include "scene/csg_scene.hpp"
 #include "scene/sources.hpp"
 
 #include <gtest/gtest.h>

@@ -5,7 +5,7 @@
 //
 // Determinism is bit for bit: a ray's hit (primitive and t) and a tile's pixels depend on nothing
 // but the ray and the tile, whichever thread ran them and however many there were.
-#include "bench/trace.hpp"
+#include "bench/timed_trace.hpp"
 #include "core/fpenv.hpp"
 #include "render/render.hpp"
 #include "scene/sources.hpp"

@@ -9,6 +9,7 @@ that an include that climbs a layer fails the build with the file, the line and 
     accuracy, render: tracer and below       (the lab; the recursive renderer)
     bench: tracer, accuracy, render and below
     apps: everything; fuzz and tests: everything
+    within apps: results/ uses neither report/ nor cli/; report/ does not use cli/
 
 Usage: check_layers.py SOURCE_DIR
 """
@@ -29,6 +30,12 @@ BELOW = {
     "apps": {"core", "soa", "kernels", "bvh", "scene", "tracer", "accuracy", "render", "bench"},
 }
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([a-z_]+)/')
+# Folders inside a layer that must not use some of their siblings.
+NOT_WITHIN = {
+    "apps/results": {"apps/report", "apps/cli"},
+    "apps/report": {"apps/cli"},
+}
+SUB_INCLUDE = re.compile(r'^\s*#\s*include\s+"([a-z_]+/[a-z_]+)/')
 
 
 def main() -> int:
@@ -44,6 +51,15 @@ def main() -> int:
                     continue
                 problems.append(f"{path.relative_to(root)}:{number}: includes {m.group(1)}/, a layer above {layer}/ "
                                 f"({layer}/ may use {', '.join(sorted(allowed)) or 'nothing else'})")
+    for folder, banned in NOT_WITHIN.items():
+        for path in sorted((root / folder).rglob("*")):
+            if path.suffix not in {".hpp", ".cpp", ".h"}:
+                continue
+            for number, line in enumerate(path.read_text(encoding="utf-8", errors="replace").splitlines(), 1):
+                m = SUB_INCLUDE.match(line)
+                if m and m.group(1) in banned:
+                    problems.append(f"{path.relative_to(root)}:{number}: includes {m.group(1)}/, which {folder}/ may not use "
+                                    f"({folder}/ may not use {', '.join(sorted(banned))})")
     for p in problems:
         print(p, file=sys.stderr)
     return 1 if problems else 0

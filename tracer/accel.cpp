@@ -155,73 +155,71 @@ void SceneAccel::check_size(const scene::Scene& s, const bvh::BuildOptions& opt)
                             std::to_string(need >> 20) + " MiB, above the limit of " + std::to_string(opt.max_bytes >> 20) + " MiB");
 }
 
-SceneAccel SceneAccel::build(const scene::Scene& s, const Plan& plan, const bvh::BuildOptions& opt, const BinaryBuilder& builder) {
-  const auto t0 = std::chrono::steady_clock::now();
-  SceneAccel a;
-  a.scene_ = &s;
-  a.plan_ = plan;
-  a.options = opt;
-  check_size(s, opt);
+namespace {
 
-  // Every primitive: its leaf tag (its kind, or apart_tag(kind) when the plan stores it apart) and
-  // scene index, kinds in Kind order, each in scene order.
+// Every primitive: its leaf tag (its kind, or apart_tag(kind) when the plan stores it apart) and
+// scene index, kinds in Kind order, each in scene order.
+struct LeafTags {
   std::vector<std::uint8_t> kind;
   std::vector<std::uint32_t> index;
-  kind.reserve(s.primitive_count());
-  index.reserve(s.primitive_count());
+};
+LeafTags leaf_tags(const scene::Scene& s, const Plan& plan) {
+  LeafTags t;
+  t.kind.reserve(s.primitive_count());
+  t.index.reserve(s.primitive_count());
   AllKinds::each([&]<class K>() {
     const std::vector<std::uint32_t>& apart = plan.kinds[std::size_t(K::id)].split;  // ascending, as K::each
     std::size_t next = 0;
     K::each(s, [&](std::uint32_t i) {
       const bool away = next < apart.size() && apart[next] == i;
       next += away;
-      kind.push_back(std::uint8_t(away ? apart_tag(K::id) : int(K::id)));
-      index.push_back(i);
+      t.kind.push_back(std::uint8_t(away ? apart_tag(K::id) : int(K::id)));
+      t.index.push_back(i);
     });
   });
-  a.scene_prims_ = kind.size();
+  return t;
+}
 
-  // Boxes in the frame (rounded outward to float), made as the builder asks for them; another
-  // builder (Embree's) takes them as arrays.
-  const Vec3d origin = plan.origin;
+// The binary tree over the primitives' boxes in the frame (rounded outward to float), made as the
+// builder asks for them; another builder (Embree's) takes them as arrays.
+bvh::Bvh2 build_binary(const scene::Scene& s, const LeafTags& t, const Vec3d& origin, const bvh::BuildOptions& opt,
+                       const BinaryBuilder& builder) {
   const bvh::BoxFill boxes = [&](std::size_t b, std::size_t e, float* lo, float* hi) {
     for (std::size_t i = b; i < e; ++i) {
-      const scene::Bounds wb = AllKinds::at<scene::Bounds>(tag_kind(kind[i]), [&]<class K>() { return K::bounds(s, index[i]); });
+      const scene::Bounds wb = AllKinds::at<scene::Bounds>(tag_kind(t.kind[i]), [&]<class K>() { return K::bounds(s, t.index[i]); });
       kinds::frame_box(wb, origin, &lo[3 * (i - b)], &hi[3 * (i - b)]);
     }
   };
   bvh::BuildOptions bopt = opt;
-  bopt.stats = false;  // made below, once the build is timed
-  if (builder) {
-    std::vector<float> lo(3 * kind.size()), hi(3 * kind.size());
-    auto fill = [&](std::size_t b, std::size_t e) {
-      for (std::size_t c = b; c < e; c += bvh::kBoxChunk) boxes(c, std::min(e, c + bvh::kBoxChunk), &lo[3 * c], &hi[3 * c]);
-    };
-    if (opt.parallel) par::for_range(0, kind.size(), 4096, fill);
-    else fill(0, kind.size());
-    a.bin = builder(lo, hi, kind, bopt);
-  } else {
-    a.bin = bvh::build_sah(kind.size(), boxes, kind, bopt);
-  }
+  bopt.stats = false;  // made once the build is timed
+  if (!builder) return bvh::build_sah(t.kind.size(), boxes, t.kind, bopt);
+  std::vector<float> lo(3 * t.kind.size()), hi(3 * t.kind.size());
+  auto fill = [&](std::size_t b, std::size_t e) {
+    for (std::size_t c = b; c < e; c += bvh::kBoxChunk) boxes(c, std::min(e, c + bvh::kBoxChunk), &lo[3 * c], &hi[3 * c]);
+  };
+  if (opt.parallel) par::for_range(0, t.kind.size(), 4096, fill);
+  else fill(0, t.kind.size());
+  return builder(lo, hi, t.kind, bopt);
+}
 
-  // Reorder: every leaf becomes one 8-slot group of its kind's batch, groups numbered in node
-  // order; ids[kind][slot] is the scene index of each slot. In parallel: each chunk of nodes
-  // counts its leaves per kind, a prefix over the chunks gives each chunk its first group per
-  // kind, and the chunks then number their leaves (the same numbers as one pass in node order).
-  const auto t1 = std::chrono::steady_clock::now();
+// Every leaf becomes one 8-slot group of its kind's batch, groups numbered in node order; the
+// result's [kind][slot] is the scene index of each slot. In parallel: each chunk of nodes counts
+// its leaves per kind, a prefix over the chunks gives each chunk its first group per kind, and the
+// chunks then number their leaves (the same numbers as one pass in node order).
+std::array<kinds::SlotIds, kLeafKinds> number_leaves(bvh::Bvh2& bin, const std::vector<std::uint32_t>& index, bool parallel) {
   constexpr std::size_t kNodeChunk = 8192;
-  const std::size_t nn = a.bin.nodes.size(), chunks = (nn + kNodeChunk - 1) / kNodeChunk;
+  const std::size_t nn = bin.nodes.size(), chunks = (nn + kNodeChunk - 1) / kNodeChunk;
   using Counts = std::array<std::uint32_t, kLeafKinds>;
   std::vector<Counts> first(chunks + 1, Counts{});  // first[c][k]: groups of kind k before chunk c
   auto by_chunk = [&](auto&& f) {
     auto body = [&](std::size_t c0, std::size_t c1) {
       for (std::size_t c = c0; c < c1; ++c) f(c, c * kNodeChunk, std::min(nn, (c + 1) * kNodeChunk));
     };
-    if (opt.parallel) par::for_range(0, chunks, 1, body);
+    if (parallel) par::for_range(0, chunks, 1, body);
     else body(0, chunks);
   };
   by_chunk([&](std::size_t c, std::size_t b, std::size_t e) {  // (internal nodes have kind 0 and add 0)
-    for (std::size_t i = b; i < e; ++i) first[c + 1][a.bin.nodes[i].kind] += a.bin.nodes[i].leaf();
+    for (std::size_t i = b; i < e; ++i) first[c + 1][bin.nodes[i].kind] += bin.nodes[i].leaf();
   });
   for (std::size_t c = 0; c < chunks; ++c)
     for (std::size_t k = 0; k < kLeafKinds; ++k) first[c + 1][k] += first[c][k];
@@ -230,15 +228,33 @@ SceneAccel SceneAccel::build(const scene::Scene& s, const Plan& plan, const bvh:
   by_chunk([&](std::size_t c, std::size_t b, std::size_t e) {
     Counts g = first[c];
     for (std::size_t i = b; i < e; ++i) {
-      bvh::BNode& n = a.bin.nodes[i];
+      bvh::BNode& n = bin.nodes[i];
       if (!n.leaf()) continue;
       const std::uint32_t from = n.first;
       n.first = g[n.kind]++;
       n.pad_ = 0;
       std::uint32_t* v = ids[n.kind].data() + std::size_t(n.first) * 8;
-      for (std::uint32_t j = 0; j < n.count; ++j) v[j] = index[a.bin.order[from + j]];
+      for (std::uint32_t j = 0; j < n.count; ++j) v[j] = index[bin.order[from + j]];
     }
   });
+  return ids;
+}
+
+}  // namespace
+
+SceneAccel SceneAccel::build(const scene::Scene& s, const Plan& plan, const bvh::BuildOptions& opt, const BinaryBuilder& builder) {
+  const auto t0 = std::chrono::steady_clock::now();
+  SceneAccel a;
+  a.scene_ = &s;
+  a.plan_ = plan;
+  a.options = opt;
+  check_size(s, opt);
+  const LeafTags tags = leaf_tags(s, plan);
+  a.scene_prims_ = tags.kind.size();
+  const Vec3d origin = plan.origin;
+  a.bin = build_binary(s, tags, origin, opt, builder);
+  const auto t1 = std::chrono::steady_clock::now();
+  std::array<kinds::SlotIds, kLeafKinds> ids = number_leaves(a.bin, tags.index, opt.parallel);
   // The batches, and the 8-wide tree with its conservative boxes: independent (both read the
   // renumbered binary tree), side by side.
   std::array<LeafChoice, kKinds> choice{};

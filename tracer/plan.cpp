@@ -152,190 +152,213 @@ std::string KindPlan::classes_text() const {
 
 Plan make_plan(const scene::Scene& s, Model m) { return make_plan(s, make_profile(s), m); }
 
+namespace {
+
+// Whether the coarse primitives of kind k in a frame go to a batch of their own: they can change
+// more than a negligible share of its hits, and are either fine relative to an origin near them
+// (none of them huge: local frames hold them) or a few (at most kSplitShare of the kind); the rest
+// stays in float, so the frame is judged by the rest.
+bool splits(const FrameError& e, const Profile& p, Model m, int k) {
+  const KindClasses& c = e.classes[std::size_t(k)];
+  return m != Model::exact && c.coarse > 0 && !c.negligible && stores_double(Kind(k)) &&
+         (c.coarse_huge == 0 || double(c.coarse) <= kSplitShare * double(p.kinds[std::size_t(k)].count));
+}
+
+// The frame the plan traces in, and what it leaves to double.
+struct FrameChoice {
+  FrameKind kind = FrameKind::world;
+  Vec3d origin{0, 0, 0};
+  FrameError e;
+  std::array<bool, kKinds> store64{};  // kinds that no frame represents in float, stored in double
+  std::string reason;
+};
+
+// The reason's list: each kind's float step over its size in a frame.
+std::string per_kind_steps(const FrameError& e, const Profile& p, Model m, const std::array<bool, kKinds>& store64) {
+  std::string t;
+  for (int k = 0; k < kKinds; ++k)
+    if (p.kinds[std::size_t(k)].count)
+      t += fmt::format("{}{} {}{}", t.empty() ? "" : ", ", kinds::kind_name(Kind(k)), fmt_pow2(e.contact[std::size_t(k)]),
+                       store64[std::size_t(k)] ? " (stored in double)"
+                       : splits(e, p, m, k)    ? fmt::format(" ({} coarse in double)", e.classes[std::size_t(k)].coarse)
+                                               : "");
+  return t + fmt::format("; the eye's rounding shifts the view by {} pixel", fmt_ratio(e.eye));
+}
+
+// World, the scene's centre or the camera: the first that represents the scene in float, else the
+// best; among those that represent it, the one that leaves the fewest primitives to double.
+FrameChoice choose_frame(const scene::Scene& s, const Profile& p, Model m) {
+  std::vector<FrameChoice> cand(3);
+  cand[0].kind = FrameKind::world;
+  cand[1].kind = FrameKind::centre;
+  cand[1].origin = p.bounds.empty() ? Vec3d{0, 0, 0} : p.bounds.centre();
+  cand[2].kind = FrameKind::camera;
+  cand[2].origin = p.camera;
+  for (auto& c : cand) {
+    c.e = frame_error(s, p, c.origin);
+    for (int k = 0; k < kKinds; ++k)
+      if (splits(c.e, p, m, k)) c.e.contact[std::size_t(k)] = c.e.contact_fine[std::size_t(k)];
+  }
+  auto split_count = [&](const FrameError& e) {
+    std::size_t n = 0;
+    for (int k = 0; k < kKinds; ++k) n += splits(e, p, m, k) ? e.classes[std::size_t(k)].coarse : 0;
+    return n;
+  };
+  // Kinds that no frame represents in float but that can be stored in double.
+  std::array<bool, kKinds> store64{};
+  for (int k = 0; k < kKinds; ++k) {
+    double best = 1e300;
+    for (const auto& c : cand) best = std::min(best, c.e.contact[std::size_t(k)]);
+    const bool present = p.kinds[std::size_t(k)].count > 0 && stores_double(Kind(k));
+    store64[std::size_t(k)] = present && (m == Model::exact || best > kFloatTolerance);
+  }
+  auto score = [&](const FrameChoice& c) { return std::max(c.e.worst(store64) / kFloatTolerance, c.e.eye / kTauEye); };
+  std::size_t pick = 0;
+  if (m == Model::exact || score(cand[0]) > 1) {
+    pick = 1;  // the scene's centre unless the camera is clearly better
+    if (score(cand[2]) * 2 < score(cand[1])) pick = 2;
+    if (m != Model::exact && score(cand[0]) <= score(cand[pick])) pick = 0;
+  }
+  if (m != Model::exact)
+    for (std::size_t i = 0; i < cand.size(); ++i)
+      if (score(cand[i]) <= 1 && (score(cand[pick]) > 1 || split_count(cand[i].e) < split_count(cand[pick].e))) pick = i;
+  FrameChoice f = cand[pick];
+  f.store64 = store64;
+  if (pick == 0)
+    f.reason = fmt::format("world coordinates represent the scene (float step over each primitive's size at most {}: {})",
+                           fmt_pow2(kFloatTolerance), per_kind_steps(cand[0].e, p, m, store64));
+  else
+    f.reason = fmt::format("{}: in world coordinates the float step over a primitive's size is {}; relative to the {} it is {}",
+                           m == Model::exact ? "the exact model re-centres" : "re-centred", per_kind_steps(cand[0].e, p, m, store64),
+                           pick == 1 ? "scene's centre" : "camera", per_kind_steps(f.e, p, m, store64));
+  return f;
+}
+
+// The split-off primitives of a kind: local frames, running the cheapest option in double whose
+// method stores double and whose lab conditions cover the kind (the most accurate such when none does).
+void plan_split(KindPlan& kp, Kind k, const KindProfile& kpro, const FrameError& fe) {
+  const auto& opts = plan_options(k);
+  const PlanOption* o64 = nullptr;
+  auto stores64 = [&](const PlanOption& o) { return o.f64 && stores_double(k, o.method); };
+  for (const auto& o : opts)
+    if (!o64 && stores64(o) && covers(o, kpro)) o64 = &o;
+  for (auto o = opts.rbegin(); !o64 && o != opts.rend(); ++o)
+    if (stores64(*o)) o64 = &*o;
+  kp.split = fe.coarse_ids[std::size_t(k)];
+  kp.split_method = o64 ? o64->method : 0;
+  // Coarse where they lie in the frame, they are fine relative to an origin near them: stored in
+  // float in local frames, the ray re-based at each of their leaves, they trace faster than in
+  // double (the lab's scene/scattered: the auto model against the exact one) at no failure.
+  kp.split_local = true;
+  const KindClasses& c = kp.classes;
+  kp.split_reason = fmt::format(
+      "{} coarse of {} ({:.2g} %) stored in a batch of their own in local frames (float relative to an origin per leaf, "
+      "kept in double; a leaf whose primitives no such origin holds in float stays in double), {}: in world float their "
+      "surfaces would move by up to {} of their size (#{}) and together could change {:.2g} of a million hits; the other "
+      "{} stay in {}",
+      c.coarse, kpro.count, 100.0 * double(c.coarse) / double(kpro.count), method_name(k, kp.split_method),
+      fmt_pow2(c.worst_coarse_ratio), c.worst_coarse, 1e6 * c.moved_share, kpro.count - c.coarse, kp.f64 ? "double" : "float");
+}
+
+// A kind's method and precision: the cheapest option the lab shows without failure under the
+// kind's conditions (in double where the frame cannot hold it in float), with the reason.
+void plan_kind(KindPlan& kp, Kind k, const KindProfile& kpro, const FrameChoice& f, const Profile& p, Model m) {
+  const FrameError& fe = f.e;
+  const bool need64 = m == Model::exact ? f.store64[std::size_t(k)] : fe.contact[std::size_t(k)] > kFloatTolerance && stores_double(k);
+  const auto& opts = plan_options(k);
+  const PlanOption* chosen = nullptr;
+  if (m == Model::exact) {
+    chosen = &opts.back();
+  } else {
+    for (const auto& o : opts) {
+      if (need64 && !o.f64) continue;
+      if (covers(o, kpro)) {
+        chosen = &o;
+        break;
+      }
+    }
+  }
+  const bool beyond = !chosen;
+  if (beyond) chosen = &opts.back();
+  kp.method = chosen->method;
+  kp.f64 = chosen->f64;
+  kp.f64_storage = chosen->f64 && need64;
+  kp.evidence = chosen->evidence;
+  std::string cond = fmt::format("seen from up to {} sizes", fmt_ratio(kpro.far_ratio));
+  if (kpro.scale_ratio > 1e3) cond += fmt::format(", {} times the smallest object", fmt_ratio(kpro.scale_ratio));
+  if (k == Kind::torus) cond += fmt::format(", aspect {}", fmt_ratio(kpro.aspect_max));
+  if (m == Model::exact)
+    kp.reason = fmt::format("the exact model: the most accurate method, {}", chosen->f64 ? "in double" : "(float only)");
+  else if (beyond)
+    kp.reason = fmt::format("{}: beyond the lab's cases, so the most accurate method", cond);
+  else
+    kp.reason = fmt::format("{}: {}", cond, chosen->why);
+  if (kp.f64_storage)
+    kp.reason += fmt::format("; stored in double: in float the surface would move by {} of {}", fmt_pow2(fe.contact[std::size_t(k)]),
+                             kpro.scale_ratio > 1e3 ? "the smallest object" : "its size");
+  kp.classes = fe.classes[std::size_t(k)];
+  if (splits(fe, p, m, int(k))) plan_split(kp, k, kpro, fe);
+}
+
+// The fast model's fixed choices: world coordinates, method 0 in float, the slab test on boxes as
+// built, an offset of 1e-5 of the scene's size.
+void plan_fast(Plan& plan, double ext) {
+  plan.frame = FrameKind::world;
+  plan.frame_reason = "the fast model traces in world coordinates";
+  for (auto& k : plan.kinds) {
+    k.reason = "the fast model's fixed choice: the cheapest method, in float";
+    k.method = 0;
+    k.f64 = k.f64_storage = false;
+  }
+  plan.slab = bvh::Slab::fast;
+  plan.slab_reason = "the fast model's slab test on boxes as built";
+  plan.spawn = SpawnScheme::extent_eps;
+  plan.spawn_eps = float(std::max(1e-5 * ext, 1e-7));
+  plan.spawn_reason = fmt::format("the fast model's offset: 1e-5 of the scene's size and distance from the origin ({:.3g})", plan.spawn_eps);
+}
+
+// Conservative boxes for every ray origin the scene produces, and the spawn offset.
+void plan_slab_and_spawn(Plan& plan, const Profile& p, Model m, double ext) {
+  plan.slab = bvh::Slab::conservative;
+  const Vec3d lo = p.origins.empty() ? Vec3d{0, 0, 0} : p.origins.lo - plan.origin, hi = p.origins.empty() ? Vec3d{0, 0, 0} : p.origins.hi - plan.origin;
+  const double ob = std::max({std::fabs(lo.x), std::fabs(lo.y), std::fabs(lo.z), std::fabs(hi.x), std::fabs(hi.y), std::fabs(hi.z)});
+  plan.origin_bound = float(std::min(ob * (1 + 0x1p-10) + 1e-30, double(std::numeric_limits<float>::max())));
+  plan.slab_reason = fmt::format(
+      "the fast slab test on node boxes widened for ray origins up to {:.3g} from the frame origin (the scene, the camera and the lights): "
+      "no box that the ray meets is culled (lab: bvh/* method default); rays from farther use the robust test",
+      plan.origin_bound);
+  plan.spawn_eps = float(std::max(1e-5 * ext, 1e-7));
+  if (m == Model::exact) {
+    plan.spawn = SpawnScheme::error_bound;
+    plan.spawn_reason = "the exact model: the hit point in double moved off the surface by its float rounding bound (lab: */secondary_bound_offset)";
+  } else {
+    plan.spawn = SpawnScheme::integer;
+    plan.spawn_reason =
+        "the integer offset (256 float steps along the normal; near the frame origin 2^-16 of the hit's own magnitude: its "
+        "coordinates, and for a primitive stored in float its extent; never the scene's largest coordinate): no self-hit in "
+        "the lab (*/secondary_wb_offset, scene/*), cheaper than the error bound";
+  }
+}
+
+}  // namespace
+
 Plan make_plan(const scene::Scene& s, const Profile& p, Model m) {
   Plan plan;
   plan.model = m;
   plan.object_min = smallest_object(p);
   for (int k = 0; k < kKinds; ++k) plan.kinds[std::size_t(k)].count = p.kinds[std::size_t(k)].count;
   const double ext = std::max(p.extent, p.coord_max);
-
   if (m == Model::fast) {
-    plan.frame = FrameKind::world;
-    plan.frame_reason = "the fast model traces in world coordinates";
-    for (auto& k : plan.kinds) k.reason = "the fast model's fixed choice: the cheapest method, in float";
-    plan.slab = bvh::Slab::fast;
-    plan.slab_reason = "the fast model's slab test on boxes as built";
-    plan.spawn = SpawnScheme::extent_eps;
-    plan.spawn_eps = float(std::max(1e-5 * ext, 1e-7));
-    plan.spawn_reason = fmt::format("the fast model's offset: 1e-5 of the scene's size and distance from the origin ({:.3g})", plan.spawn_eps);
-  } else {
-    // ---- the frame ----
-    struct Candidate {
-      FrameKind kind;
-      Vec3d origin;
-      FrameError e;
-    };
-    std::vector<Candidate> cand = {{FrameKind::world, {0, 0, 0}, {}},
-                                   {FrameKind::centre, p.bounds.empty() ? Vec3d{0, 0, 0} : p.bounds.centre(), {}},
-                                   {FrameKind::camera, p.camera, {}}};
-    for (auto& c : cand) c.e = frame_error(s, p, c.origin);
-    // A kind whose coarse primitives in a frame can change more than a negligible share of its hits,
-    // and are either fine relative to an origin near them (none of them huge: local frames hold
-    // them) or a few (at most kSplitShare of the kind): those go to a batch of their own and the
-    // rest stays in float, so the frame is judged by the rest.
-    auto splits = [&](const FrameError& e, int k) {
-      const KindClasses& c = e.classes[std::size_t(k)];
-      return m != Model::exact && c.coarse > 0 && !c.negligible && stores_double(Kind(k)) &&
-             (c.coarse_huge == 0 || double(c.coarse) <= kSplitShare * double(p.kinds[std::size_t(k)].count));
-    };
-    auto split_count = [&](const FrameError& e) {
-      std::size_t n = 0;
-      for (int k = 0; k < kKinds; ++k) n += splits(e, k) ? e.classes[std::size_t(k)].coarse : 0;
-      return n;
-    };
-    for (auto& c : cand)
-      for (int k = 0; k < kKinds; ++k)
-        if (splits(c.e, k)) c.e.contact[std::size_t(k)] = c.e.contact_fine[std::size_t(k)];
-    // Kinds that no frame represents in float but that can be stored in double.
-    std::array<bool, kKinds> store64{};
-    for (int k = 0; k < kKinds; ++k) {
-      double best = 1e300;
-      for (const auto& c : cand) best = std::min(best, c.e.contact[std::size_t(k)]);
-      store64[std::size_t(k)] = p.kinds[std::size_t(k)].count > 0 && best > kFloatTolerance && stores_double(Kind(k));
-    }
-    if (m == Model::exact)
-      for (int k = 0; k < kKinds; ++k) store64[std::size_t(k)] = p.kinds[std::size_t(k)].count > 0 && stores_double(Kind(k));
-    auto score = [&](const Candidate& c) { return std::max(c.e.worst(store64) / kFloatTolerance, c.e.eye / kTauEye); };
-    std::size_t pick = 0;
-    if (m == Model::exact || score(cand[0]) > 1) {
-      pick = 1;  // the scene's centre unless the camera is clearly better
-      if (score(cand[2]) * 2 < score(cand[1])) pick = 2;
-      if (m != Model::exact && score(cand[0]) <= score(cand[pick])) pick = 0;
-    }
-    // Among the frames that represent the scene, the one that leaves the fewest primitives to double.
-    if (m != Model::exact)
-      for (std::size_t i = 0; i < cand.size(); ++i)
-        if (score(cand[i]) <= 1 && (score(cand[pick]) > 1 || split_count(cand[i].e) < split_count(cand[pick].e))) pick = i;
-    plan.frame = cand[pick].kind;
-    plan.origin = cand[pick].origin;
-    // The reason: each kind's float step over its size in world coordinates and in the frame.
-    auto per_kind = [&](const FrameError& e) {
-      std::string t;
-      for (int k = 0; k < kKinds; ++k)
-        if (p.kinds[std::size_t(k)].count)
-          t += fmt::format("{}{} {}{}", t.empty() ? "" : ", ", kinds::kind_name(Kind(k)), fmt_pow2(e.contact[std::size_t(k)]),
-                           store64[std::size_t(k)] ? " (stored in double)"
-                           : splits(e, k)          ? fmt::format(" ({} coarse in double)", e.classes[std::size_t(k)].coarse)
-                                                   : "");
-      return t + fmt::format("; the eye's rounding shifts the view by {} pixel", fmt_ratio(e.eye));
-    };
-    if (pick == 0)
-      plan.frame_reason = fmt::format("world coordinates represent the scene (float step over each primitive's size at most {}: {})",
-                                      fmt_pow2(kFloatTolerance), per_kind(cand[0].e));
-    else
-      plan.frame_reason = fmt::format("{}: in world coordinates the float step over a primitive's size is {}; relative to the {} it is {}",
-                                      m == Model::exact ? "the exact model re-centres" : "re-centred", per_kind(cand[0].e),
-                                      pick == 1 ? "scene's centre" : "camera", per_kind(cand[pick].e));
-    const FrameError& fe = cand[pick].e;
-
-    // ---- each kind ----
-    for (int k = 0; k < kKinds; ++k) {
-      KindPlan& kp = plan.kinds[std::size_t(k)];
-      const KindProfile& kpro = p.kinds[std::size_t(k)];
-      if (!kpro.count) continue;
-      const bool need64 = m == Model::exact ? store64[std::size_t(k)] : fe.contact[std::size_t(k)] > kFloatTolerance && stores_double(Kind(k));
-      const auto& opts = plan_options(Kind(k));
-      const PlanOption* chosen = nullptr;
-      if (m == Model::exact) {
-        chosen = &opts.back();
-      } else {
-        for (const auto& o : opts) {
-          if (need64 && !o.f64) continue;
-          if (covers(o, kpro)) {
-            chosen = &o;
-            break;
-          }
-        }
-      }
-      bool beyond = false;
-      if (!chosen) {
-        chosen = &opts.back();
-        beyond = true;
-      }
-      kp.method = chosen->method;
-      kp.f64 = chosen->f64;
-      kp.f64_storage = chosen->f64 && need64;
-      kp.evidence = chosen->evidence;
-      std::string cond = fmt::format("seen from up to {} sizes", fmt_ratio(kpro.far_ratio));
-      if (kpro.scale_ratio > 1e3) cond += fmt::format(", {} times the smallest object", fmt_ratio(kpro.scale_ratio));
-      if (Kind(k) == Kind::torus) cond += fmt::format(", aspect {}", fmt_ratio(kpro.aspect_max));
-      if (m == Model::exact)
-        kp.reason = fmt::format("the exact model: the most accurate method, {}", chosen->f64 ? "in double" : "(float only)");
-      else if (beyond)
-        kp.reason = fmt::format("{}: beyond the lab's cases, so the most accurate method", cond);
-      else
-        kp.reason = fmt::format("{}: {}", cond, chosen->why);
-      if (kp.f64_storage)
-        kp.reason += fmt::format("; stored in double: in float the surface would move by {} of {}", fmt_pow2(fe.contact[std::size_t(k)]),
-                                 kpro.scale_ratio > 1e3 ? "the smallest object" : "its size");
-      kp.classes = fe.classes[std::size_t(k)];
-      if (splits(fe, k)) {
-        // The split-off primitives run the cheapest option in double whose method stores double and
-        // whose lab conditions cover the kind (the most accurate such when none does).
-        const PlanOption* o64 = nullptr;
-        auto stores64 = [&](const PlanOption& o) { return o.f64 && stores_double(Kind(k), o.method); };
-        for (const auto& o : opts)
-          if (!o64 && stores64(o) && covers(o, kpro)) o64 = &o;
-        for (auto o = opts.rbegin(); !o64 && o != opts.rend(); ++o)
-          if (stores64(*o)) o64 = &*o;
-        kp.split = fe.coarse_ids[std::size_t(k)];
-        kp.split_method = o64 ? o64->method : 0;
-        // Coarse where they lie in the frame, they are fine relative to an origin near them: stored in
-        // float in local frames, the ray re-based at each of their leaves, they trace faster than in
-        // double (the lab's scene/scattered: the auto model against the exact one) at no failure.
-        kp.split_local = true;
-        const KindClasses& c = kp.classes;
-        kp.split_reason = fmt::format(
-            "{} coarse of {} ({:.2g} %) stored in a batch of their own in local frames (float relative to an origin per leaf, "
-            "kept in double; a leaf whose primitives no such origin holds in float stays in double), {}: in world float their "
-            "surfaces would move by up to {} of their size (#{}) and together could change {:.2g} of a million hits; the other "
-            "{} stay in {}",
-            c.coarse, kpro.count, 100.0 * double(c.coarse) / double(kpro.count), method_name(Kind(k), kp.split_method),
-            fmt_pow2(c.worst_coarse_ratio), c.worst_coarse, 1e6 * c.moved_share, kpro.count - c.coarse, kp.f64 ? "double" : "float");
-      }
-    }
-
-    // ---- slab test: conservative boxes for every ray origin the scene produces ----
-    plan.slab = bvh::Slab::conservative;
-    const Vec3d lo = p.origins.empty() ? Vec3d{0, 0, 0} : p.origins.lo - plan.origin, hi = p.origins.empty() ? Vec3d{0, 0, 0} : p.origins.hi - plan.origin;
-    const double ob = std::max({std::fabs(lo.x), std::fabs(lo.y), std::fabs(lo.z), std::fabs(hi.x), std::fabs(hi.y), std::fabs(hi.z)});
-    plan.origin_bound = float(std::min(ob * (1 + 0x1p-10) + 1e-30, double(std::numeric_limits<float>::max())));
-    plan.slab_reason = fmt::format(
-        "the fast slab test on node boxes widened for ray origins up to {:.3g} from the frame origin (the scene, the camera and the lights): "
-        "no box that the ray meets is culled (lab: bvh/* method default); rays from farther use the robust test",
-        plan.origin_bound);
-
-    // ---- spawn offset ----
-    plan.spawn_eps = float(std::max(1e-5 * ext, 1e-7));
-    if (m == Model::exact) {
-      plan.spawn = SpawnScheme::error_bound;
-      plan.spawn_reason = "the exact model: the hit point in double moved off the surface by its float rounding bound (lab: */secondary_bound_offset)";
-    } else {
-      plan.spawn = SpawnScheme::integer;
-      plan.spawn_reason =
-          "the integer offset (256 float steps along the normal; near the frame origin 2^-16 of the hit's own magnitude: its "
-          "coordinates, and for a primitive stored in float its extent; never the scene's largest coordinate): no self-hit in "
-          "the lab (*/secondary_wb_offset, scene/*), cheaper than the error bound";
-    }
+    plan_fast(plan, ext);
+    return plan;
   }
-  if (m == Model::fast) {
-    // The fast plan's kind entries: method 0 in float everywhere.
-    for (int k = 0; k < kKinds; ++k) {
-      KindPlan& kp = plan.kinds[std::size_t(k)];
-      kp.method = 0;
-      kp.f64 = kp.f64_storage = false;
-    }
-  }
+  const FrameChoice f = choose_frame(s, p, m);
+  plan.frame = f.kind;
+  plan.origin = f.origin;
+  plan.frame_reason = f.reason;
+  for (int k = 0; k < kKinds; ++k)
+    if (p.kinds[std::size_t(k)].count) plan_kind(plan.kinds[std::size_t(k)], Kind(k), p.kinds[std::size_t(k)], f, p, m);
+  plan_slab_and_spawn(plan, p, m, ext);
   return plan;
 }
 

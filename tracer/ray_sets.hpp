@@ -1,6 +1,6 @@
 // Workloads for tracing a scene, without a yardstick: reproducible ray sets, and the ray-by-ray
 // comparison of two engines' (or two runs') answers. Used by `raybench trace`, the report, the
-// tests and the benchmarks (bench/trace.hpp times them; bench/embree_trace.hpp traces them with
+// tests and the benchmarks (bench/timed_trace.hpp times them; bench/embree_trace.hpp traces them with
 // Embree).
 //
 // Ray sets (all from one seed, rays stored so that 8, 16, 64 and 256 consecutive rays form a

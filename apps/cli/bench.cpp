@@ -1,6 +1,6 @@
 // `raybench bench`: kernel benchmarks: scalar against 8-lane SIMD.
 #include "apps/cli/command.hpp"
-#include "apps/report.hpp"
+#include "apps/report/report.hpp"
 
 namespace rb::app::cli {
 namespace {

@@ -1,8 +1,8 @@
 // The conventions every subcommand registers its options with (apps/cli/command.hpp).
 #include "apps/cli/command.hpp"
 
-#include "apps/machine.hpp"
-#include "apps/results.hpp"
+#include "apps/results/machine.hpp"
+#include "apps/results/results.hpp"
 #include "core/suggest.hpp"
 
 #include <algorithm>

@@ -10,7 +10,7 @@
 
 #include "apps/cli.hpp"
 #include "apps/commands.hpp"
-#include "apps/history.hpp"
+#include "apps/results/history.hpp"
 
 #include <CLI/CLI.hpp>
 

@@ -1,6 +1,6 @@
-// `raybench compare`: compare two results: ratios and U-test p-values.
+// `raybench compare`: compare two results: ratios with their intervals.
 #include "apps/cli/command.hpp"
-#include "apps/compare.hpp"
+#include "apps/results/compare.hpp"
 
 namespace rb::app::cli {
 namespace {
@@ -11,13 +11,13 @@ class CompareCommand final : public Command {
   double compare_threshold = -1, compare_noise = 5;
   bool compare_markdown = false;
  public:
-  explicit CompareCommand(CLI::App& root) : Command(root, "compare", "Compare two results: ratios and U-test p-values") {
+  explicit CompareCommand(CLI::App& root) : Command(root, "compare", "Compare two results: ratios with their intervals") {
     positional("A", compare_a, "The baseline: a JSON result or a report folder\n(with --history: a run id)");
     positional("B", compare_b, "The result to compare with it, of the same kind\n(with --history: a run id)");
     sub_->add_option("--history", co.history, "A and B are two runs of this results history,\nby id (`raybench history` lists them)")->type_name("FILE");
     sub_->add_option("--threshold", compare_threshold, "Exit 1 when a row is worse than A beyond noise\nby more than PCT percent")
         ->type_name("PCT")->check(CLI::Range(0.0, 1e6));
-    sub_->add_option("--alpha", co.alpha, "Significance level of the U test")->capture_default_str()->check(CLI::Range(1e-9, 0.5));
+    sub_->add_option("--alpha", co.alpha, "1 - the intervals' confidence level")->capture_default_str()->check(CLI::Range(1e-9, 0.5));
     sub_->add_option("--noise", compare_noise, "A single figure (no repetitions) differs when\nit moved by more than PCT percent")
         ->type_name("PCT")->capture_default_str()->check(CLI::Range(0.0, 1e6));
     sub_->add_option("--filter", co.filter, "Only the rows whose section/name matches this\nregex");
@@ -28,13 +28,15 @@ class CompareCommand final : public Command {
     json_option("Write the comparison as JSON to FILE\n(no FILE: stdout instead of the table)");
     sub_->footer(
         "A and B: JSON results of one kind (bench, trace, render, accuracy, csg) or two\n"
-        "report folders. Per row: both figures, B/A, and for repeated measurements the\n"
-        "two-sided Mann-Whitney U test's p-value (as Google Benchmark's compare.py); a\n"
-        "timing differs beyond noise when p < alpha, or, as a single figure, when it\n"
-        "moved by more than --noise. Seeded figures (accuracy rates, test counts) differ\n"
+        "report folders. Per row: both figures, B/A, and for repeated measurements B/A's\n"
+        "95 % confidence interval (the ratio of medians; the Mann-Whitney test inverted\n"
+        "on logarithms, distribution-free); a timing is faster or slower when the\n"
+        "interval excludes 1, or, as a single figure, when it moved by more than\n"
+        "--noise. Seeded figures (accuracy rates, test counts) differ\n"
         "when they are not equal. The summary gives the geometric mean of the speed\n"
         "ratios and how many rows are faster or slower. With --threshold, a regression\n"
-        "exits 1: `raybench compare base.json new.json --threshold 5` guards CI.\n"
+        "(the whole interval worse by more than PCT) exits 1:\n"
+        "`raybench compare base.json new.json --threshold 5` guards CI.\n"
         "Only the subject's own figures are judged (summary, --threshold): Embree's\n"
         "figures and build times measured once are shown in brackets, and judged only\n"
         "when --metric names them. Two trace or render runs of other settings are\n"

@@ -1,8 +1,8 @@
 // `raybench report`: the main job: every measurement, as a report.
 #include "apps/cli/command.hpp"
-#include "apps/machine.hpp"
-#include "apps/report.hpp"
-#include "apps/results.hpp"
+#include "apps/results/machine.hpp"
+#include "apps/report/report.hpp"
+#include "apps/results/results.hpp"
 
 namespace rb::app::cli {
 namespace {

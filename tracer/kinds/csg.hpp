@@ -1,12 +1,12 @@
 // CSG solids (Scene::csgs: JSON trees of union, intersection and difference over closed leaves,
-// kernels/csg.hpp): each slot is one tree, queried one ray at a time (the scalar closest-hit query
+// kernels/csg_ray.hpp): each slot is one tree, queried one ray at a time (the scalar closest-hit query
 // with its early exits) or 8 rays at a time (packets). The batch holds each tree as built in the
 // tracer's frame (CsgIn::in_frame: the placement composed in double relative to the origin).
 #pragma once
 
 #include "bvh/hit.hpp"
-#include "kernels/csg.hpp"
-#include "scene/csg.hpp"
+#include "kernels/csg_ray.hpp"
+#include "scene/csg_scene.hpp"
 
 #include <map>
 #include <memory>

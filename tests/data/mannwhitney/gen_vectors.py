@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Test vectors for raybench's Mann-Whitney U test (apps/stats.cpp), from SciPy.
+"""Test vectors for raybench's Mann-Whitney U test (apps/results/stats.cpp), from SciPy.
 
 Run: /usr/bin/python3 tests/data/mannwhitney/gen_vectors.py > tests/data/mannwhitney/vectors.json
 

@@ -1,0 +1,67 @@
+// `raybench report`: the main job. Runs every measurement on the embedded defaults and writes
+// report/index.md with JSON and PNG charts beside it.
+#pragma once
+
+#include "apps/results/stats.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace rb::app {
+
+struct ReportOptions {
+  std::string out = "report";
+  int repetitions = 7;          // benchmark rounds (apps/bench_run.cpp); medians, and ratios with a 95 % interval
+  double min_time = 0.05;       // seconds per benchmark repetition
+  std::string filter = ".";     // benchmark name filter (regex)
+  bool charts = true;
+  // A small report in about a minute (few repetitions, few rays, small images, fewer scenes): to
+  // check the report's layout and links, not to quote its figures.
+  bool quick = false;
+  // --from DIR: write DIR's document again from its record (DIR/measured.json) without measuring;
+  // the options above are then the record's.
+  std::string from;
+  bool json = false;            // --json: the summary JSON also to json_file ("" or "-": stdout)
+  std::string json_file;
+};
+
+// The record of everything a report measured, in its folder (apps/report_record.hpp).
+inline constexpr const char* kRecordFile = "measured.json";
+
+int run_report(const ReportOptions& o);
+
+// A run of the registered benchmarks (apps/bench_run.cpp).
+struct BenchOptions {
+  // Rounds (each runs every selected benchmark once: a benchmark's repetitions are its rounds): 6 or
+  // more give SIMD / scalar a 95 % interval (stats::paired_ratio), 4 or more let `compare`'s U test
+  // reach p < 0.05.
+  int repetitions = 7;
+  double min_time = 0.1;                // seconds per benchmark per round
+  std::string filter = ".";             // regex on kernel/method/variant/case
+  bool every_repetition = true;         // false: medians and the other aggregates only
+  std::uint32_t seed = 0;               // seed of the rays and primitives; 0: the report's data
+  std::string what = "raybench bench";  // the progress bar's label
+  std::string command = "bench";        // the subcommand named in error lines
+};
+
+// The registered benchmarks whose name the filter selects (Google Benchmark's rule: a POSIX
+// extended regex searched in the name, a leading '-' negates it). Throws std::invalid_argument on
+// a bad regex.
+std::vector<std::string> benchmark_names(const std::string& filter);
+
+// Runs the benchmarks in this process with a progress bar on stderr; every figure lands in `doc` as
+// Google Benchmark JSON (its bare NaN and infinities as null). 0 on success, 2 when the filter
+// selects nothing, 1 when a benchmark reported an error.
+int run_benchmarks(const BenchOptions& o, nlohmann::json& doc);
+
+// Per SIMD benchmark of a run (kernel/method/variant/case), its speedup over the scalar form of the
+// same kernel, method and case: its tests per second over the scalar's, round by round (the rounds
+// are the repetitions), as the median of the rounds' ratios with its interval (stats::paired_ratio).
+// run_benchmarks stores them in the document as "raybench_simd_vs_scalar" (interval JSON by name).
+std::map<std::string, stats::RatioInterval> simd_speedups(const nlohmann::json& doc);
+
+}  // namespace rb::app
