@@ -128,14 +128,14 @@ struct MethodList {
 };
 
 template <class F>
-void methods_sphere(const json& pj, MethodList<F>& l) {
+void methods_sphere(const json& pj, MethodList<F>& out) {
   const auto s = make_sphere(vec(pj, "center"), num(pj, "radius"));
   auto nrm = [](const auto& p, const auto& x) { return sphere_normal(p, x); };
-  l.add("geometric", [=](const Ray<float>& r) { return eval<F>(r, s, [](auto& a, auto& b) { return intersect_sphere_geometric(a, b); }, nrm); });
-  l.add("algebraic", [=](const Ray<float>& r) { return eval<F>(r, s, [](auto& a, auto& b) { return intersect_sphere_algebraic(a, b); }, nrm); });
-  l.add("stable", [=](const Ray<float>& r) { return eval<F>(r, s, [](auto& a, auto& b) { return intersect_sphere_stable(a, b); }, nrm); });
-  l.add("hearn_baker", [=](const Ray<float>& r) { return eval<F>(r, s, [](auto& a, auto& b) { return intersect_sphere_hearn_baker(a, b); }, nrm); });
-  l.add("compensated", [=](const Ray<float>& r) { return eval<F>(r, s, [](auto& a, auto& b) { return intersect_sphere_compensated(a, b); }, nrm); });
+  out.add("geometric", [=](const Ray<float>& r) { return eval<F>(r, s, [](auto& a, auto& b) { return intersect_sphere_geometric(a, b); }, nrm); });
+  out.add("algebraic", [=](const Ray<float>& r) { return eval<F>(r, s, [](auto& a, auto& b) { return intersect_sphere_algebraic(a, b); }, nrm); });
+  out.add("stable", [=](const Ray<float>& r) { return eval<F>(r, s, [](auto& a, auto& b) { return intersect_sphere_stable(a, b); }, nrm); });
+  out.add("hearn_baker", [=](const Ray<float>& r) { return eval<F>(r, s, [](auto& a, auto& b) { return intersect_sphere_hearn_baker(a, b); }, nrm); });
+  out.add("compensated", [=](const Ray<float>& r) { return eval<F>(r, s, [](auto& a, auto& b) { return intersect_sphere_compensated(a, b); }, nrm); });
   const Vec3d pole = pj.contains("pole") ? vec(pj, "pole") : Vec3d{0, 0, 1};
   const Vec3d eq = pj.contains("equator") ? vec(pj, "equator") : Vec3d{1, 0, 0};
   std::string why;
@@ -143,39 +143,39 @@ void methods_sphere(const json& pj, MethodList<F>& l) {
   // A degenerate radius leaves every method to report the miss; a bad pole or equator (with a
   // valid sphere) is the caller's error.
   if (!why.empty() && s.r2 > 0.f) throw QueryError(why);
-  l.add("uv", [=](const Ray<float>& r) {
+  out.add("uv", [=](const Ray<float>& r) {
     return eval<F>(r, su, [](auto& a, auto& b) { return intersect_sphere_uv(a, b); },
                    [](const auto& p, const auto& x) { return sphere_normal(p.s, x); }, true);
   });
 }
 
 template <class F>
-void methods_triangle(const json& pj, MethodList<F>& l) {
+void methods_triangle(const json& pj, MethodList<F>& out) {
   const Vec3d a = vec(pj, "v0"), b = vec(pj, "v1"), c = vec(pj, "v2");
   int axis = 2;
   const auto lec = make_tri_lecture(a, b, c, axis);
   const auto mt = make_triangle(a, b, c);
   const auto tv = make_tri_verts(a, b, c);
-  l.add("lecture", [=](const Ray<float>& r) {
+  out.add("lecture", [=](const Ray<float>& r) {
     return eval<F>(r, lec, [axis](auto& x, auto& y) { return intersect_triangle_lecture(x, y, axis); },
                    [](const auto& p, const auto&) { return triangle_normal(p); }, true);
   });
   auto nrm = [](const auto& p, const auto&) { return triangle_normal(p); };
-  l.add("moller_trumbore", [=](const Ray<float>& r) { return eval<F>(r, mt, [](auto& x, auto& y) { return intersect_triangle_mt(x, y); }, nrm, true); });
-  l.add("cramer", [=](const Ray<float>& r) { return eval<F>(r, mt, [](auto& x, auto& y) { return intersect_triangle_cramer(x, y); }, nrm, true); });
-  l.add("woop", [=](const Ray<float>& r) { return eval<F>(r, tv, [](auto& x, auto& y) { return intersect_triangle_woop(x, y); }, nrm, true); });
+  out.add("moller_trumbore", [=](const Ray<float>& r) { return eval<F>(r, mt, [](auto& x, auto& y) { return intersect_triangle_mt(x, y); }, nrm, true); });
+  out.add("cramer", [=](const Ray<float>& r) { return eval<F>(r, mt, [](auto& x, auto& y) { return intersect_triangle_cramer(x, y); }, nrm, true); });
+  out.add("woop", [=](const Ray<float>& r) { return eval<F>(r, tv, [](auto& x, auto& y) { return intersect_triangle_woop(x, y); }, nrm, true); });
 }
 
 template <class F>
-void methods_plane(const json& pj, MethodList<F>& l) {
+void methods_plane(const json& pj, MethodList<F>& out) {
   const auto pl = make_plane(vec(pj, "point"), vec(pj, "normal"));
-  l.add("lecture", [=](const Ray<float>& r) {
+  out.add("lecture", [=](const Ray<float>& r) {
     return eval<F>(r, pl, [](auto& x, auto& y) { return intersect_plane(x, y); }, [](const auto& p, const auto&) { return plane_normal(p); });
   });
   if (pj.contains("u") && pj.contains("v")) {
     int axis = 2;
     const auto q = make_plane_uv(vec(pj, "point"), vec(pj, "u"), vec(pj, "v"), axis);
-    l.add("uv", [=](const Ray<float>& r) {
+    out.add("uv", [=](const Ray<float>& r) {
       return eval<F>(r, q, [axis](auto& x, auto& y) { return intersect_plane_uv(x, y, axis); },
                      [](const auto& p, const auto&) { return triangle_normal(p); }, true);
     });
@@ -183,17 +183,17 @@ void methods_plane(const json& pj, MethodList<F>& l) {
 }
 
 template <class F>
-void methods_parallelogram(const json& pj, MethodList<F>& l) {
+void methods_parallelogram(const json& pj, MethodList<F>& out) {
   int axis = 2;
   const auto q = make_parallelogram(vec(pj, "origin"), vec(pj, "u"), vec(pj, "v"), axis);
-  l.add("lecture", [=](const Ray<float>& r) {
+  out.add("lecture", [=](const Ray<float>& r) {
     return eval<F>(r, q, [axis](auto& x, auto& y) { return intersect_parallelogram(x, y, axis); },
                    [](const auto& p, const auto&) { return triangle_normal(p); }, true);
   });
 }
 
 template <class F>
-void methods_polygon(const json& pj, MethodList<F>& l) {
+void methods_polygon(const json& pj, MethodList<F>& out) {
   if (!pj.contains("vertices") || !pj["vertices"].is_array()) throw QueryError("\"vertices\" must be an array of [x,y,z]");
   if (pj["vertices"].size() > 100000) throw QueryError("\"vertices\": more than 100000 vertices");
   std::vector<Vec3d> vs;
@@ -206,7 +206,7 @@ void methods_polygon(const json& pj, MethodList<F>& l) {
   auto soa = std::make_shared<PolygonSoA>(PolygonSoA::build(std::vector<std::vector<Vec3d>>{vs}));
   std::size_t slot = 0;
   while (slot < soa->id.size() && soa->id[slot] != 0) ++slot;
-  l.add("crossing", [soa, slot](const Ray<float>& r0) {
+  out.add("crossing", [soa, slot](const Ray<float>& r0) {
     const Ray<F> r = Ray<F>::broadcast(r0);
     const auto p = soa->template broadcast<F>(slot);
     const Hit<F> h = intersect_polygon(r, p);
@@ -221,32 +221,32 @@ void methods_polygon(const json& pj, MethodList<F>& l) {
 }
 
 template <class F>
-void methods_box(const json& pj, MethodList<F>& l) {
+void methods_box(const json& pj, MethodList<F>& out) {
   const Vec3d lo = vec(pj, "min"), hi = vec(pj, "max");
   const auto b = make_box(lo, hi);
   auto nrm = [](const auto& p, const auto& x) { return box_normal(p, x); };
-  l.add("slab", [=](const Ray<float>& r) { return eval<F>(r, b, [](auto& x, auto& y) { return intersect_box(x, y); }, nrm); });
+  out.add("slab", [=](const Ray<float>& r) { return eval<F>(r, b, [](auto& x, auto& y) { return intersect_box(x, y); }, nrm); });
   const auto h = make_box_halfspaces(f3(lo), f3(hi));
-  l.add("halfspaces", [=](const Ray<float>& r) {
+  out.add("halfspaces", [=](const Ray<float>& r) {
     return eval<F>(r, h, [](auto& x, auto& y) { return intersect_polyhedron(x, y); },
                    [](const auto& p, const auto& x) { return polyhedron_normal(p, x); });
   });
 }
 
 template <class F>
-void methods_cylinder(const json& pj, MethodList<F>& l) {
+void methods_cylinder(const json& pj, MethodList<F>& out) {
   const double rad = num(pj, "radius"), ht = num(pj, "height");
   if (!(rad > 0) || !(ht > 0) || !std::isfinite(rad) || !std::isfinite(ht)) throw QueryError("cylinder: radius and height must be positive and finite");
   const bool caps = flag(pj, "caps");
   std::string why;
   const auto c = built(make_transformed(frame(vec(pj, "base"), vec(pj, "axis")), make_cylinder(0.f, 0.f, float(rad), 0.f, float(ht)), &why), why);
-  l.placed(caps ? "capped" : "lecture", c,
+  out.placed(caps ? "capped" : "lecture", c,
              [caps](const auto& lr, const auto& p) { return caps ? intersect_cylinder_capped(lr, p) : intersect_cylinder(lr, p); },
              [caps](const auto& q, const auto& l) { return caps ? capped_cylinder_normal(q, l) : cylinder_normal(q, l); });
 }
 
 template <class F>
-void methods_cone(const json& pj, MethodList<F>& l) {
+void methods_cone(const json& pj, MethodList<F>& out) {
   double ht, tan_a;
   if (pj.contains("angle")) {
     const double a = num(pj, "angle");
@@ -266,23 +266,23 @@ void methods_cone(const json& pj, MethodList<F>& l) {
   const float h1 = std::isfinite(ht) ? float(ht) : std::numeric_limits<float>::infinity();
   std::string why;
   const auto c = built(make_transformed(M, caps ? make_capped_cone(Vec3f{0, 0, 0}, 0.f, h1, &why) : make_cone(Vec3f{0, 0, 0}, 0.f, h1), &why), why);
-  l.placed(caps ? "capped" : "lecture", c,
+  out.placed(caps ? "capped" : "lecture", c,
              [caps](const auto& lr, const auto& p) { return caps ? intersect_cone_capped(lr, p) : intersect_cone(lr, p); },
              [caps](const auto& q, const auto& l) { return caps ? capped_cone_normal(q, l) : cone_normal(q, l); });
 }
 
 template <class F>
-void methods_torus(const json& pj, MethodList<F>& l) {
+void methods_torus(const json& pj, MethodList<F>& out) {
   std::string why;
   const Torus<float> t =
       built(make_torus(vec(pj, "center"), vec(pj, "axis"), num(pj, "major"), num(pj, "minor"), Vec3d{1, 0, 0}, &why), why);
   auto nrm = [](const auto& p, const auto& x) { return torus_normal(p, x); };
-  l.add("ferrari", [=](const Ray<float>& r) { return eval<F>(r, t, [](auto& x, auto& y) { return intersect_torus_ferrari(x, y); }, nrm, true); });
-  l.add("robust", [=](const Ray<float>& r) { return eval<F>(r, t, [](auto& x, auto& y) { return intersect_torus_robust(x, y); }, nrm, true); });
+  out.add("ferrari", [=](const Ray<float>& r) { return eval<F>(r, t, [](auto& x, auto& y) { return intersect_torus_ferrari(x, y); }, nrm, true); });
+  out.add("robust", [=](const Ray<float>& r) { return eval<F>(r, t, [](auto& x, auto& y) { return intersect_torus_robust(x, y); }, nrm, true); });
 }
 
 template <class F>
-void methods_quadric(const json& pj, MethodList<F>& l) {
+void methods_quadric(const json& pj, MethodList<F>& out) {
   if (!pj.contains("coefficients") || !pj["coefficients"].is_array() || pj["coefficients"].size() != 10)
     throw QueryError("\"coefficients\" must be [a,b,c,d,e,f,g,h,j,k] (seed 004's order)");
   double k[10];
@@ -292,12 +292,12 @@ void methods_quadric(const json& pj, MethodList<F>& l) {
   }
   const Quadric<float> q = make_quadric(QuadricCoeffs{k[0], k[1], k[2], k[3], k[4], k[5], k[6], k[7], k[8], k[9]});
   auto nrm = [](const auto& p, const auto& x) { return quadric_normal(p, x); };
-  l.add("matrix", [=](const Ray<float>& r) { return eval<F>(r, q, [](auto& x, auto& y) { return intersect_quadric_matrix(x, y); }, nrm); });
-  l.add("coeffs10", [=](const Ray<float>& r) { return eval<F>(r, q, [](auto& x, auto& y) { return intersect_quadric_coeffs10(x, y); }, nrm); });
+  out.add("matrix", [=](const Ray<float>& r) { return eval<F>(r, q, [](auto& x, auto& y) { return intersect_quadric_matrix(x, y); }, nrm); });
+  out.add("coeffs10", [=](const Ray<float>& r) { return eval<F>(r, q, [](auto& x, auto& y) { return intersect_quadric_coeffs10(x, y); }, nrm); });
 }
 
 template <class F>
-void methods_csg(const json& pj, MethodList<F>& l) {
+void methods_csg(const json& pj, MethodList<F>& out) {
   // A CSG tree (the JSON scene format's node, scene/csg_scene.hpp); float only: the tree is compiled
   // for float rays and 8-ray packets.
   std::shared_ptr<const CsgTree> tree;
@@ -306,7 +306,7 @@ void methods_csg(const json& pj, MethodList<F>& l) {
   } catch (const scene::SceneError& e) {
     throw QueryError(e.what());
   }
-  l.add("csg", [tree](const Ray<float>& r) {
+  out.add("csg", [tree](const Ray<float>& r) {
     Result o;
     float tag = 0;
     const Hit<float> h = csg_hit(*tree, r, tag);
@@ -345,11 +345,11 @@ std::vector<Named> methods(const json& pj, std::string& type) {
       {"intersection", methods_csg<F>},
       {"difference", methods_csg<F>},
   };
-  MethodList<F> l;
+  MethodList<F> list;
   for (const auto& [name, fill] : kTypes)
     if (type == name) {
-      fill(pj, l);
-      return l.m;
+      fill(pj, list);
+      return list.m;
     }
   std::string known;
   for (const auto& [name, fill] : kTypes) known += (known.empty() ? "" : ", ") + std::string(name);

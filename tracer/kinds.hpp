@@ -29,8 +29,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <limits>
 #include <cstdint>
+#include <limits>
 #include <string>
 
 namespace rb::kinds {
@@ -77,6 +77,25 @@ struct MethodInfo {
   bool f64 = true;          // the kernel in double on the stored primitive widened
   bool f64_storage = false; // the primitive stored in double (the kind's make<double>)
 };
+
+// The plan's evidence for a kind (its `plan` array, beside its methods): the (method, precision)
+// options the tracer can run, cheapest first, each with the conditions under which the accuracy lab
+// measures it with no failure and the lab cases that show it (`raybench accuracy --filter CASE`;
+// tests/test_plan.cpp runs every cited case and checks that the option has no failure there).
+// Conditions are the scene profile's (tracer/profile.hpp):
+//   far     the kind's far_ratio (farthest ray origin over the primitive's size) is at most this;
+//   scale   its scale_ratio (largest primitive over the scene's smallest object) is at most this;
+//   aspect  its aspect_max is at most this.
+// An option whose conditions do not cover the scene is skipped; when none covers it, the most
+// accurate option (the last) runs and the plan says that the scene is beyond the lab's cases.
+struct PlanOption {
+  int method = 0;
+  bool f64 = false;
+  double far = 0, scale = 0, aspect = 0;  // the profile's far_ratio, scale_ratio, aspect_max covered
+  const char* evidence = "";              // the lab cases ("family/case ...")
+  const char* why = "";
+};
+inline constexpr double kAny = std::numeric_limits<double>::infinity();  // no bound on a condition
 
 // What a kind's surface rule is given: the ray as traced (frame coordinates), its hit distance,
 // the frame's origin and the world hit point origin + o + t d in double; `batch` is the kind's

@@ -23,79 +23,9 @@ const char* spawn_name(SpawnScheme s) {
 }
 const char* frame_name(FrameKind f) { return f == FrameKind::world ? "world" : f == FrameKind::centre ? "scene_centre" : "camera"; }
 
-// ---- the lab's evidence ----------------------------------------------------------------------------
-// For every kind, the (method, precision) options the tracer can run, cheapest first, each with
-// the conditions under which the accuracy lab measures it with no failure and the lab cases that
-// show it (`raybench accuracy --filter CASE`; tests/test_plan.cpp runs every cited case and checks
-// that the option has no failure there). Conditions are the profile's (tracer/profile.hpp):
-//   far     the kind's far_ratio (farthest ray origin over the primitive's size) is at most this;
-//   scale   its scale_ratio (largest primitive over the scene's smallest object) is at most this;
-//   aspect  its aspect_max is at most this.
-// An option whose conditions do not cover the scene is skipped; when none covers it, the most
-// accurate option runs and the plan says that the scene is beyond the lab's cases.
-const std::vector<PlanOption>& plan_options(Kind k) {
-  static const std::vector<PlanOption> none;
-  static const std::array<std::vector<PlanOption>, kKinds> table = [] {
-    std::array<std::vector<PlanOption>, kKinds> t;
-    const double inf = std::numeric_limits<double>::infinity();
-    t[std::size_t(Kind::triangle)] = {
-        {0, false, inf, inf, inf,
-         "triangle/octahedron_edges triangle/octahedron_vertices triangle/sphere_mesh_edges triangle/sphere_mesh_vertices triangle/fan_square "
-         "triangle/far_mesh_1e3 triangle/far_mesh_1e6 triangle/far_camera_1e4",
-         "watertight: no ray passes between the shared edges of a closed mesh, whatever the frame"},
-        {0, true, inf, inf, inf, "triangle/octahedron_edges triangle/sphere_mesh_vertices triangle/far_mesh_1e6", "watertight, in double"},
-    };
-    // Spheres. "above_1eK": a viewer 1..10 above a sphere of radius 10^K looking every way (the
-    // scale ratio of a sphere 10^K times the objects near it); "far_small_1eK": seen from 10^K
-    // radii. Float passes both up to 1e5 with the geometric test only up to 1e2 radii away;
-    // grazing rays from a viewer on a planet need the compensated form or double.
-    t[std::size_t(Kind::sphere)] = {
-        {0, false, 1e2, 5e4, inf,
-         "sphere/far_small_1e1 sphere/far_small_1e2 sphere/tangent sphere/above_1e2 sphere/above_1e3 sphere/above_1e4 sphere/above_1e5",
-         "the lecture's geometric test is right while spheres are seen from at most 100 radii"},
-        {1, false, 1e5, 5e4, inf,
-         "sphere/far_small_1e1 sphere/far_small_1e3 sphere/far_small_1e4 sphere/far_small_1e5 sphere/tangent sphere/above_1e2 "
-         "sphere/above_1e3 sphere/above_1e4 sphere/above_1e5",
-         "Hearn and Baker's form keeps a small sphere right up to 1e5 radii away"},
-        {2, false, 1e5, inf, inf,
-         "sphere/far_small_1e5 sphere/tangent sphere/above_1e5 sphere/above_1e6 sphere/planet_pole sphere/planet_45",
-         "the compensated form is right on a planet (grazing rays from 1..100 above a sphere of radius 6.4e6) and from 1e5 radii"},
-        {0, true, 1e5, inf, inf, "sphere/far_small_1e5 sphere/tangent sphere/above_1e6 sphere/planet_pole sphere/planet_45",
-         "the geometric test in double is right on a planet and from 1e5 radii"},
-        {2, true, 1e7, inf, inf, "sphere/far_small_1e5 sphere/far_small_1e7 sphere/planet_pole sphere/planet_45",
-         "the compensated form in double is right from 1e7 radii"},
-    };
-    // NFF shells (placed cylinders and cone frusta), seen from 10^K radii.
-    t[std::size_t(Kind::cylinder)] = {
-        {0, false, 1e1, inf, inf, "quadric/shell_cyl_far_1e1", "a placed cylinder in float is right while seen from at most 10 radii"},
-        {1, false, 1e5, inf, inf,
-         "quadric/shell_cyl_far_1e1 quadric/shell_cyl_far_1e2 quadric/shell_cyl_far_1e3 quadric/shell_cyl_far_1e4 quadric/shell_cyl_far_1e5",
-         "the ray re-centred on the shell before the transform keeps it right up to 1e5 radii away in float"},
-        {1, true, inf, inf, inf, "quadric/shell_cyl_far_1e5", "re-centred, in double"},
-    };
-    t[std::size_t(Kind::cone)] = {
-        {0, false, 1e1, inf, inf, "quadric/shell_cone_far_1e1", "a placed cone frustum in float is right while seen from at most 10 radii"},
-        {1, false, 1e5, inf, inf,
-         "quadric/shell_cone_far_1e1 quadric/shell_cone_far_1e2 quadric/shell_cone_far_1e3 quadric/shell_cone_far_1e4 "
-         "quadric/shell_cone_far_1e5",
-         "the ray re-centred on the frustum before the transform keeps it right up to 1e5 radii away in float"},
-        {1, true, inf, inf, inf, "quadric/shell_cone_far_1e5", "re-centred, in double"},
-    };
-    // Tori: far is over the tube radius r, aspect = 2 (R + r) / r (10 for R = 4 r; 202 for R = 100 r).
-    // Ferrari's closed form is never chosen: in float it misses rays at 5 sizes already, and in
-    // double its figures change with the build's contraction (it passes the lab's cases in the
-    // release build and fails them without FMA contraction).
-    t[std::size_t(Kind::torus)] = {
-        {1, false, 2.5e3, inf, 10, "torus/camera_5x torus/camera_50x torus/camera_500x torus/along_axis",
-         "the robust isolation in float is right up to 500 torus sizes away (2500 tube radii)"},
-        {1, true, 5.05e4, inf, 202, "torus/camera_500x torus/thin_tube torus/thin_500x torus/along_axis",
-         "the robust isolation in double is right on a tube 100 times thinner than its ring, seen from 500 sizes"},
-    };
-    t[std::size_t(Kind::polygon)] = {{0, false, inf, inf, inf, "", "the polygon's only method (float)"}};
-    t[std::size_t(Kind::csg)] = {{0, false, inf, inf, inf, "", "the CSG tree's only method (float leaves)"}};
-    return t;
-  }();
-  return std::size_t(k) < table.size() ? table[std::size_t(k)] : none;
+// Each kind's options, from its header (tracer/kinds/*.hpp, `plan`).
+std::span<const PlanOption> plan_options(Kind k) {
+  return kinds::AllKinds::at<std::span<const PlanOption>>(k, [&]<class K>() { return std::span<const PlanOption>(K::plan); });
 }
 
 namespace {

@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include <array>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -94,16 +95,9 @@ struct Plan {
   std::string text() const;  // the plan for a terminal: one line per choice with its reason
 };
 
-// One way the tracer can run a kind (its method index and precision) and the conditions under
-// which the accuracy lab measures it with no failure (tracer/plan.cpp: the table, cheapest first).
-struct PlanOption {
-  int method = 0;
-  bool f64 = false;
-  double far = 0, scale = 0, aspect = 0;  // the profile's far_ratio, scale_ratio, aspect_max covered
-  const char* evidence = "";              // the lab cases ("family/case ...")
-  const char* why = "";
-};
-const std::vector<PlanOption>& plan_options(Kind k);
+using kinds::PlanOption;
+// A kind's options with the lab's evidence, cheapest first (tracer/kinds.hpp, PlanOption).
+std::span<const PlanOption> plan_options(Kind k);
 
 // The plan of a scene under a model.
 Plan make_plan(const scene::Scene& s, Model m);

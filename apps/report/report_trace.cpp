@@ -58,6 +58,18 @@ struct TracingRun {
   int reps;
   double min_time;  // seconds a repetition lasts at least (the rays traced that many times over)
   json rows = json::array(), scaling = json::array(), matrix_builds = json::array();
+  // A row's trace: the report's ray count, repetitions and minimum time, no brute-force check.
+  TraceRunOptions row(const char* ray_set = "primary", int packet = 1, int threads = 1) const {
+    TraceRunOptions t;
+    t.ray_set = ray_set;
+    t.packet = packet;
+    t.threads = threads;
+    t.count = count;
+    t.repetitions = reps;
+    t.min_time = min_time;
+    t.brute_rays = 0;
+    return t;
+  }
 };
 struct TracedMesh {
   std::string label;
@@ -69,8 +81,6 @@ struct TracedMesh {
 std::string trace_matrix_mesh(TracingRun& x, const TracedMesh& m, const std::vector<int>& packets) {
   const ReportOptions& o = x.o;
   Record& rec = x.rec;
-  const std::size_t count = x.count;
-  const int reps = x.reps;
   json& rows = x.rows;
   json& scaling = x.scaling;
   std::string md;
@@ -127,14 +137,7 @@ std::string trace_matrix_mesh(TracingRun& x, const TracedMesh& m, const std::vec
     for (int packet : packets) {
       json pair[2];
       for (int th : {1, 2}) {
-        TraceRunOptions t;
-        t.ray_set = set;
-        t.packet = packet;
-        t.threads = th;
-        t.count = count;
-        t.repetitions = reps;
-        t.min_time = x.min_time;
-        t.brute_rays = 0;
+        const TraceRunOptions t = x.row(set, packet, th);
         json j = rec.take(fmt::format("tracing/{}/{}/{}/{}t", m.label, set, packet, th), [&] { return sess().run(t, true); });
         j["mesh"] = m.label;
         mrows.push_back(j);
@@ -281,8 +284,6 @@ std::string trace_goals(const TracingRun& x, json& goal_rows) {
 // Embree's builder's tree through raybench's traversal (`trees`: its rows), as a table.
 std::string trace_tree_vs_kernel(TracingRun& x, json& trees) {
   Record& rec = x.rec;
-  const std::size_t count = x.count;
-  const int reps = x.reps;
   const std::string& data = x.data;
   std::string md;
   std::cerr << "[report] tracing: Embree's tree through raybench's traversal\n";
@@ -299,13 +300,7 @@ std::string trace_tree_vs_kernel(TracingRun& x, json& trees) {
         "| rays | SAH tree Mrays/s | Embree's tree Mrays/s | Embree Mrays/s (best mode) | nodes/ray SAH, Embree's | "
         "boxes/ray SAH, Embree's | prims/ray SAH, Embree's |\n|---|---:|---:|---:|---:|---:|---:|\n";
   for (const char* set : {"primary", "shadow", "diffuse", "random"}) {
-    TraceRunOptions t;
-    t.ray_set = set;
-    t.packet = 8;
-    t.count = count;
-    t.repetitions = reps;
-    t.min_time = x.min_time;
-    t.brute_rays = 0;
+    TraceRunOptions t = x.row(set, 8);
     t.builder = "embree";
     json j = rec.take(fmt::format("tracing/embree_tree/{}", set), [&] { return sess().run(t, true); });
     const json& st = j["sah_tree"];
@@ -324,8 +319,6 @@ std::string trace_tree_vs_kernel(TracingRun& x, json& trees) {
 std::string trace_by_size(TracingRun& x, json& builds) {
   const ReportOptions& o = x.o;
   Record& rec = x.rec;
-  const std::size_t count = x.count;
-  const int reps = x.reps;
   const std::string& data = x.data;
   std::string md;
   std::cerr << "[report] tracing: scenes by size\n";
@@ -342,12 +335,7 @@ std::string trace_by_size(TracingRun& x, json& builds) {
   for (const auto& src : srcs) {
     const json j = rec.take("tracing/by_size/" + src.label, [&] {
       TraceSession sess(src.make(), src.label, 1, true);
-      TraceRunOptions t;
-      t.count = count;
-      t.repetitions = reps;
-      t.min_time = x.min_time;
-      t.brute_rays = 0;
-      return sess.run(t, true);
+      return sess.run(x.row(), true);
     });
     const double ns = 1e3 / j["mrays_per_s"].get<double>();
     const json ens = j["embree_mrays_per_s"].is_null() ? json(nullptr) : json(1e3 / j["embree_mrays_per_s"].get<double>());

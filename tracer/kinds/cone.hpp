@@ -39,6 +39,16 @@ struct ConeKind {
        false},
       {"recentred", "the same with the ray's origin first moved along it to the frustum: right from far away in float", true, false},
   }};
+  // The lab's evidence per option (PlanOption in tracer/kinds.hpp), cheapest first: NFF frusta seen
+  // from 10^K radii.
+  static constexpr std::array<PlanOption, 3> plan{{
+      {0, false, 1e1, kAny, kAny, "quadric/shell_cone_far_1e1", "a placed cone frustum in float is right while seen from at most 10 radii"},
+      {1, false, 1e5, kAny, kAny,
+       "quadric/shell_cone_far_1e1 quadric/shell_cone_far_1e2 quadric/shell_cone_far_1e3 quadric/shell_cone_far_1e4 "
+       "quadric/shell_cone_far_1e5",
+       "the ray re-centred on the frustum before the transform keeps it right up to 1e5 radii away in float"},
+      {1, true, kAny, kAny, kAny, "quadric/shell_cone_far_1e5", "re-centred, in double"},
+  }};
   template <int M, class F>
   static RB_INLINE Hit<F> hit(const Ray<F>& r, const Pre<F>&, const Prim<F>& p) {
     auto k = [](const Ray<F>& l, const Cone<F>& c) { return intersect_cone(l, c); };

@@ -48,6 +48,8 @@ struct CsgKind {
   static Pre<F> pre(const Ray<F>&) { return {}; }
   static constexpr std::array<MethodInfo, 1> methods{
       {{"intervals", "each leaf's entry/exit list along the ray, merged in 1D ray space (seed 000)", false, false}}};
+  // The lab's evidence (PlanOption in tracer/kinds.hpp): one method.
+  static constexpr std::array<PlanOption, 1> plan{{{0, false, kAny, kAny, kAny, "", "the CSG tree's only method (float leaves)"}}};
 
   struct Batch {
     std::vector<std::shared_ptr<const CsgTree>> trees;  // by scene index, in the frame

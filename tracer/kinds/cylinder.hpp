@@ -119,6 +119,15 @@ struct CylinderKind {
       {"transformed", "the cylinder x^2 + y^2 = r^2 in its own frame, the ray transformed into it (seed 000)", true, false},
       {"recentred", "the same with the ray's origin first moved along it to the shell: right from far away in float", true, false},
   }};
+  // The lab's evidence per option (PlanOption in tracer/kinds.hpp), cheapest first: NFF shells seen
+  // from 10^K radii.
+  static constexpr std::array<PlanOption, 3> plan{{
+      {0, false, 1e1, kAny, kAny, "quadric/shell_cyl_far_1e1", "a placed cylinder in float is right while seen from at most 10 radii"},
+      {1, false, 1e5, kAny, kAny,
+       "quadric/shell_cyl_far_1e1 quadric/shell_cyl_far_1e2 quadric/shell_cyl_far_1e3 quadric/shell_cyl_far_1e4 quadric/shell_cyl_far_1e5",
+       "the ray re-centred on the shell before the transform keeps it right up to 1e5 radii away in float"},
+      {1, true, kAny, kAny, kAny, "quadric/shell_cyl_far_1e5", "re-centred, in double"},
+  }};
   template <int M, class F>
   static RB_INLINE Hit<F> hit(const Ray<F>& r, const Pre<F>&, const Prim<F>& p) {
     auto k = [](const Ray<F>& l, const Cylinder<F>& c) { return intersect_cylinder(l, c); };

@@ -61,6 +61,8 @@ struct PolygonKind {
   static Pre<F> pre(const Ray<F>&) { return {}; }
   static constexpr std::array<MethodInfo, 1> methods{
       {{"crossing", "the plane, then the crossing (Jordan curve) test projected along the normal's dominant axis", false, false}}};
+  // The lab's evidence (PlanOption in tracer/kinds.hpp): one method.
+  static constexpr std::array<PlanOption, 1> plan{{{0, false, kAny, kAny, kAny, "", "the polygon's only method (float)"}}};
 
   struct Batch {
     PolygonSoA soa;                  // the polygons in leaf order

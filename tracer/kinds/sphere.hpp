@@ -53,6 +53,27 @@ struct SphereKind {
       {"hearn_baker", "Hearn and Baker's form: the discriminant from the offset f - (f . d) d, accurate for a small sphere far away", true, true},
       {"compensated", "error-free transformations (two-sum, two-product) for b and c: right at planet scale", true, true},
   }};
+  // The lab's evidence per option (PlanOption in tracer/kinds.hpp), cheapest first. "above_1eK": a
+  // viewer 1..10 above a sphere of radius 10^K looking every way (the scale ratio of a sphere 10^K
+  // times the objects near it); "far_small_1eK": seen from 10^K radii. Float passes both up to 1e5
+  // with the geometric test only up to 1e2 radii away; grazing rays from a viewer on a planet need
+  // the compensated form or double.
+  static constexpr std::array<PlanOption, 5> plan{{
+      {0, false, 1e2, 5e4, kAny,
+       "sphere/far_small_1e1 sphere/far_small_1e2 sphere/tangent sphere/above_1e2 sphere/above_1e3 sphere/above_1e4 sphere/above_1e5",
+       "the lecture's geometric test is right while spheres are seen from at most 100 radii"},
+      {1, false, 1e5, 5e4, kAny,
+       "sphere/far_small_1e1 sphere/far_small_1e3 sphere/far_small_1e4 sphere/far_small_1e5 sphere/tangent sphere/above_1e2 "
+       "sphere/above_1e3 sphere/above_1e4 sphere/above_1e5",
+       "Hearn and Baker's form keeps a small sphere right up to 1e5 radii away"},
+      {2, false, 1e5, kAny, kAny,
+       "sphere/far_small_1e5 sphere/tangent sphere/above_1e5 sphere/above_1e6 sphere/planet_pole sphere/planet_45",
+       "the compensated form is right on a planet (grazing rays from 1..100 above a sphere of radius 6.4e6) and from 1e5 radii"},
+      {0, true, 1e5, kAny, kAny, "sphere/far_small_1e5 sphere/tangent sphere/above_1e6 sphere/planet_pole sphere/planet_45",
+       "the geometric test in double is right on a planet and from 1e5 radii"},
+      {2, true, 1e7, kAny, kAny, "sphere/far_small_1e5 sphere/far_small_1e7 sphere/planet_pole sphere/planet_45",
+       "the compensated form in double is right from 1e7 radii"},
+  }};
   template <int M, class F>
   static RB_INLINE Hit<F> hit(const Ray<F>& r, const Pre<F>&, const Prim<F>& p) {
     if constexpr (M == 0) return intersect_sphere_geometric(r, p);

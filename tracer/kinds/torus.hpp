@@ -55,6 +55,17 @@ struct TorusKind {
       {"ferrari", "the quartic in t solved in closed form (Ferrari's resolvent cubic)", true, false},
       {"robust", "the quartic re-centred at the closest approach, roots isolated and polished", true, false},
   }};
+  // The lab's evidence per option (PlanOption in tracer/kinds.hpp), cheapest first. far is over the
+  // tube radius r, aspect = 2 (R + r) / r (10 for R = 4 r; 202 for R = 100 r). Ferrari's closed form
+  // is never chosen: in float it misses rays at 5 sizes already, and in double its figures change
+  // with the build's contraction (it passes the lab's cases in the release build and fails them
+  // without FMA contraction).
+  static constexpr std::array<PlanOption, 2> plan{{
+      {1, false, 2.5e3, kAny, 10, "torus/camera_5x torus/camera_50x torus/camera_500x torus/along_axis",
+       "the robust isolation in float is right up to 500 torus sizes away (2500 tube radii)"},
+      {1, true, 5.05e4, kAny, 202, "torus/camera_500x torus/thin_tube torus/thin_500x torus/along_axis",
+       "the robust isolation in double is right on a tube 100 times thinner than its ring, seen from 500 sizes"},
+  }};
   template <int M, class F>
   static RB_INLINE Hit<F> hit(const Ray<F>& r, const Pre<F>&, const Prim<F>& p) {
     if constexpr (M == 0) return intersect_torus_ferrari(r, p);

@@ -61,6 +61,14 @@ struct TriangleKind {
   static RB_INLINE Pre<F> pre(const Ray<F>& r) { return make_woop_ray(r); }
   static constexpr std::array<MethodInfo, 1> methods{
       {{"woop", "Woop, Benthin and Wald's watertight test: the triangle sheared into the ray's frame, exact edge signs", true, true}}};
+  // The lab's evidence per option (PlanOption in tracer/kinds.hpp), cheapest first.
+  static constexpr std::array<PlanOption, 2> plan{{
+      {0, false, kAny, kAny, kAny,
+       "triangle/octahedron_edges triangle/octahedron_vertices triangle/sphere_mesh_edges triangle/sphere_mesh_vertices triangle/fan_square "
+       "triangle/far_mesh_1e3 triangle/far_mesh_1e6 triangle/far_camera_1e4",
+       "watertight: no ray passes between the shared edges of a closed mesh, whatever the frame"},
+      {0, true, kAny, kAny, kAny, "triangle/octahedron_edges triangle/sphere_mesh_vertices triangle/far_mesh_1e6", "watertight, in double"},
+  }};
   template <int M, class F>
   static RB_INLINE Hit<F> hit(const Ray<F>& r, const Pre<F>& w, const Prim<F>& p) {
     return intersect_triangle_woop(w, r, p);
