@@ -33,10 +33,11 @@
 namespace rb::app {
 namespace {
 
-void ensure_registered() {
+// Registers every benchmark once, for the ISA the first caller names (one per process).
+void ensure_registered(const std::string& isa) {
   static bool registered = false;
   if (!registered) {
-    rb::bench::register_all_benchmarks();
+    rb::bench::register_all_benchmarks(rb::bench::isa_choice(isa).simd16);
     registered = true;
   }
 }
@@ -140,7 +141,13 @@ nlohmann::json merge_rounds(const std::vector<nlohmann::json>& rounds) {
 
 }  // namespace
 
-std::map<std::string, stats::RatioInterval> simd_speedups(const nlohmann::json& doc) {
+namespace {
+
+// Each benchmark whose variant `partner` maps to another (kernel/method/variant/case: same kernel,
+// method and case), against that one, round by round: the median of the rounds' ratios with its
+// interval.
+template <class Partner>
+std::map<std::string, stats::RatioInterval> variant_ratios(const nlohmann::json& doc, Partner partner) {
   // name -> round -> tests per second
   std::map<std::string, std::map<std::size_t, double>> rate;
   for (const auto& b : doc.at("benchmarks")) {
@@ -150,21 +157,34 @@ std::map<std::string, stats::RatioInterval> simd_speedups(const nlohmann::json& 
   }
   std::map<std::string, stats::RatioInterval> out;
   for (const auto& [name, by_round] : rate) {
-    // kernel/method/variant/case
     const auto a = name.find('/'), b = a == std::string::npos ? a : name.find('/', a + 1), c = b == std::string::npos ? b : name.find('/', b + 1);
-    if (c == std::string::npos || name.compare(b + 1, c - b - 1, "scalar") == 0) continue;
-    const auto sc = rate.find(name.substr(0, b + 1) + "scalar" + name.substr(c));
-    if (sc == rate.end()) continue;
-    std::vector<double> simd, scalar;
+    if (c == std::string::npos) continue;
+    const std::string other = partner(name.substr(b + 1, c - b - 1));
+    if (other.empty()) continue;
+    const auto base = rate.find(name.substr(0, b + 1) + other + name.substr(c));
+    if (base == rate.end()) continue;
+    std::vector<double> x, y;
     for (const auto& [round, r] : by_round)
-      if (const auto it = sc->second.find(round); it != sc->second.end()) simd.push_back(r), scalar.push_back(it->second);
-    out[name] = stats::paired_ratio(simd, scalar);
+      if (const auto it = base->second.find(round); it != base->second.end()) x.push_back(r), y.push_back(it->second);
+    out[name] = stats::paired_ratio(x, y);
   }
   return out;
 }
 
-std::vector<std::string> benchmark_names(const std::string& filter) {
-  ensure_registered();
+}  // namespace
+
+std::map<std::string, stats::RatioInterval> simd_speedups(const nlohmann::json& doc) {
+  return variant_ratios(doc, [](const std::string& v) { return v == "scalar" ? std::string() : std::string("scalar"); });
+}
+
+std::map<std::string, stats::RatioInterval> simd16_speedups(const nlohmann::json& doc) {
+  return variant_ratios(doc, [](const std::string& v) {
+    return v.size() > 2 && v.compare(v.size() - 2, 2, "16") == 0 ? v.substr(0, v.size() - 2) : std::string();
+  });
+}
+
+std::vector<std::string> benchmark_names(const std::string& filter, const std::string& isa) {
+  ensure_registered(isa);
   const auto& names = rb::bench::registered_names();
   if (filter.empty() || filter == "all") return names;
   // Google Benchmark's rule: a POSIX extended regex searched in the name, a leading '-' negates it.
@@ -177,9 +197,10 @@ std::vector<std::string> benchmark_names(const std::string& filter) {
 }
 
 int run_benchmarks(const BenchOptions& o, nlohmann::json& doc) {
-  ensure_registered();
+  const rb::bench::IsaChoice isa = rb::bench::isa_choice(o.isa);  // throws for an ISA this machine lacks
+  ensure_registered(o.isa);
   rb::bench::bench_data_seed() = o.seed ? o.seed : rb::bench::kBenchSeed;
-  const std::size_t total = benchmark_names(o.filter).size();  // throws on a bad regex
+  const std::size_t total = benchmark_names(o.filter, o.isa).size();  // throws on a bad regex
   if (total == 0) {
     std::cerr << error_line(o.command, "", fmt::format("--filter '{}' selects no benchmark (names are kernel/method/variant/case; "
                                                        "--list shows them)", o.filter))
@@ -192,7 +213,9 @@ int run_benchmarks(const BenchOptions& o, nlohmann::json& doc) {
   benchmark::AddCustomContext("raybench_fp_contract", m.fp_contract);
   benchmark::AddCustomContext("raybench_pgo", m.pgo);
   benchmark::AddCustomContext("raybench_git", m.git);
-  benchmark::AddCustomContext("raybench_simd", "xsimd 8.1 fma3<avx2> 8 x float");
+  benchmark::AddCustomContext("raybench_simd", isa.simd16 ? "xsimd 8.1 fma3<avx2> 8 x float and avx512dq 16 x float" : "xsimd 8.1 fma3<avx2> 8 x float");
+  benchmark::AddCustomContext("raybench_isa", isa.name);
+  benchmark::AddCustomContext("raybench_isa_why", isa.why);
   benchmark::AddCustomContext("raybench_seed", std::to_string(rb::bench::bench_data_seed()));
   benchmark::AddCustomContext("raybench_repetitions", std::to_string(o.repetitions));
   benchmark::AddCustomContext("raybench_protocol", fmt::format("{} rounds, each running every selected benchmark once for at least {} s "
@@ -227,6 +250,10 @@ int run_benchmarks(const BenchOptions& o, nlohmann::json& doc) {
     nlohmann::json sp = nlohmann::json::object();
     for (const auto& [name, r] : simd_speedups(doc)) sp[name] = stats::interval_json(r);
     doc["raybench_simd_vs_scalar"] = sp;
+    // Every 16-lane benchmark over its 8-lane form, the same way.
+    nlohmann::json s16 = nlohmann::json::object();
+    for (const auto& [name, r] : simd16_speedups(doc)) s16[name] = stats::interval_json(r);
+    if (!s16.empty()) doc["raybench_simd16_vs_simd8"] = s16;
     if (!o.every_repetition) {  // the aggregates only
       auto& all = doc["benchmarks"];
       all.erase(std::remove_if(all.begin(), all.end(), [](const nlohmann::json& b) { return b.value("run_type", "") == "iteration"; }),

@@ -80,6 +80,16 @@ std::string bench_table(const json& doc, double* worst_cv, std::size_t* noisy) {
     t += wrap_words(fmt::format("SIMD over scalar, {} SIMD rows: lowest {} ({}), highest {} ({})", speedups.size(),
                                 stats::interval_text(lo.first), lo.second, stats::interval_text(hi.first), hi.second));
   }
+  std::vector<std::pair<stats::RatioInterval, std::string>> wide;
+  for (const auto& [name, r] : simd16_speedups(doc))
+    if (std::isfinite(r.ratio)) wide.push_back({r, name});
+  if (!wide.empty()) {
+    std::sort(wide.begin(), wide.end(), [](const auto& a, const auto& b) { return a.first.ratio < b.first.ratio; });
+    t += wrap_words(fmt::format("16 AVX-512 lanes over 8 AVX2 lanes, {} rows: median {:.2f}x, lowest {} ({}), highest {} ({})", wide.size(),
+                                wide[wide.size() / 2].first.ratio, stats::interval_text(wide.front().first), wide.front().second,
+                                stats::interval_text(wide.back().first), wide.back().second));
+  }
+  t += wrap_words("ISA: " + ctx.value("raybench_isa", std::string("avx2")) + " (" + ctx.value("raybench_isa_why", std::string("-")) + ").");
   if (doc.contains("machine_load")) t += wrap_words("Machine: " + load_text(doc["machine_load"]) + ".");
   if (worst_cv) *worst_cv = worst;
   if (noisy) *noisy = over;
@@ -89,7 +99,7 @@ std::string bench_table(const json& doc, double* worst_cv, std::size_t* noisy) {
 int run_bench_command(const BenchOptions& o, bool list, const JsonOut& out) {
   std::vector<std::string> names;
   try {
-    names = benchmark_names(o.filter);
+    names = benchmark_names(o.filter, o.isa);
   } catch (const std::exception& e) {
     std::cerr << error_line("bench", "", e.what()) << "\n";
     return kExitError;

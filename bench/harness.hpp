@@ -4,6 +4,8 @@
 //                    with -fno-tree-vectorize -fno-tree-slp-vectorize: a true scalar baseline)
 //   rays_in_lanes    K = 8 rays x 1 primitive (primitive broadcast)
 //   prims_in_lanes   1 ray (broadcast) x M = 8 primitives
+//   rays_in_lanes16, prims_in_lanes16: the same with 16 AVX-512 lanes (bench/simd16.hpp), on a CPU
+//                    and build that have them
 // and three cases: every pair hits, every pair misses, half the pairs hit (ray class i%2 hits
 // primitive class j%2 only, so both SIMD mappings see half their lanes hit).
 //
@@ -24,10 +26,18 @@ namespace rb::bench {
 
 enum class Case { hit, miss, half };
 inline const char* case_name(Case c) { return c == Case::hit ? "hit" : c == Case::miss ? "miss" : "half"; }
-enum class Variant { scalar, rays_in_lanes, prims_in_lanes };
+enum class Variant { scalar, rays_in_lanes, prims_in_lanes, rays_in_lanes16, prims_in_lanes16 };
 inline const char* variant_name(Variant v) {
-  return v == Variant::scalar ? "scalar" : v == Variant::rays_in_lanes ? "rays_in_lanes" : "prims_in_lanes";
+  switch (v) {
+    case Variant::scalar: return "scalar";
+    case Variant::rays_in_lanes: return "rays_in_lanes";
+    case Variant::prims_in_lanes: return "prims_in_lanes";
+    case Variant::rays_in_lanes16: return "rays_in_lanes16";
+    case Variant::prims_in_lanes16: return "prims_in_lanes16";
+  }
+  return "?";
 }
+inline constexpr bool is_simd16(Variant v) { return v == Variant::rays_in_lanes16 || v == Variant::prims_in_lanes16; }
 
 inline constexpr std::size_t kBenchRays = 256;   // 256 rays x 11 floats = 11 KiB
 inline constexpr std::size_t kBenchPrims = 64;   // 64 primitives: < 4 KiB for every kind here

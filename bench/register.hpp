@@ -4,6 +4,7 @@
 #pragma once
 
 #include "bench/harness.hpp"
+#include "bench/simd16.hpp"
 
 #include <benchmark/benchmark.h>
 
@@ -31,7 +32,8 @@ void register_one() {
       for (auto _ : st) {
         if constexpr (V == Variant::scalar) a = run_rays_in_lanes<Spec, float>(*d);
         else if constexpr (V == Variant::rays_in_lanes) a = run_rays_in_lanes<Spec, f8>(*d);
-        else a = run_prims_in_lanes<Spec, f8>(*d);
+        else if constexpr (V == Variant::prims_in_lanes) a = run_prims_in_lanes<Spec, f8>(*d);
+        else a = run_simd16<Spec>(*d, V);  // the AVX-512 translation unit's loop (one call per pass)
         benchmark::DoNotOptimize(a);
       }
       const double tests = double(d->tests());
@@ -52,7 +54,9 @@ void register_quadric_simd();
 void register_solver_scalar();
 void register_solver_simd();
 void register_wide_node();  // bench_wide_node.cpp: the 8-wide BVH node's slab test
-inline void register_all_benchmarks() {
+void register_simd16();     // bench_simd16_register.cpp: the 16-lane rows (nothing without them)
+// Every benchmark; the 16-lane rows when `simd16` (bench/simd16.hpp: isa_choice).
+inline void register_all_benchmarks(bool simd16) {
   register_basic_scalar();
   register_basic_simd();
   register_planar_scalar();
@@ -61,6 +65,7 @@ inline void register_all_benchmarks() {
   register_quadric_simd();
   register_solver_scalar();
   register_solver_simd();
+  if (simd16) register_simd16();
   register_wide_node();
 }
 

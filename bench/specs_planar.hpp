@@ -118,6 +118,7 @@ inline std::vector<Vec3f> bench_star(int cls, int k, Rng& g, int m) {
 struct PolygonSpec {
   static constexpr const char* kernel = "polygon";
   static constexpr const char* method = "crossing";
+  static constexpr int max_prim_lanes = 8;  // the vertices interleaved per group of 8 (kernels/polygon.hpp)
   using Input = std::vector<Vec3f>;
   using Soa = PolygonSoA;
   static Input make(int cls, int k, Rng& g) { return bench_star(cls, k, g, 6 + k % 7); }

@@ -3,13 +3,18 @@
 // mask_xor, lane, load, ...). Each supported type is described once, by a specialisation of num<F>.
 //
 // Supported: float, double, the 8-lane float batch (AVX2+FMA), the 4-lane double batch, and
-// Counted<T> over each of those (core/counted.hpp).
+// Counted<T> over each of those (core/counted.hpp); in translation units compiled for AVX-512
+// (RB_SIMD16: bench/bench_*_simd16.cpp) also the 16-lane float and 8-lane double batches.
 //
 // Names are deliberately not min/max/select/any/all: unqualified calls on xsimd batches would
 // find xsimd's overloads by argument-dependent lookup and the result would depend on include
 // order (docs/DESIGN.md section 3).
 #pragma once
 
+#if defined(__AVX512F__) && defined(__AVX512DQ__) && defined(__AVX512BW__)
+#define RB_SIMD16 1
+#include "core/xsimd_avx512_fma.hpp"  // before xsimd: a fused fma for its AVX-512 batches
+#endif
 #include <xsimd/xsimd.hpp>
 
 #include <cmath>
@@ -42,7 +47,16 @@ using f8 = xsimd::batch<float, simd_arch>;
 using d4 = xsimd::batch<double, simd_arch>;
 using f8_mask = xsimd::batch_bool<float, simd_arch>;
 using d4_mask = xsimd::batch_bool<double, simd_arch>;
-inline constexpr std::size_t kSimdAlign = 32;
+// Alignment of SIMD data: a 16-lane float load (64 bytes) is aligned in every container.
+inline constexpr std::size_t kSimdAlign = 64;
+#ifdef RB_SIMD16
+// AVX-512: xsimd's avx512dq batch (compiled with F, CD, DQ, BW and VL: 8.1 declares the avx512cd
+// and avx512dq registers only with BW; not its avx512bw batch, whose integer select does not
+// compile at -O0).
+using simd16_arch = xsimd::avx512dq;
+using f16 = xsimd::batch<float, simd16_arch>;
+using d8 = xsimd::batch<double, simd16_arch>;
+#endif
 
 template <class F>
 struct num;  // one specialisation per number type
@@ -90,13 +104,14 @@ struct scalar_num {
 template <> struct num<float> : scalar_num<float> { static constexpr const char* name = "float"; };
 template <> struct num<double> : scalar_num<double> { static constexpr const char* name = "double"; };
 
-// ---- xsimd batches (AVX2 + FMA, pinned) -------------------------------------------------------
-template <class T>
+// ---- xsimd batches (AVX2 + FMA, pinned; AVX-512 where compiled for it) ----------------------------
+template <class T, class Arch = simd_arch>
 struct batch_num {
-  using type = xsimd::batch<T, simd_arch>;
+  using type = xsimd::batch<T, Arch>;
   using scalar = T;
-  using mask = xsimd::batch_bool<T, simd_arch>;
+  using mask = xsimd::batch_bool<T, Arch>;
   static constexpr int lanes = static_cast<int>(type::size);
+  static constexpr bool wide = sizeof(type) == 64;  // AVX-512: masks are k registers
   static RB_INLINE type min(const type& a, const type& b) { return xsimd::min(a, b); }
   static RB_INLINE type max(const type& a, const type& b) { return xsimd::max(a, b); }
   static RB_INLINE type select(const mask& m, const type& a, const type& b) { return xsimd::select(m, a, b); }
@@ -106,7 +121,8 @@ struct batch_num {
   static RB_INLINE type copysign(const type& a, const type& b) { return xsimd::copysign(a, b); }
   static RB_INLINE type rounded(const type& a) {
     typename type::register_type v = a;
-    asm("" : "+x"(v));
+    if constexpr (wide) asm("" : "+v"(v));
+    else asm("" : "+x"(v));
     return type(v);
   }
   static RB_INLINE type sin(const type& a) { return xsimd::sin(a); }
@@ -118,22 +134,27 @@ struct batch_num {
   static RB_INLINE bool all(const mask& m) { return xsimd::all(m); }
   static RB_INLINE mask mnot(const mask& m) { return ~m; }
   static RB_INLINE mask mconst(bool b) { return mask(b); }
-  static RB_INLINE int count(const mask& m) {  // set lanes: movemask + popcount
-    if constexpr (std::is_same_v<T, float>) return __builtin_popcount(unsigned(_mm256_movemask_ps(m)));
+  static RB_INLINE int count(const mask& m) {  // set lanes: movemask (or the k register) + popcount
+    if constexpr (wide) return __builtin_popcount(unsigned(typename mask::register_type(m)));
+    else if constexpr (std::is_same_v<T, float>) return __builtin_popcount(unsigned(_mm256_movemask_ps(m)));
     else return __builtin_popcount(unsigned(_mm256_movemask_pd(m)));
   }
   static RB_INLINE bool lane_mask(const mask& m, int i) {
-    alignas(kSimdAlign) bool b[type::size];
-    m.store_unaligned(b);
-    return b[i];
+    if constexpr (wide) {
+      return (unsigned(typename mask::register_type(m)) >> i) & 1u;
+    } else {
+      alignas(kSimdAlign) bool b[type::size];
+      m.store_unaligned(b);
+      return b[i];
+    }
   }
   static RB_INLINE T lane(const type& v, int i) {
     alignas(kSimdAlign) T b[type::size];
     v.store_aligned(b);
     return b[i];
   }
-  // Loads `lanes` consecutive values. Same type: an aligned load (the SoA containers guarantee
-  // 32-byte alignment of every lane group). Float data into a double batch: converted lane by lane.
+  // Loads `lanes` consecutive values. Same type: an aligned load (the SoA containers align every
+  // lane group to its width: kSimdAlign). Float data into a double batch: converted lane by lane.
   template <class S>
   static RB_INLINE type load(const S* p) {
     if constexpr (std::is_same_v<S, T>) {
@@ -157,6 +178,10 @@ struct batch_num {
 };
 template <> struct num<f8> : batch_num<float> { static constexpr const char* name = "simd8"; };
 template <> struct num<d4> : batch_num<double> { static constexpr const char* name = "simd4d"; };
+#ifdef RB_SIMD16
+template <> struct num<f16> : batch_num<float, simd16_arch> { static constexpr const char* name = "simd16"; };
+template <> struct num<d8> : batch_num<double, simd16_arch> { static constexpr const char* name = "simd8d"; };
+#endif
 
 // ---- the functions kernels call ---------------------------------------------------------------
 template <class F> using mask_t = typename num<F>::mask;

@@ -1,4 +1,4 @@
-// `raybench bench`: kernel benchmarks: scalar against 8-lane SIMD.
+// `raybench bench`: kernel benchmarks: scalar against 8 and 16 SIMD lanes.
 #include "apps/cli/command.hpp"
 #include "apps/report/report.hpp"
 
@@ -9,23 +9,27 @@ class BenchCommand final : public Command {
   BenchOptions bo;
   bool bench_list = false;
  public:
-  explicit BenchCommand(CLI::App& root) : Command(root, "bench", "Kernel benchmarks: scalar against 8-lane SIMD") {
+  explicit BenchCommand(CLI::App& root) : Command(root, "bench", "Kernel benchmarks: scalar against 8 and 16 lanes") {
     sub_->add_option("--filter", bo.filter, "Only the benchmarks whose name\n(kernel/method/variant/case) matches this regex")
         ->capture_default_str();
     sub_->add_option("-r,--repetitions", bo.repetitions, "Rounds: each runs every selected benchmark\nonce; a benchmark's repetitions are its rounds\n(the median is quoted; from 6, ratios carry a\n95 % interval)")->capture_default_str()->check(CLI::Range(1, 100));
     sub_->add_option("--min-time", bo.min_time, "Seconds per benchmark per round")->capture_default_str()->check(CLI::Range(0.001, 10.0));
+    sub_->add_option("--isa", bo.isa, "auto: 16 AVX-512 lanes beside 8 AVX2 lanes where\nthe CPU and the build have them; avx2: 8 lanes\nonly; avx512: fail where 16 lanes cannot run")
+        ->capture_default_str()->check(CLI::IsMember({"auto", "avx2", "avx512"}));
     sub_->add_option("--seed", bo.seed, "Seed of the rays and primitives\n(0: the report's data)")->capture_default_str();
     sub_->add_flag("--list", bench_list, "List the benchmarks the filter selects and exit");
     json_option("Google Benchmark JSON, every repetition, to FILE\n(no FILE: stdout instead of the table)");
     history_option();
     sub_->footer(
         "Google Benchmark medians, L1-resident, one thread: every kernel x {true scalar,\n"
-        "8 rays x 1 primitive, 1 ray x 8 primitives} x {hit, miss, half}, run in rounds\n"
+        "8 rays x 1 primitive, 1 ray x 8 primitives (AVX2), and with AVX-512 16 rays x 1\n"
+        "primitive, 1 ray x 16 primitives} x {hit, miss, half}, run in rounds\n"
         "(each round every benchmark once, so a method's scalar and SIMD forms run\n"
         "seconds apart in every round). The table shows the median tests per second,\n"
         "the coefficient of variation over the rounds, operations per test and the SIMD\n"
         "speedup over the scalar form (the median of the rounds' ratios; --json gives\n"
-        "its 95 % interval under raybench_simd_vs_scalar). The --json file is what\n"
+        "its 95 % interval under raybench_simd_vs_scalar; 16 over 8 lanes under\n"
+        "raybench_simd16_vs_simd8; the ISA under raybench_isa). The --json file is what\n"
         "Google Benchmark's compare.py and `raybench compare` read.");
   }
   int run(Context& c) override {

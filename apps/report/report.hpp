@@ -46,12 +46,14 @@ struct BenchOptions {
   std::uint32_t seed = 0;               // seed of the rays and primitives; 0: the report's data
   std::string what = "raybench bench";  // the progress bar's label
   std::string command = "bench";        // the subcommand named in error lines
+  std::string isa = "auto";             // auto, avx2, avx512: the 16-lane rows run under avx512 (bench/simd16.hpp)
 };
 
 // The registered benchmarks whose name the filter selects (Google Benchmark's rule: a POSIX
 // extended regex searched in the name, a leading '-' negates it). Throws std::invalid_argument on
-// a bad regex.
-std::vector<std::string> benchmark_names(const std::string& filter);
+// a bad regex, or for an ISA this machine lacks. The first call fixes the ISA (`isa`: auto, avx2,
+// avx512; the 16-lane rows are registered under avx512).
+std::vector<std::string> benchmark_names(const std::string& filter, const std::string& isa = "auto");
 
 // Runs the benchmarks in this process with a progress bar on stderr; every figure lands in `doc` as
 // Google Benchmark JSON (its bare NaN and infinities as null). 0 on success, 2 when the filter
@@ -63,5 +65,8 @@ int run_benchmarks(const BenchOptions& o, nlohmann::json& doc);
 // are the repetitions), as the median of the rounds' ratios with its interval (stats::paired_ratio).
 // run_benchmarks stores them in the document as "raybench_simd_vs_scalar" (interval JSON by name).
 std::map<std::string, stats::RatioInterval> simd_speedups(const nlohmann::json& doc);
+// Per 16-lane benchmark (variant rays_in_lanes16, prims_in_lanes16), its speed over the 8-lane form
+// of the same kernel, method, mapping and case, the same way ("raybench_simd16_vs_simd8").
+std::map<std::string, stats::RatioInterval> simd16_speedups(const nlohmann::json& doc);
 
 }  // namespace rb::app

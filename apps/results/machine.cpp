@@ -25,6 +25,25 @@ std::string run_capture(const std::string& cmd) {
   return out;
 }
 
+namespace {
+// The SIMD the binary runs: the AVX2 kernels everywhere, and the kernel benchmarks' 16-lane AVX-512
+// loops where this build has them (bench/simd16.hpp) and the host supports them (`raybench bench
+// --isa` chooses; its results name the choice).
+std::string simd_text(const std::string& host) {
+  std::string s = "xsimd 8.1 fma3<avx2>, 8 x float";
+#ifdef RB_SIMD16_BUILT
+  const bool cpu = host.find("avx512f") != std::string::npos && host.find("avx512cd") != std::string::npos &&
+                   host.find("avx512dq") != std::string::npos && host.find("avx512bw") != std::string::npos &&
+                   host.find("avx512vl") != std::string::npos;
+  s += cpu ? "; kernel benchmarks also avx512dq, 16 x float" : "; kernel benchmarks' avx512dq 16 x float built, not run (host lacks it)";
+#else
+  (void)host;
+  s += "; this build has no AVX-512 code";
+#endif
+  return s;
+}
+}  // namespace
+
 Machine machine() {
   Machine m;
   std::ifstream ci("/proc/cpuinfo");
@@ -34,7 +53,7 @@ Machine machine() {
     if (m.cpu.empty() && line.rfind("model name", 0) == 0) m.cpu = val();
     if (m.host_flags.empty() && line.rfind("flags", 0) == 0) {
       const std::string f = " " + val() + " ";
-      for (const char* k : {"avx2", "fma", "avx512f"})
+      for (const char* k : {"avx2", "fma", "avx512f", "avx512cd", "avx512dq", "avx512bw", "avx512vl"})
         if (f.find(std::string(" ") + k + " ") != std::string::npos) m.host_flags += std::string(m.host_flags.empty() ? "" : " ") + k;
     }
   }
@@ -59,7 +78,7 @@ nlohmann::json Machine::json() const {
   const BuildInfo& b = build_info();
   return {{"cpu", cpu}, {"cores", cores}, {"host_simd", host_flags}, {"compiler", compiler}, {"build_type", build_type},
           {"build_flags", build_flags}, {"fp_contract", fp_contract}, {"pgo", pgo}, {"git", git}, {"date", date},
-          {"simd_arch", "xsimd 8.1 fma3<avx2>, 8 x float"}, {"version", b.version}, {"git_revision", b.git_revision},
+          {"simd_arch", simd_text(host_flags)}, {"version", b.version}, {"git_revision", b.git_revision},
           {"git_dirty", b.git_dirty}, {"git_time", b.git_time}};
 }
 
@@ -68,7 +87,7 @@ std::string Machine::text() const {
   std::string t;
   auto row = [&](const char* key, const std::string& value) { t += wrap_words(fmt::format("{:<13} {}", key, value), 80, std::string(14, ' ')); };
   row("cpu", cpu);
-  row("isa", host_flags + " (kernels pinned to AVX2+FMA: xsimd 8.1 fma3<avx2>, 8 x float)");
+  row("isa", host_flags + " (" + simd_text(host_flags) + ")");
   row("threads", std::to_string(cores) + " hardware threads");
   row("version", b.version);
   row("git", git + (b.git_time.empty() ? "" : " (" + b.git_time + ")") + ", recorded at build time");
@@ -82,9 +101,9 @@ std::string Machine::text() const {
 std::string Machine::markdown() const {
   return fmt::format(
       "| | |\n|---|---|\n| CPU | {} ({} logical cores; host has {}) |\n| compiler | {} |\n| build | {} `{}` |\n"
-      "| FP contraction | `-ffp-contract={}` |\n| PGO | {} |\n| SIMD | xsimd 8.1, `fma3<avx2>`, 8 x float |\n"
+      "| FP contraction | `-ffp-contract={}` |\n| PGO | {} |\n| SIMD | {} |\n"
       "| git | {} |\n| date | {} |\n",
-      cpu, cores, host_flags, compiler, build_type, build_flags, fp_contract, pgo, git, date);
+      cpu, cores, host_flags, compiler, build_type, build_flags, fp_contract, pgo, simd_text(host_flags), git, date);
 }
 
 }  // namespace rb::app

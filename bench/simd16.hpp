@@ -1,0 +1,36 @@
+// The kernel benchmarks in 16 AVX-512 lanes, in the same binary as the 8-lane AVX2 ones.
+//
+// The timed loops run in one translation unit compiled for AVX-512 (bench/simd16_loops.cpp, target
+// rb_simd16); everything else (data, registration, Google Benchmark) stays in the AVX2 code and
+// calls run_simd16 once per pass. That translation unit defines nothing else that another one
+// shares: an inline function compiled there with AVX-512 instructions could otherwise be the copy
+// the linker keeps, and an AVX2-only CPU would fault on it (tools/check_simd16.py checks the
+// object at every build). Which width runs is chosen at run time: isa_choice.
+#pragma once
+
+#include "bench/harness.hpp"
+
+#include <string>
+
+namespace rb::bench {
+
+// The Spec's loop with 16 lanes: rays in lanes (16 rays x 1 primitive) or primitives in lanes
+// (1 ray x 16 primitives). Defined for every spec in rb_simd16 (built when the compiler can
+// target AVX-512: RB_HAVE_SIMD16).
+template <class Spec>
+Acc run_simd16(const BenchData<Spec>& d, Variant v);
+
+// The ISA the kernel benchmarks run: "auto" (AVX-512 where the CPU and the build have it, else
+// AVX2), "avx2" or "avx512". `simd16`: the 16-lane rows are registered; `name`: "avx2" or
+// "avx512"; `why`: what decided it, for the results. Throws std::invalid_argument for an unknown
+// name or for "avx512" on a CPU or build without it.
+struct IsaChoice {
+  bool simd16 = false;
+  std::string name = "avx2";
+  std::string why;
+};
+IsaChoice isa_choice(const std::string& asked);
+bool simd16_built();  // this binary holds the 16-lane loops
+bool simd16_cpu();    // this CPU runs them (AVX-512 F, CD, DQ, BW and VL, and the OS saves their registers)
+
+}  // namespace rb::bench
