@@ -2,6 +2,7 @@
 
 #include "apps/build_info.hpp"
 #include "apps/cli.hpp"
+#include "bench/simd16.hpp"
 
 #include <fmt/format.h>
 
@@ -29,18 +30,11 @@ namespace {
 // The SIMD the binary runs: the AVX2 kernels everywhere, and the kernel benchmarks' 16-lane AVX-512
 // loops where this build has them (bench/simd16.hpp) and the host supports them (`raybench bench
 // --isa` chooses; its results name the choice).
-std::string simd_text(const std::string& host) {
+std::string simd_text() {
   std::string s = "xsimd 8.1 fma3<avx2>, 8 x float";
-#ifdef RB_SIMD16_BUILT
-  const bool cpu = host.find("avx512f") != std::string::npos && host.find("avx512cd") != std::string::npos &&
-                   host.find("avx512dq") != std::string::npos && host.find("avx512bw") != std::string::npos &&
-                   host.find("avx512vl") != std::string::npos;
-  s += cpu ? "; kernel benchmarks also avx512dq, 16 x float" : "; kernel benchmarks' avx512dq 16 x float built, not run (host lacks it)";
-#else
-  (void)host;
-  s += "; this build has no AVX-512 code";
-#endif
-  return s;
+  if (!bench::simd16_built()) return s + "; this build has no AVX-512 code";
+  return s + (bench::simd16_cpu() ? "; kernel benchmarks also avx512dq, 16 x float"
+                                  : "; kernel benchmarks' avx512dq 16 x float built, not run (host lacks it)");
 }
 }  // namespace
 
@@ -78,7 +72,7 @@ nlohmann::json Machine::json() const {
   const BuildInfo& b = build_info();
   return {{"cpu", cpu}, {"cores", cores}, {"host_simd", host_flags}, {"compiler", compiler}, {"build_type", build_type},
           {"build_flags", build_flags}, {"fp_contract", fp_contract}, {"pgo", pgo}, {"git", git}, {"date", date},
-          {"simd_arch", simd_text(host_flags)}, {"version", b.version}, {"git_revision", b.git_revision},
+          {"simd_arch", simd_text()}, {"version", b.version}, {"git_revision", b.git_revision},
           {"git_dirty", b.git_dirty}, {"git_time", b.git_time}};
 }
 
@@ -87,7 +81,7 @@ std::string Machine::text() const {
   std::string t;
   auto row = [&](const char* key, const std::string& value) { t += wrap_words(fmt::format("{:<13} {}", key, value), 80, std::string(14, ' ')); };
   row("cpu", cpu);
-  row("isa", host_flags + " (" + simd_text(host_flags) + ")");
+  row("isa", host_flags + " (" + simd_text() + ")");
   row("threads", std::to_string(cores) + " hardware threads");
   row("version", b.version);
   row("git", git + (b.git_time.empty() ? "" : " (" + b.git_time + ")") + ", recorded at build time");
@@ -103,7 +97,7 @@ std::string Machine::markdown() const {
       "| | |\n|---|---|\n| CPU | {} ({} logical cores; host has {}) |\n| compiler | {} |\n| build | {} `{}` |\n"
       "| FP contraction | `-ffp-contract={}` |\n| PGO | {} |\n| SIMD | {} |\n"
       "| git | {} |\n| date | {} |\n",
-      cpu, cores, host_flags, compiler, build_type, build_flags, fp_contract, pgo, simd_text(host_flags), git, date);
+      cpu, cores, host_flags, compiler, build_type, build_flags, fp_contract, pgo, simd_text(), git, date);
 }
 
 }  // namespace rb::app
