@@ -53,8 +53,8 @@ void register_quadric_scalar();
 void register_quadric_simd();
 void register_solver_scalar();
 void register_solver_simd();
-void register_wide_node();  // bench_wide_node.cpp: the 8-wide BVH node's slab test
-void register_simd16();     // bench_simd16_register.cpp: the 16-lane rows (nothing without them)
+void register_wide_node(bool simd16);  // bench_wide_node.cpp: the 8-wide BVH node's slab test (8 lanes; also 16)
+void register_simd16();                // bench_simd16.cpp: the 16-lane rows (nothing without them)
 // Every benchmark; the 16-lane rows when `simd16` (bench/simd16.hpp: isa_choice).
 inline void register_all_benchmarks(bool simd16) {
   register_basic_scalar();
@@ -66,7 +66,7 @@ inline void register_all_benchmarks(bool simd16) {
   register_solver_scalar();
   register_solver_simd();
   if (simd16) register_simd16();
-  register_wide_node();
+  register_wide_node(simd16);
 }
 
 }  // namespace rb::bench

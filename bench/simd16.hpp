@@ -1,16 +1,21 @@
 // The kernel benchmarks in 16 AVX-512 lanes, in the same binary as the 8-lane AVX2 ones.
 //
-// The timed loops run in one translation unit compiled for AVX-512 (bench/simd16_loops.cpp, target
-// rb_simd16); everything else (data, registration, Google Benchmark) stays in the AVX2 code and
-// calls run_simd16 once per pass. That translation unit defines nothing else that another one
-// shares: an inline function compiled there with AVX-512 instructions could otherwise be the copy
+// The timed loops run in translation units compiled for AVX-512 (bench/simd16_loops.cpp for the
+// kernels, bench/simd16_node.cpp for the BVH's node test; target rb_simd16); everything else (data,
+// registration, Google Benchmark) stays in the AVX2 code and calls them once per pass. Those
+// translation units define nothing else that another one shares: an inline function compiled there with AVX-512 instructions could otherwise be the copy
 // the linker keeps, and an AVX2-only CPU would fault on it (tools/check_simd16.py checks the
 // object at every build). Which width runs is chosen at run time: isa_choice.
 #pragma once
 
 #include "bench/harness.hpp"
 
+#include <cstddef>
 #include <string>
+
+namespace rb::bvh {
+struct WNode;
+}
 
 namespace rb::bench {
 
@@ -19,6 +24,13 @@ namespace rb::bench {
 // target AVX-512: RB_HAVE_SIMD16).
 template <class Spec>
 Acc run_simd16(const BenchData<Spec>& d, Variant v);
+
+// The BVH's 8-wide node test in 16 lanes (bvh/slab16.hpp; rb_simd16, bench/simd16_node.cpp): every
+// ray against every node, the number of child boxes hit. simd16_node_test: one node test, its hit
+// bits and the 8 entry distances (for the tests' comparison with bvh::slab8).
+template <bool Robust>
+unsigned simd16_node_pass(const bvh::WNode* nodes, std::size_t n_nodes, const Ray<float>* rays, std::size_t n_rays, float tmax);
+unsigned simd16_node_test(const bvh::WNode& node, const Ray<float>& ray, float tmax, bool robust, float (&tn)[8]);
 
 // The ISA the kernel benchmarks run: "auto" (AVX-512 where the CPU and the build have it, else
 // AVX2), "avx2" or "avx512". `simd16`: the 16-lane rows are registered; `name`: "avx2" or

@@ -5,10 +5,13 @@
 // the CPU has no AVX-512 (the `debug` preset builds none); the ISA choice is checked everywhere.
 #include "bench/simd16.hpp"
 #include "bench/specs_all.hpp"
+#include "bvh/slab.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
+#include <random>
 #include <stdexcept>
 #include <string>
 
@@ -57,6 +60,61 @@ TEST(Simd16, EverySpecGivesTheEightLaneResults) {
   });
   EXPECT_GE(specs, 30);
   EXPECT_EQ(checked, 3 * (specs + prims16));  // every spec x case x mapping
+#endif
+}
+
+// The 8-wide node test in one 16-lane register (bvh/slab16.hpp) against the 8-lane test, both forms:
+// random boxes (some flat, some empty slots as the builder writes them, some touching the ray's
+// origin plane), rays in every octant with components down to zero, tmax finite or infinite.
+TEST(Simd16, NodeTestGivesTheEightLaneHitsAndEntries) {
+#ifndef RB_HAVE_SIMD16
+  GTEST_SKIP() << "this build has no AVX-512 code";
+#else
+  if (!bench::simd16_cpu()) GTEST_SKIP() << "this CPU lacks AVX-512 F, CD, DQ, BW or VL";
+  std::mt19937 g(20261205);
+  std::uniform_real_distribution<float> U(-1, 1), S(0, 0.5f);
+  std::uniform_int_distribution<int> pick(0, 9);
+  const float inf = std::numeric_limits<float>::infinity();
+  int tests = 0, hits = 0;
+  for (int i = 0; i < 4000; ++i) {
+    alignas(64) bvh::WNode n{};
+    for (int c = 0; c < 8; ++c) {
+      const int kind = pick(g), flat = pick(g) % 3;
+      for (int a = 0; a < 3; ++a) {
+        const float m = U(g), h = kind == 1 && a == flat ? 0.0f : S(g);  // kind 1: flat along one axis
+        n.b[2 * a][c] = kind == 0 ? inf : m - h;                           // kind 0: an empty slot
+        n.b[2 * a + 1][c] = kind == 0 ? -inf : m + h;
+      }
+    }
+    // Towards a child's centre (jittered) or one of its corners (where the entry on one axis equals
+    // the exit on another but for rounding) most of the time, so that both outcomes are common.
+    const Vec3f o{U(g) * 2, U(g) * 2, U(g) * 2};
+    const int k = pick(g) % 8, aim_kind = pick(g);
+    float aim[3];
+    for (int a = 0; a < 3; ++a)
+      aim[a] = aim_kind < 4 ? (n.b[2 * a][k] + n.b[2 * a + 1][k]) / 2 + U(g) * 0.3f : n.b[2 * a + (pick(g) & 1)][k];
+    Vec3f d = aim_kind < 8 && std::isfinite(aim[0]) ? Vec3f{aim[0], aim[1], aim[2]} - o : Vec3f{U(g), U(g), U(g)};
+    for (float* x : {&d.x, &d.y, &d.z})
+      if (pick(g) == 0) *x = pick(g) < 5 ? 0.0f : *x * 1e-20f;  // axis-parallel or nearly
+    if (d.x == 0 && d.y == 0 && d.z == 0) d.z = 1;
+    const Ray<float> r = make_ray(o, d, 0.0f, inf);
+    const float tmax = pick(g) < 3 ? S(g) * 8 : inf;
+    for (bool robust : {false, true}) {
+      const bvh::SlabRay sr = bvh::SlabRay::make(r);
+      f8 tn8;
+      const unsigned b8 = robust ? bvh::slab8<true>(n, sr, tmax, tn8) : bvh::slab8<false>(n, sr, tmax, tn8);
+      float tn16[8], e8[8];
+      tn8.store_unaligned(e8);
+      const unsigned b16 = bench::simd16_node_test(n, r, tmax, robust, tn16);
+      ASSERT_EQ(b16, b8) << "node " << i << (robust ? " robust" : " fast");
+      for (int c = 0; c < 8; ++c) EXPECT_EQ(tn16[c], e8[c]) << "node " << i << " child " << c << (robust ? " robust" : " fast");
+      hits += __builtin_popcount(b8);
+      tests += 8;
+    }
+  }
+  // Both outcomes thousands of times.
+  EXPECT_GT(hits, 2000);
+  EXPECT_GT(tests - hits, 2000);
 #endif
 }
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The AVX-512 translation unit of the kernel benchmarks (bench/simd16_loops.cpp) must not define a
+"""The AVX-512 translation units of the benchmarks (bench/simd16_loops.cpp, simd16_node.cpp) must not define a
 function that another translation unit may also define: the linker keeps one copy of such a
 (weak) function, and if it kept the AVX-512 one, the binary would fault on a CPU without AVX-512.
 Run by the build on the object file: every externally visible function in it that uses an AVX-512
@@ -43,7 +43,7 @@ def main() -> int:
     for p in problems:
         print(p, file=sys.stderr)
     if problems:
-        print("bench/simd16_loops.cpp must define only its own functions (bench/simd16.hpp explains why)", file=sys.stderr)
+        print("the AVX-512 files (target rb_simd16) must define only their own functions (bench/simd16.hpp explains why)", file=sys.stderr)
     return 1 if problems else 0
 
 

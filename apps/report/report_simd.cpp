@@ -66,6 +66,7 @@ json rate_goals(const json& bench, const std::map<std::string, json>& med) {
   put("box_slab", best("box/slab/"), "tests_per_s");
   put("moller_trumbore", best("triangle/moller_trumbore/"), "tests_per_s");
   if (med.count("wide_node_slab/fast/l1")) put("wide_node_fast", "wide_node_slab/fast/l1", "box_tests_per_s");
+  if (med.count("wide_node_slab/fast16/l1")) put("wide_node_fast16", "wide_node_slab/fast16/l1", "box_tests_per_s");
   return g;
 }
 
@@ -121,7 +122,7 @@ std::string speed_section(const json& bench, json& summary) {
   summary["simd_vs_scalar"] = out;
   // The BVH's 8-wide node test (bench/bench_wide_node.cpp): box tests per second of its fast form,
   // which the default traversal runs on conservative boxes, and of its robust form.
-  for (const char* form : {"fast", "robust"}) {
+  for (const char* form : {"fast", "robust", "fast16", "robust16"}) {
     const auto it = med.find(fmt::format("wide_node_slab/{}/l1", form));
     if (it != med.end() && it->second.contains("box_tests_per_s")) summary["wide_node_slab"][form] = it->second["box_tests_per_s"];
   }
@@ -172,6 +173,11 @@ const char* const kSpeedGoalReasons =
     "- **The BVH's 8-wide node test at least 7 G box tests/s on one core, in the default form.** One test of a node's "
     "8 child boxes against a ray is the step the scene tracer repeats most; the default form (one FMA per plane on boxes "
     "widened at build time so that it cannot cull a hit) must be as fast as the plain fast form was.\n"
+    "- **The same node test in 16 AVX-512 lanes at least 5 G box tests/s on one core, default form.** Beyond what "
+    "the 8-lane AVX2 test can reach on a core with three vector ports (docs/DESIGN.md section 12): the near and far "
+    "planes of the 8 children share one 16-lane register, so each axis costs one FMA instead of two. The tracer keeps "
+    "the 8-lane test: this one runs within a tenth of it, faster or slower with the host's load (docs/DESIGN.md section 12); "
+    "both rates are below.\n"
     "- **Moller-Trumbore at least 0.75 G tests/s on one core.** The triangle test is the leaf work of tracing a mesh: its "
     "rate caps how many rays per second a triangle scene can be traced at.\n\n";
 
@@ -247,19 +253,24 @@ std::vector<Goal> speed_goals(const json& summary) {
   // Throughput goals by the interval of the rounds' rates: met when it clears the target, not met
   // when it lies below, undecided when it straddles it.
   const json rg = summary.value("rate_goals", json::object());
-  auto rate_goal = [&](const char* key, const std::string& goal, double target, const std::string& extra = "") {
+  auto rate_goal = [&](const char* key, const std::string& goal, double target, const std::string& extra = "",
+                       const std::string& missing = "") {
     if (!rg.contains(key)) {
-      goals.push_back({goal, not_measured, -1});
+      goals.push_back({goal, missing.empty() ? not_measured : missing, -1});
       return;
     }
     const stats::RatioInterval r = stats::interval_from_json(rg[key]);
     goals.push_back({goal, stats::interval_text(r, " G/s") + extra, all_clear({r}, target)});
   };
   rate_goal("box_slab", "box slab >= 3 G tests/s, one core", 3.0);
-  std::string robust;
-  if (summary.contains("wide_node_slab") && summary["wide_node_slab"].contains("robust"))
-    robust = fmt::format(" (robust form {:.2f} G/s)", summary["wide_node_slab"]["robust"].get<double>() / 1e9);
-  rate_goal("wide_node_fast", "8-wide node test >= 7 G box tests/s, one core, default form", 7.0, robust);
+  // The node test's robust form, beside the default form's goal.
+  auto robust = [&](const char* form) {
+    const json w = summary.value("wide_node_slab", json::object());
+    return w.contains(form) ? fmt::format(" (robust form {:.2f} G/s)", w[form].get<double>() / 1e9) : std::string();
+  };
+  rate_goal("wide_node_fast", "8-wide node test >= 7 G box tests/s, one core, default form", 7.0, robust("robust"));
+  rate_goal("wide_node_fast16", "8-wide node test in 16 AVX-512 lanes >= 5 G box tests/s, one core, default form", 5.0, robust("robust16"),
+            "not measured: this run has no 16-lane rows (a CPU or build without AVX-512, --isa avx2, or --filter)");
   rate_goal("moller_trumbore", "Moller-Trumbore >= 0.75 G tests/s, one core", 0.75);
   return goals;
 }
@@ -270,12 +281,9 @@ std::string goals_markdown(const std::vector<Goal>& goals) {
   return md;
 }
 
-// Every kernel's SIMD form >= 4x its true-scalar form on 8 lanes, or the reason it cannot be. Per
-// method: the better of the two mappings, in its worst case (hit, miss, half).
-// The reasons are the structural ones of each method; a method below target without one is
-// flagged as unexplained.
-std::string simd_target_section(json& summary) {
-  // Structural reasons, true of the method whatever the measurement (checked in the ops table).
+// Structural reasons a method gains less from more lanes, true of the method whatever the
+// measurement (its loops run until the packet's slowest lane is done: the more lanes, the longer).
+const std::map<std::string, std::string>& structural_reasons() {
   static const std::map<std::string, std::string> why = {
       {"torus/robust", "iterative: derivative isolation and safeguarded Newton run until the packet's slowest lane converges"},
       {"algebraic/isolation_d4", "iterative root isolation: the packet runs to the lane with the most roots and steps"},
@@ -285,6 +293,14 @@ std::string simd_target_section(json& summary) {
       {"revolution/polynomial", "iterative roots of K*(s): the packet runs to its slowest lane"},
       {"revolution/bezier", "iterative roots of K*(s): the packet runs to its slowest lane"},
   };
+  return why;
+}
+
+// Every kernel's SIMD form >= 4x its true-scalar form on 8 lanes, or the reason it cannot be. Per
+// method: the better of the two mappings, in its worst case (hit, miss, half).
+// The reasons are the structural ones of each method; a method below target without one is
+// flagged as unexplained.
+std::string simd_target_section(json& summary) {
   // kernel/method -> case -> better-mapping speedup
   std::map<std::string, std::map<std::string, double>> sp;
   std::map<std::string, std::vector<stats::RatioInterval>> iv;  // kernel/method -> every case's interval
@@ -307,11 +323,11 @@ std::string simd_target_section(json& summary) {
     stats::RatioInterval lowest;
     for (const auto& r : iv[km])
       if (!std::isfinite(lowest.ratio) || r.ratio < lowest.ratio) lowest = r;
-    const auto it = why.find(km);
+    const auto it = structural_reasons().find(km);
     const auto& cs = sp[km];
     const double hit = cs.count("hit") ? cs.at("hit") : 0, miss = cs.count("miss") ? cs.at("miss") : 0;
     std::string reason;
-    if (!ok && it != why.end()) reason = it->second;
+    if (!ok && it != structural_reasons().end()) reason = it->second;
     else if (!ok && w.second == "half" && hit >= 4 && miss >= 4)
       // Measured, not assumed: only the divergent packet falls short.
       reason = fmt::format("only when lanes diverge (hit {:.2f}x, miss {:.2f}x): the scalar form stops early on the missing half, "
@@ -332,6 +348,46 @@ std::string simd_target_section(json& summary) {
   return md;
 }
 
+// The best triangle, sphere and box method at 16 lanes against the true scalar form: per method the
+// better 16-lane mapping in its worst case, the best method of each kernel judged against 10x.
+std::string sixteen_over_scalar(const json& bench, json& summary, std::vector<doc::Goal>& goals) {
+  const auto speedup = simd_speedups(bench);
+  std::string md =
+      "The best method of each basic kernel in 16 lanes against its true-scalar form (the better 16-lane mapping, the lowest "
+      "of its cases; the median of the rounds' ratios with its 95 % interval): 16 lanes should reach 10x where 8 reach 6x.\n\n"
+      "| kernel | best method at 16 lanes | its lowest case over scalar | >= 10x |\n|---|---|---:|---|\n";
+  json out = json::object();
+  for (const std::string kernel : {"triangle", "sphere", "box"}) {
+    // method -> case -> the better 16-lane mapping's speedup over scalar
+    std::map<std::string, std::map<std::string, stats::RatioInterval>> by;
+    for (const auto& [name, r] : speedup) {
+      const auto a = name.find('/'), b = name.find('/', a + 1), c = name.find('/', b + 1);
+      if (c == std::string::npos || name.substr(0, a) != kernel || !std::isfinite(r.ratio)) continue;
+      const std::string variant = name.substr(b + 1, c - b - 1);
+      if (variant != "rays_in_lanes16" && variant != "prims_in_lanes16") continue;
+      auto& slot = by[name.substr(a + 1, b - a - 1)][name.substr(c + 1)];
+      if (!std::isfinite(slot.ratio) || r.ratio > slot.ratio) slot = r;
+    }
+    std::string best;
+    stats::RatioInterval best_low;
+    for (const auto& [method, cases] : by) {
+      stats::RatioInterval low;
+      for (const auto& [c, r] : cases)
+        if (!std::isfinite(low.ratio) || r.ratio < low.ratio) low = r;
+      if (best.empty() || low.ratio > best_low.ratio) best = method, best_low = low;
+    }
+    if (best.empty()) continue;
+    const int verdict = all_clear({best_low}, 10);
+    md += fmt::format("| {} | {} | {} | {} |\n", kernel, best, stats::interval_text(best_low), doc::goal_cell(verdict));
+    out[kernel] = {{"method", best}, {"lowest", stats::interval_json(best_low)}, {"verdict", doc::goal_word(verdict)}};
+    goals.push_back({"Scalar against SIMD", fmt::format("best {} method in 16 AVX-512 lanes >= 10x true scalar, every case", kernel),
+                     fmt::format("{} {} (its lowest case)", best, stats::interval_text(best_low)), verdict, "simd_speedup.png"});
+  }
+  if (out.empty()) return "";
+  summary["simd16_vs_scalar_best"] = out;
+  return md + "\n";
+}
+
 // 16 AVX-512 lanes against 8 AVX2 lanes, per method and case: the better mapping's ratio of the
 // rounds (16-lane rate over the 8-lane rate of the same mapping) with its interval; the goal on the
 // median method (each method's figure: the median of its cases). Empty when the run has no
@@ -347,36 +403,58 @@ std::string simd16_section(const json& bench, json& summary, std::vector<doc::Go
     auto& slot = best[name.substr(0, b)][name.substr(c + 1)];
     if (!std::isfinite(slot.ratio) || r.ratio > slot.ratio) slot = r;
   }
-  std::string md = "| kernel/method | hit | miss | half |\n|---|---:|---:|---:|\n";
+  std::string md = "| kernel/method | hit | miss | half | >= 1.6x | why not |\n|---|---:|---:|---:|---|---|\n";
   std::vector<std::pair<double, std::string>> figure;  // a method's median case, and the method
   json out = json::array();
+  int met = 0, undecided = 0, explained = 0, unexplained = 0;
   for (const auto& [km, cases] : best) {
     auto cell = [&](const char* c) { return cases.count(c) ? stats::interval_text(cases.at(c)) : std::string("-"); };
-    md += fmt::format("| {} | {} | {} | {} |\n", km, cell("hit"), cell("miss"), cell("half"));
     std::vector<double> v;
+    std::vector<stats::RatioInterval> iv;
     json row = {{"kernel_method", km}};
-    for (const auto& [c, r] : cases) v.push_back(r.ratio), row[c] = stats::interval_json(r);
+    for (const auto& [c, r] : cases) v.push_back(r.ratio), iv.push_back(r), row[c] = stats::interval_json(r);
+    // A method at 1.6x in every case (each interval clears it), or the reason it is not.
+    const int verdict = all_clear(iv, 1.6);
+    const auto it = structural_reasons().find(km);
+    std::string reason;
+    if (verdict == doc::kGoalMet) ++met;
+    else if (verdict == doc::kGoalUndecided) ++undecided, reason = "undecided: an interval straddles 1.6x";
+    else if (it != structural_reasons().end()) ++explained, reason = it->second;
+    else ++unexplained, reason = "**unexplained**";
+    md += fmt::format("| {} | {} | {} | {} | {} | {} |\n", km, cell("hit"), cell("miss"), cell("half"), doc::goal_cell(verdict), reason);
+    row["verdict"] = doc::goal_word(verdict);
+    row["reason"] = reason;
     figure.push_back({stats::median(v), km});
     out.push_back(row);
   }
+  md += fmt::format("\n{} of {} methods reach 1.6x in every case; {} undecided; {} fall short for the structural reason given; {} "
+                    "unexplained.\n",
+                    met, best.size(), undecided, explained, unexplained);
   std::sort(figure.begin(), figure.end());
   const auto& [med, med_km] = figure[figure.size() / 2];
   // The median method's verdict: its cases' intervals against 1.6 (every case clears it: met).
   std::vector<stats::RatioInterval> iv;
   for (const auto& [c, r] : best[med_km]) iv.push_back(r);
   const int verdict = all_clear(iv, 1.6);
-  summary["simd16_vs_simd8"] = {{"rows", out}, {"median_method", med_km}, {"median", med}, {"verdict", doc::goal_word(verdict)}};
+  summary["simd16_vs_simd8"] = {{"rows", out},
+                                {"median_method", med_km},
+                                {"median", med},
+                                {"verdict", doc::goal_word(verdict)},
+                                {"counts", {{"methods", best.size()}, {"met", met}, {"undecided", undecided}, {"explained", explained},
+                                            {"unexplained", unexplained}}}};
   const std::string measured = fmt::format("median method {} ({:.2f}x over its cases; lowest of {} methods {:.2f}x ({}), highest {:.2f}x ({}))",
                                            med_km, med, figure.size(), figure.front().first, figure.front().second, figure.back().first,
                                            figure.back().second);
   goals.push_back({"Scalar against SIMD", "16 AVX-512 lanes >= 1.6x 8 AVX2 lanes on the median method", measured, verdict, "simd_speedup.png"});
+  const std::string vs_scalar = sixteen_over_scalar(bench, summary, goals);
   return "### AVX-512 against AVX2: 16 lanes against 8\n\n"
          "The same kernels and data in 16 float lanes (xsimd's `avx512dq` batch: 16 rays x 1 primitive, or 1 ray x 16 primitives), "
          "compiled in one translation unit of their own and chosen at run time (`raybench bench --isa`). Per method and case: "
          "the better mapping's 16-lane rate over its 8-lane rate, the median of the rounds' ratios with its 95 % interval "
          "(`raybench bench --json`: raybench_simd16_vs_simd8). The polygon's primitives-in-lanes form has no 16-lane row: its "
          "vertices are interleaved per group of 8.\n\n" +
-         md + fmt::format("\nGoal: 16 lanes at least 1.6x 8 lanes on the median method: {}; {}.\n\n", measured, doc::goal_word(verdict));
+         md + fmt::format("\nGoal: 16 lanes at least 1.6x 8 lanes on the median method: {}; {}.\n\n", measured, doc::goal_word(verdict)) +
+         vs_scalar;
 }
 
 }  // namespace
