@@ -136,8 +136,14 @@ RB_INLINE Acc run_prims_in_lanes(const BenchData<Spec>& d) {
 
 // Operations per test of a benchmark (per lane, so masked-off SIMD lanes count as work done):
 // the variant's loop run once with Counted numbers on the benchmark's own data. Measured by
-// rb_ops (bench/ops_per_test.cpp), the one place where Counted copies of the kernels are
-// compiled; the benchmark translation units only look the figure up. NaN for an unknown spec.
+// rb_ops (bench/ops_per_test.cpp), where the Counted copies of the kernels are compiled (those at
+// 16 lanes: bench/simd16.hpp); the benchmark translation units only look the figure up. NaN for an
+// unknown spec or a 16-lane variant.
 double ops_per_test(const char* kernel, const char* method, Case c, Variant v);
+
+// The count itself: the operations a loop over `tests` pairs performed in `lanes` lanes, per test.
+inline double ops_per_lane_test(const OpCounts& e, double lanes, double tests) {
+  return double(e.flops() + e.cmp + e.minmax + e.select) * lanes / tests;
+}
 
 }  // namespace rb::bench

@@ -8,6 +8,7 @@
 #include "bench/ops_table.hpp"
 
 #include <array>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <span>
@@ -48,6 +49,7 @@ struct CountedKernel {
 template <class Spec>
 double counted_ops_per_test(bench::Case c, bench::Variant v) {
   using bench::Variant;
+  if (bench::is_simd16(v)) return std::numeric_limits<double>::quiet_NaN();  // bench::simd16_ops_per_test
   const auto d = std::make_unique<bench::BenchData<Spec>>(bench::make_bench_data<Spec>(c));
   const ops::Scope s;
   if (v == Variant::scalar) (void)bench::run_rays_in_lanes<Spec, cfloat, CountedKernel<Spec>>(*d);
@@ -56,8 +58,7 @@ double counted_ops_per_test(bench::Case c, bench::Variant v) {
   const double lanes = v == Variant::scalar ? 1.0 : 8.0;
   // tests counted over the padded arrays, as the timed loops run them
   const double tests = double(d->rays.size()) * double(d->prims.size());
-  const OpCounts e = s.elapsed();
-  return double(e.flops() + e.cmp + e.minmax + e.select) * lanes / tests;
+  return bench::ops_per_lane_test(s.elapsed(), lanes, tests);
 }
 
 // (kernel, method) -> its ops-per-test function; each family adds its bench specs.

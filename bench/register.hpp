@@ -27,7 +27,9 @@ void register_one() {
     registered_names().push_back(name);
     benchmark::RegisterBenchmark(name.c_str(), [c](benchmark::State& st) {
       const auto d = std::make_unique<BenchData<Spec>>(make_bench_data<Spec>(c));  // set-up, not timed
-      const double opt = ops_per_test(Spec::kernel, Spec::method, c, V);
+      double opt;
+      if constexpr (is_simd16(V)) opt = simd16_ops_per_test<Spec>(c, V);  // bench/bench_simd16.cpp
+      else opt = ops_per_test(Spec::kernel, Spec::method, c, V);
       Acc a;
       for (auto _ : st) {
         if constexpr (V == Variant::scalar) a = run_rays_in_lanes<Spec, float>(*d);

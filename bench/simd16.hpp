@@ -24,6 +24,14 @@ namespace rb::bench {
 // target AVX-512: RB_HAVE_SIMD16).
 template <class Spec>
 Acc run_simd16(const BenchData<Spec>& d, Variant v);
+// The same loop in Counted<f16> numbers: its operations land in this thread's counters (ops::Scope).
+template <class Spec>
+void run_simd16_counted(const BenchData<Spec>& d, Variant v);
+// Operations per test of a 16-lane row (per lane, as the 8-lane rows count them): more than the
+// 8-lane row's where an early exit waits for every lane. Computed once per spec, case and mapping
+// (bench/bench_simd16.cpp, with the 16-lane rows).
+template <class Spec>
+double simd16_ops_per_test(Case c, Variant v);
 
 // The BVH's 8-wide node test in 16 lanes (bvh/slab16.hpp; rb_simd16, bench/simd16_node.cpp): every
 // ray against every node, the number of child boxes hit. simd16_node_test: one node test, its hit

@@ -1,6 +1,6 @@
 // The kernel benchmarks' timed loops in 16 AVX-512 lanes (bench/simd16.hpp). Compiled with AVX-512
-// flags (bench/CMakeLists.txt, target rb_simd16, with bench/simd16_node.cpp): it defines run_simd16
-// for every spec and nothing that another translation unit also defines (tools/check_simd16.py).
+// flags (bench/CMakeLists.txt, target rb_simd16): it defines run_simd16 for every spec and nothing
+// that another translation unit also defines (tools/check_simd16.py).
 #include "bench/simd16.hpp"
 #include "bench/specs_all.hpp"
 
