@@ -81,7 +81,8 @@ std::string image_digest(const std::vector<float>& img) {
 // trial renders' rows and the machine's load over them.
 struct RenderTimes {
   std::vector<float> samples;
-  std::vector<double> trace_seconds;
+  std::vector<double> trace_seconds;  // per timed repetition: its seconds over its renders
+  std::vector<int> passes;            // renders per timed repetition (o.min_time)
   render::RenderStats st;
   json trial_rows = json::array();
   json machine_load;
@@ -96,7 +97,9 @@ struct RenderTimes {
 // ones try the candidates (eye rays in packets of 64, 16 and 8; the other rays one by one and in
 // octant-ordered packets of 8), a candidate per render in turn, and each generation takes the size
 // whose trace time was least (summed over threads; under MPI each rank chooses from its own tiles).
-// `ro` leaves with the packet sizes of the timed renders.
+// `ro` leaves with the packet sizes of the timed renders. Every one of these renders takes the plain
+// traversal; with ro.count_tests one more render, untimed, takes the counting one for the box and
+// primitive test counts (the image and the ray counts are the same).
 RenderTimes time_renders(const RenderRunOptions& o, const scene::Scene& s, const tracer::SceneAccel& accel, render::RenderOptions& ro,
                          const render::MpiSession* mpi) {
   RenderTimes out;
@@ -119,28 +122,39 @@ RenderTimes time_renders(const RenderRunOptions& o, const scene::Scene& s, const
   out.rank0 = rank == 0;
   const bool show = o.progress && rank == 0;
   ProgressBar bar(fmt::format("render {}", o.scene), show ? ProgressBar::Mode::automatic : ProgressBar::Mode::off);
+  const bool count = ro.count_tests;
+  ro.count_tests = false;
   const int warmup = std::max(0, o.warmup), untimed = warmup + trials;
-  const int runs = untimed + std::max(1, o.repetitions);
+  const int timed_end = untimed + std::max(1, o.repetitions), runs = timed_end + (count ? 1 : 0);
   int run = 0;
   auto progress = [&](std::size_t done, std::size_t total) {
     bar.update((double(run) + double(done) / double(std::max<std::size_t>(1, total))) / double(runs));
   };
+  auto render_once = [&]() {
+    const render::Renderer r(s, accel, ro);
+#ifdef RB_HAVE_MPI
+    if (mpi) return render::render_tiles_mpi(*mpi, r, out.samples, o.threads, progress);
+#else
+    (void)mpi;
+#endif
+    return render::render_tiles(r, out.samples, o.threads, 0, 1, progress);
+  };
   const LoadWatch watch;
-  for (run = 0; run < runs; ++run) {
+  for (run = 0; run < timed_end; ++run) {
     const bool trial = run >= warmup && run < untimed;
     const std::size_t e = std::size_t(run - warmup) % eye_sizes.size(), k = std::size_t(run - warmup) % sec_sizes.size();
     if (trial) ro.eye_packet = eye_sizes[e], ro.secondary_packet = sec_sizes[k];
     if (run == untimed && trials > 0) ro.eye_packet = fastest(eye_sizes, eye_s), ro.secondary_packet = fastest(sec_sizes, sec_s);
-    const render::Renderer r(s, accel, ro);
     const auto t1 = std::chrono::steady_clock::now();
-#ifdef RB_HAVE_MPI
-    if (mpi) out.st = render::render_tiles_mpi(*mpi, r, out.samples, o.threads, progress);
-    else out.st = render::render_tiles(r, out.samples, o.threads, 0, 1, progress);
-#else
-    (void)mpi;
-    out.st = render::render_tiles(r, out.samples, o.threads, 0, 1, progress);
-#endif
-    if (run >= untimed) out.trace_seconds.push_back(ms_since(t1) / 1e3);
+    out.st = render_once();
+    if (run >= untimed) {
+      // A timed repetition renders the image again until it has lasted o.min_time: a short render
+      // is timed over several, not one at the clock's and the scheduler's mercy.
+      int passes = 1;
+      for (; ms_since(t1) < 1e3 * o.min_time && passes < 1000; ++passes) out.st = render_once();
+      out.trace_seconds.push_back(ms_since(t1) / 1e3 / passes);
+      out.passes.push_back(passes);
+    }
     if (trial) {
       eye_s[e] = std::min(eye_s[e], out.st.eye_trace_s);
       sec_s[k] = std::min(sec_s[k], out.st.secondary_trace_s);
@@ -148,9 +162,44 @@ RenderTimes time_renders(const RenderRunOptions& o, const scene::Scene& s, const
                                 {"eye_trace_ms", 1e3 * out.st.eye_trace_s}, {"secondary_trace_ms", 1e3 * out.st.secondary_trace_s}});
     }
   }
+  if (count) {
+    ro.count_tests = true;
+    out.st.cost = render_once().cost;
+  }
   out.machine_load = watch.json();
   bar.done();
   return out;
+}
+
+// Where a render's time went, in thread milliseconds (summed over threads; under MPI, rank 0's own
+// tiles): eye rays made, rays packed (octant sort and SoA copy), the BVH by kind of ray, shading and
+// the shadow rays' light; and per generation (1: the eye rays) its rays, hits and shadow rays.
+json time_split(const render::RenderStats& st) {
+  double pack = 0, eye = 0, secondary = 0, shadow = 0, shade = 0, light = 0;
+  json gens = json::array();
+  for (std::size_t g = 0; g < st.generations.size(); ++g) {
+    const render::GenerationStats& x = st.generations[g];
+    pack += x.pack_s, (g == 0 ? eye : secondary) += x.traverse_s, shadow += x.shadow_traverse_s, shade += x.shade_s, light += x.shadow_light_s;
+    gens.push_back({{"generation", g + 1},
+                    {"rays", x.rays},
+                    {"hits", x.hits},
+                    {"hit_rate", x.rays ? double(x.hits) / double(x.rays) : 0.0},
+                    {"shadow_rays", x.shadow_rays},
+                    {"pack_ms", 1e3 * x.pack_s},
+                    {"traverse_ms", 1e3 * x.traverse_s},
+                    {"shadow_traverse_ms", 1e3 * x.shadow_traverse_s},
+                    {"shade_ms", 1e3 * x.shade_s},
+                    {"shadow_light_ms", 1e3 * x.shadow_light_s}});
+  }
+  return {{"thread_ms", 1e3 * (st.generate_s + pack + eye + secondary + shadow + shade + light)},
+          {"generate_ms", 1e3 * st.generate_s},
+          {"pack_ms", 1e3 * pack},
+          {"traverse_eye_ms", 1e3 * eye},
+          {"traverse_secondary_ms", 1e3 * secondary},
+          {"traverse_shadow_ms", 1e3 * shadow},
+          {"shade_ms", 1e3 * shade},
+          {"shadow_light_ms", 1e3 * light},
+          {"generations", gens}};
 }
 
 }  // namespace
@@ -226,10 +275,14 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
          {"trial_renders", rt.trials},
          {"repetitions", rt.trace_seconds.size()},
          {"trace_seconds", rt.trace_seconds},
+         {"min_time", o.min_time},
+         {"passes", rt.passes},
          {"trace_ms_min", 1e3 * spread.min},
          {"trace_ms_max", 1e3 * spread.max},
          {"cv", std::isfinite(spread.cv) ? json(spread.cv) : json(nullptr)},
          {"machine_load", rt.machine_load}};
+  j["time_split"] = time_split(st);
+  j["time_split"]["render_ms"] = 1e3 * rt.trace_seconds.back();  // the render the split is of: the last timed one
   if (!o.out.empty()) j["image"] = o.out;
   if (const auto f = haines_figures(spd_name(o.scene))) {
     j["haines"] = {{"eye_hit_rays", f->eye_hit}, {"reflect_rays", f->reflect}, {"refract_rays", f->refract},
@@ -239,6 +292,39 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
     if (f->box_tests >= 0) j["haines"]["box_tests"] = f->box_tests;
   }
   return j;
+}
+
+// What a timed repetition was: one render, or several lasting --min-time.
+std::string passes_text(const json& j) {
+  int most = 1;
+  if (j.contains("passes"))
+    for (const auto& p : j["passes"]) most = std::max(most, p.get<int>());
+  if (most == 1) return "renders";
+  return fmt::format("repetitions of at least {:g} s (up to {} renders each; the figures are per render)", j["min_time"].get<double>(), most);
+}
+
+// The time split as a paragraph and a table per generation.
+std::string time_split_text(const json& ts, int threads) {
+  const double total = ts["thread_ms"].get<double>();
+  if (!(total > 0)) return "";
+  auto pc = [&](const char* key) { return 100.0 * ts[key].get<double>() / total; };
+  const double bvh = pc("traverse_eye_ms") + pc("traverse_secondary_ms") + pc("traverse_shadow_ms");
+  std::string line = fmt::format(
+      "time split of the last timed render ({:.1f} ms of thread time{}): eye rays made {:.1f} %, rays packed {:.1f} %, BVH {:.1f} % "
+      "(eye {:.1f}, reflection and refraction {:.1f}, shadow {:.1f}), shading {:.1f} %, shadow light {:.1f} %",
+      total,
+      threads > 0 ? fmt::format("; {} thread(s) x {:.1f} ms: {:.0f} % accounted", threads, ts["render_ms"].get<double>(),
+                                100.0 * total / (threads * ts["render_ms"].get<double>()))
+                  : "",
+      pc("generate_ms"), pc("pack_ms"), bvh, pc("traverse_eye_ms"), pc("traverse_secondary_ms"), pc("traverse_shadow_ms"), pc("shade_ms"),
+      pc("shadow_light_ms"));
+  std::string t = wrap_words(line, 80, "  ");
+  t += "  generation       rays  hit %  shadow rays  BVH ms  shadow BVH ms  shading ms\n";
+  for (const auto& g : ts["generations"])
+    t += fmt::format("  {:>10} {:>10} {:>6.1f} {:>12} {:>7.1f} {:>14.1f} {:>11.1f}\n", g["generation"].get<int>(), g["rays"].get<std::uint64_t>(),
+                     100.0 * g["hit_rate"].get<double>(), g["shadow_rays"].get<std::uint64_t>(), g["traverse_ms"].get<double>(),
+                     g["shadow_traverse_ms"].get<double>(), g["shade_ms"].get<double>() + g["shadow_light_ms"].get<double>());
+  return t;
 }
 
 std::string render_text(const json& j) {
@@ -292,11 +378,12 @@ std::string render_text(const json& j) {
                    j["preprocess_ms"].get<double>(), j["load_ms"].get<double>(), j["plan_ms"].get<double>(), j["build_ms"].get<double>(),
                    j["trace_ms"].get<double>(), j["mrays_per_s"].get<double>());
   if (j.contains("trace_seconds") && j["trace_seconds"].size() > 1)
-    t += fmt::format("      trace: median of {} renders after {} warm-up{}, range {:.1f}-{:.1f} ms{}\n", j["trace_seconds"].size(),
-                     j["warmup"].get<int>(),
+    t += fmt::format("      trace: median of {} {} after {} warm-up{}, range {:.1f}-{:.1f} ms{}\n", j["trace_seconds"].size(),
+                     passes_text(j), j["warmup"].get<int>(),
                      j.value("trial_renders", 0) > 0 ? fmt::format(" and {} trial renders", j["trial_renders"].get<int>()) : "",
                      j["trace_ms_min"].get<double>(), j["trace_ms_max"].get<double>(),
                      j["cv"].is_null() ? "" : fmt::format(", CV {:.1f} %", 100 * j["cv"].get<double>()));
+  if (j.contains("time_split")) t += time_split_text(j["time_split"], j["threads"].get<int>());
   if (j.contains("machine_load")) t += wrap_words("      machine: " + load_text(j["machine_load"]), 80, "      ");
   if (j.contains("image")) {
     const std::string image = j["image"].get<std::string>();

@@ -66,6 +66,9 @@ void octant_order(const std::vector<Ray<float>>& rays, std::vector<std::uint32_t
   for (std::size_t i = 0; i < rays.size(); ++i) order[count[oct(rays[i])]++] = std::uint32_t(i);
 }
 
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
 void add_to(float* samples, std::uint32_t sample, const Vec3f& c) {
   float* px = samples + 3 * std::size_t(sample);
   px[0] += c.x; px[1] += c.y; px[2] += c.z;
@@ -92,6 +95,7 @@ RenderOptions spd_options(const scene::Scene& s, int width, int height, int dept
   o.height = height;
   o.depth = depth;
   o.spd = true;
+  o.count_tests = true;  // his counts are the protocol's point
   // Haines: "all opaque objects are one-sided, except the teapot's patches".
   o.two_sided = s.name.find("teapot") != std::string::npos;
   return o;
@@ -159,8 +163,9 @@ void Renderer::eye_rays(int x0, int y0, int x1, int y1, Work& w) const {
 // order, so that shading (and the sum of each sample's terms) runs in the same order in every
 // mode: the image does not depend on the packet size (but where a ray meets two faces at the same
 // distance: which one wins can depend on the traversal order).
-void Renderer::trace(Work& w, const std::vector<Ray<float>>& rays, bool any, bool secondary, RenderStats& st) const {
-  const auto t0 = std::chrono::steady_clock::now();
+void Renderer::trace(Work& w, const std::vector<Ray<float>>& rays, bool any, bool secondary, bool shadow, RenderStats& st,
+                     GenerationStats& g) const {
+  const auto t0 = Clock::now();
   tracer::TraceOptions to;
   to.packet = secondary ? (o_.secondary_packet == 8 ? 8 : 1) : o_.eye_packet;
   to.any = any;
@@ -168,6 +173,7 @@ void Renderer::trace(Work& w, const std::vector<Ray<float>>& rays, bool any, boo
   if (secondary && to.packet == 8) octant_order(rays, w.order);
   const bool sorted = !w.order.empty();
   fill(w.soa, rays, sorted ? w.order.data() : nullptr);
+  const auto t1 = Clock::now();
   std::vector<bvh::HitRec>& out = sorted ? w.sorted_hits : w.hits;
   out.resize(w.soa.size());
   if (o_.count_tests) a_.trace_counted(w.soa, 0, w.soa.size(), out.data(), to, st.cost);
@@ -176,8 +182,10 @@ void Renderer::trace(Work& w, const std::vector<Ray<float>>& rays, bool any, boo
     w.hits.resize(w.soa.size());
     for (std::size_t i = 0; i < rays.size(); ++i) w.hits[w.order[i]] = out[i];
   }
-  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double packed = std::chrono::duration<double>(t1 - t0).count(), s = seconds_since(t0);
   (secondary ? st.secondary_trace_s : st.eye_trace_s) += s;
+  g.pack_s += packed;
+  (shadow ? g.shadow_traverse_s : g.traverse_s) += s - packed;
 }
 
 // RT_shade for every ray of the generation: background on a miss; else the ambient term, one
@@ -259,14 +267,17 @@ void Renderer::shade(float* samples, Work& w, RenderStats& st) const {
 // The shadow rays of a generation: any hit blocks, unless the scene has transmitting materials:
 // then the closest occluder is found, a transmitting one scales the light by its T and the ray
 // goes on from beyond it.
-void Renderer::shadows(float* samples, Work& w, RenderStats& st) const {
+void Renderer::shadows(float* samples, Work& w, RenderStats& st, GenerationStats& g) const {
+  const auto t0 = Clock::now();
+  const double traced0 = g.pack_s + g.shadow_traverse_s;
   st.shadow += w.srays.size();
+  g.shadow_rays += w.srays.size();
   auto& cur = w.srays;
   w.pass.assign(w.srays.size(), 1.0f);
   w.live.resize(w.srays.size());
   for (std::size_t i = 0; i < w.srays.size(); ++i) w.live[i] = std::uint32_t(i);
   for (int round = 0; !cur.empty(); ++round) {
-    trace(w, cur, !transparent_, true, st);
+    trace(w, cur, !transparent_, true, true, st, g);
     w.more.clear();
     w.more_live.clear();
     for (std::size_t k = 0; k < cur.size(); ++k) {
@@ -290,6 +301,7 @@ void Renderer::shadows(float* samples, Work& w, RenderStats& st) const {
   }
   for (std::size_t i = 0; i < w.shadow.size(); ++i)
     if (w.pass[i] > 0.0f) add_to(samples, w.shadow[i].sample, w.shadow[i].add * w.pass[i]);
+  g.shadow_light_s += seconds_since(t0) - (g.pack_s + g.shadow_traverse_s - traced0);
 }
 
 void Renderer::render_tile(std::size_t t, float* samples, RenderStats& st) const {
@@ -297,12 +309,19 @@ void Renderer::render_tile(std::size_t t, float* samples, RenderStats& st) const
   const int x0 = tx * o_.tile, y0 = ty * o_.tile;
   const int x1 = std::min(gw_, x0 + o_.tile), y1 = std::min(gh_, y0 + o_.tile);
   thread_local Work w;
+  const auto t0 = Clock::now();
   eye_rays(x0, y0, x1, y1, w);
+  st.generate_s += seconds_since(t0);
   st.eye += w.rays.size();
-  for (bool first = true; !w.rays.empty(); first = false) {
-    trace(w, w.rays, false, !first, st);
+  for (std::size_t gen = 0; !w.rays.empty(); ++gen) {
+    GenerationStats& g = st.generation(gen);
+    g.rays += w.rays.size();
+    trace(w, w.rays, false, gen > 0, false, st, g);
+    for (std::size_t i = 0; i < w.rays.size(); ++i) g.hits += w.hits[i].prim != bvh::kNoPrim;
+    const auto t1 = Clock::now();
     shade(samples, w, st);
-    shadows(samples, w, st);
+    g.shade_s += seconds_since(t1);
+    shadows(samples, w, st, g);
     w.rays.swap(w.next_rays);
     w.path.swap(w.next_path);
   }

@@ -43,9 +43,10 @@ struct RenderOptions {
   bool two_sided = true;
   int tile = 16;        // tile side in samples
   float ambient = 0.1f; // ambient light: the ambient term is ambient * Kd * surface colour
-  // Count box and primitive tests (the counting traversal; off: the plain one, which is what
-  // `raybench trace` times). Ray counts are always kept.
-  bool count_tests = true;
+  // Count box and primitive tests (the counting traversal, its own instantiation; off: the plain
+  // one, which is what `raybench trace` times). Ray counts are always kept. On with Haines'
+  // protocol (spd_options), where the counts are compared with his.
+  bool count_tests = false;
   // Reflection, refraction and shadow rays: 1 traces them one by one; 8 traces each batch in
   // direction-octant order, 8 rays of one octant as a packet (the hits go back to the batch's
   // order, so the image is the same bit for bit in every mode).
@@ -55,19 +56,46 @@ struct RenderOptions {
   int eye_packet = 64;
 };
 
+// One generation of a render's rays (0: the eye rays; 1: their reflection and refraction rays; ...):
+// its rays, how many hit, its shadow rays, and where its time went, in thread seconds (summed
+// over threads; under MPI, this rank's own).
+struct GenerationStats {
+  std::uint64_t rays = 0, hits = 0, shadow_rays = 0;
+  double pack_s = 0;             // rays sorted into packet order and copied into SoA (its rays and its shadow rays)
+  double traverse_s = 0;         // its rays through the BVH
+  double shadow_traverse_s = 0;  // its shadow rays through the BVH (every round past transmitting occluders)
+  double shade_s = 0;            // RT_shade: local light, the next generation's rays and the shadow rays made
+  double shadow_light_s = 0;     // the shadow rays' light added, rays past transmitting occluders made
+  double seconds() const { return pack_s + traverse_s + shadow_traverse_s + shade_s + shadow_light_s; }
+  void add(const GenerationStats& o) {
+    rays += o.rays; hits += o.hits; shadow_rays += o.shadow_rays;
+    pack_s += o.pack_s; traverse_s += o.traverse_s; shadow_traverse_s += o.shadow_traverse_s;
+    shade_s += o.shade_s; shadow_light_s += o.shadow_light_s;
+  }
+};
+
 // Ray and test counts. Box and primitive tests are those of every traversal (eye, reflection,
 // refraction, shadow and its continuations through transmitting occluders).
 // The seconds spent in the BVH (summed over threads; under MPI, this rank's own) for eye rays and
-// for the other rays, by which a run can choose each generation's packet size.
+// for the other rays, by which a run can choose each generation's packet size, and the time split
+// by generation and step.
 struct RenderStats {
   std::uint64_t eye = 0, eye_hit = 0, reflect = 0, refract = 0, shadow = 0;
   bvh::TraceCounters cost;
   double eye_trace_s = 0, secondary_trace_s = 0;
+  double generate_s = 0;  // eye rays made
+  std::vector<GenerationStats> generations;
   std::uint64_t rays() const { return eye + reflect + refract + shadow; }
+  GenerationStats& generation(std::size_t g) {
+    if (generations.size() <= g) generations.resize(g + 1);
+    return generations[g];
+  }
   void add(const RenderStats& o) {
     eye += o.eye; eye_hit += o.eye_hit; reflect += o.reflect; refract += o.refract; shadow += o.shadow;
     cost.add(o.cost);
     eye_trace_s += o.eye_trace_s; secondary_trace_s += o.secondary_trace_s;
+    generate_s += o.generate_s;
+    for (std::size_t g = 0; g < o.generations.size(); ++g) generation(g).add(o.generations[g]);
   }
 };
 
@@ -109,9 +137,10 @@ class Renderer {
 
   // The steps of one generation (RT_trace / RT_shade), in the order render_tile runs them.
   void eye_rays(int x0, int y0, int x1, int y1, Work& w) const;                                // spawn the first generation
-  void trace(Work& w, const std::vector<Ray<float>>& rays, bool any, bool secondary, RenderStats& st) const;  // RT_trace
+  void trace(Work& w, const std::vector<Ray<float>>& rays, bool any, bool secondary, bool shadow, RenderStats& st,
+             GenerationStats& g) const;                                                        // RT_trace
   void shade(float* samples, Work& w, RenderStats& st) const;                                  // RT_shade: local light, next generation
-  void shadows(float* samples, Work& w, RenderStats& st) const;                                // the shadow rays of this generation
+  void shadows(float* samples, Work& w, RenderStats& st, GenerationStats& g) const;            // the shadow rays of this generation
 };
 
 // Renders the tiles t with t % parts == part (all tiles: part 0 of 1) on `threads` TBB threads

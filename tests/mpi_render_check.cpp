@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   o.width = 40;
   o.height = 30;
   o.tile = 8;
+  o.count_tests = true;  // the test counts compared too
   const render::Renderer r(s, a, o);
   std::vector<float> split;
   const render::RenderStats st = render::render_tiles_mpi(mpi, r, split, threads);

@@ -306,6 +306,55 @@ TEST(Cli, RenderWithoutOutputWritesSceneNameAndHainesOnlyUnderSpd) {
   EXPECT_LE(widest(r.out), 80u) << r.out;
 }
 
+// Box and primitive tests are counted only when asked (--counts, or --spd), in one more render that
+// is not timed; the image is the same. Every render says where its time went, per generation.
+TEST(Cli, RenderCountsOnlyWhenAskedAndSplitsItsTime) {
+  Scratch s("render-counts");
+  const std::string base = "render lecture:five_glass_balls --width 24 -r 2 --warmup 0 --min-time 0 --eye-packet 8 --secondary-packet 8 ";
+  Outcome r = run_in(s.dir, base + "-o a.png --json -");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json plain = r.json();
+  EXPECT_FALSE(plain["tests_counted"].get<bool>());
+  EXPECT_EQ(plain["box_tests"], 0u);
+  r = run_in(s.dir, base + "--counts -o b.png --json -");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json counted = r.json();
+  EXPECT_TRUE(counted["tests_counted"].get<bool>());
+  EXPECT_GT(counted["box_tests"].get<std::uint64_t>(), counted["total_rays"].get<std::uint64_t>());
+  EXPECT_EQ(counted["trace_seconds"].size(), 2u) << "the counted render is not timed";
+  EXPECT_EQ(counted["image_fnv1a"], plain["image_fnv1a"]);
+  EXPECT_EQ(counted["total_rays"], plain["total_rays"]);
+  r = run_in(s.dir, "render spd:balls:1 --width 16 -r 1 --warmup 0 --spd -o spd.png --json -");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(r.json()["tests_counted"].get<bool>()) << "--spd counts";
+  r = run_in(s.dir, "render spd:balls:1 --width 16 -r 1 --warmup 0 --spd --no-counts -o spd.png --json -");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_FALSE(r.json()["tests_counted"].get<bool>());
+  // The split: generations add up to the rays by kind; the parts to the thread time.
+  const nlohmann::json& ts = plain["time_split"];
+  std::uint64_t rays = 0, shadow = 0;
+  for (const auto& g : ts["generations"]) {
+    rays += g["rays"].get<std::uint64_t>();
+    shadow += g["shadow_rays"].get<std::uint64_t>();
+    EXPECT_LE(g["hits"].get<std::uint64_t>(), g["rays"].get<std::uint64_t>());
+  }
+  EXPECT_GE(ts["generations"].size(), 2u) << "the glass balls reflect and refract";
+  EXPECT_EQ(rays, plain["eye_rays"].get<std::uint64_t>() + plain["reflect_rays"].get<std::uint64_t>() + plain["refract_rays"].get<std::uint64_t>());
+  EXPECT_EQ(shadow, plain["shadow_rays"].get<std::uint64_t>());
+  EXPECT_EQ(ts["generations"][0]["hits"], plain["eye_hit_rays"]);
+  double parts = 0;
+  for (const char* k : {"generate_ms", "pack_ms", "traverse_eye_ms", "traverse_secondary_ms", "traverse_shadow_ms", "shade_ms", "shadow_light_ms"}) {
+    EXPECT_GE(ts[k].get<double>(), 0.0) << k;
+    parts += ts[k].get<double>();
+  }
+  EXPECT_NEAR(parts, ts["thread_ms"].get<double>(), 1e-9 * parts + 1e-12);
+  EXPECT_GT(ts["traverse_eye_ms"].get<double>(), 0.0);
+  EXPECT_LE(ts["thread_ms"].get<double>(), 1.05 * ts["render_ms"].get<double>()) << "one thread: the parts are within the render";
+  r = run_in(s.dir, base + "-o c.png");
+  EXPECT_TRUE(has(r.out, "time split of the last timed render")) << r.out;
+  EXPECT_LE(widest(r.out), 80u) << r.out;
+}
+
 TEST(Cli, BenchPrintsATable) {
   Scratch s("bench");
   const Outcome r = run_in(s.dir, "bench --filter '^sphere/geometric/(scalar|rays_in_lanes)/hit$' -r 3 --min-time 0.001 --json b.json");
@@ -345,7 +394,14 @@ TEST(Cli, RenderGivesMedianRangeAndCvAndTooManyThreadsWarn) {
   EXPECT_EQ(j["warmup"], 1);
   EXPECT_EQ(j["trace_seconds"].size(), 3u);
   EXPECT_LE(j["trace_ms_min"].get<double>(), j["trace_ms"].get<double>());
-  EXPECT_TRUE(has(r.out, "median of 3 renders after 1 warm-up and 3 trial renders")) << r.out;
+  EXPECT_TRUE(has(r.out, "median of 3 repetitions of at least 0.1 s")) << r.out;
+  EXPECT_TRUE(has(r.out, "after 1 warm-up and 3 trial renders")) << r.out;
+  // Each repetition lasted --min-time (0.1 s by default): this tiny image is rendered many times.
+  ASSERT_EQ(j["passes"].size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_GT(j["passes"][i].get<int>(), 1) << j["passes"];
+    EXPECT_GE(j["passes"][i].get<int>() * j["trace_seconds"][i].get<double>(), 0.1) << j["passes"];
+  }
   EXPECT_TRUE(has(r.err, "warning: " + std::to_string(more) + " threads asked for")) << r.err;
   // The machine around the renders, as trace and bench record it.
   EXPECT_TRUE(j["machine_load"]["load_average_before"].is_number() && j["machine_load"]["load_average_after"].is_number()) << j;

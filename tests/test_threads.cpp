@@ -177,6 +177,7 @@ TEST(Threads, RenderIsBitIdenticalForEveryThreadCountAndTileSplit) {
   o.width = 48;
   o.height = 40;
   o.tile = 8;
+  o.count_tests = true;  // the test counts compared too
   const render::Renderer r(s, a, o);
   std::vector<float> ref;
   const render::RenderStats st = render::render_tiles(r, ref, 1);

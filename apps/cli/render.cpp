@@ -7,10 +7,12 @@ namespace {
 
 class RenderCommand final : public Command {
   RenderRunOptions rdo;
+  bool counts = false, no_counts = false;  // neither: count with --spd only
  public:
   explicit RenderCommand(CLI::App& root) : Command(root, "render", "Render a scene with the recursive ray tracer") {
     rdo.warmup = 1;
     rdo.repetitions = 5;  // 4 or more on each side let `compare`'s U test reach p < 0.05
+    rdo.min_time = 0.1;
     positional("scene", rdo.scene, "A scene, as `raybench info` takes it");
     output("-o,--out", rdo.out, "PNG file to write (default: SCENE.png in the\ncurrent folder; '-': stdout, the table then to\nstderr)");
     sub_->add_option("--width", rdo.width, "Image width in pixels (default 512, or the\nscene camera's resolution)")->check(CLI::Range(1, 16384));
@@ -18,7 +20,9 @@ class RenderCommand final : public Command {
     sub_->add_option("--depth", rdo.depth, "Maximum ray tree depth (the eye ray is 1)")->check(CLI::Range(1, 64))->capture_default_str();
     sub_->add_option("--threads", rdo.threads, "TBB threads per MPI rank\n(0: every hardware thread)")->check(CLI::Range(0, 256))->capture_default_str();
     sub_->add_flag("--spd", rdo.spd, "Haines' SPD protocol, his counts beside ours");
-    sub_->add_flag("!--no-counts", rdo.count_tests, "Skip counting box and primitive tests");
+    auto* c = sub_->add_flag("--counts", counts,
+                             "Count box and primitive tests in one more render,\nuntimed (default: with --spd only; the timed\nrenders never count)");
+    sub_->add_flag("--no-counts", no_counts, "No test counts, also with --spd")->excludes(c);
     sub_->add_option("--eye-packet", rdo.eye_packet,
                        "Eye rays per packet: 1, 8, 16 or 64 (a 16x4\nblock of the image), or auto: the fastest of\n64, 16 and 8 "
                        "in trial renders before\nthe timed ones")
@@ -35,19 +39,24 @@ class RenderCommand final : public Command {
         ->check(one_of({"auto", "fast", "exact"}))->capture_default_str();
     sub_->add_option("-r,--repetitions", rdo.repetitions, "Timed renders (the median is quoted)")->check(CLI::Range(1, 100))->capture_default_str();
     sub_->add_option("--warmup", rdo.warmup, "Untimed renders before the timed ones")->check(CLI::Range(0, 100))->capture_default_str();
+    sub_->add_option("--min-time", rdo.min_time, "Seconds a timed repetition lasts at least: the\nimage rendered that many times over (the\nfigures are per render)")
+        ->check(CLI::Range(0.0, 10.0))
+        ->capture_default_str();
     json_option("Write the result as JSON to FILE\n(no FILE: stdout instead of the summary)");
     history_option();
     sub_->footer(
         "The recursive ray tracer through the 8-wide BVH: shadows, Lambert and Phong,\n"
         "reflection, Snell refraction. Writes the image (SCENE.png in the current folder\n"
-        "without -o) and prints rays by kind, box and primitive tests by kind, the time\n"
-        "split and Mrays/s (median of the timed renders, with range and CV).\n"
+        "without -o) and prints rays by kind, box and primitive tests by kind (--counts),\n"
+        "Mrays/s (median of the timed renders, with range and CV) and where the time\n"
+        "went: rays made and packed, the BVH by kind of ray, shading, per generation.\n"
         "--spd follows Haines' SPD protocol (513 x 513 corner rays averaged, depth 5,\n"
         "one-sided opaque surfaces but the teapot's) and shows his published counts\n"
         "beside ours. Under `mpirun -n N` the tiles are split across the ranks.");
   }
   int run(Context& c) override {
     if (!open_history(c)) return kExitError;
+    rdo.count_tests = counts || (rdo.spd && !no_counts);
     const JsonOut out = recorded_json_out(c);
     return run_render_command(rdo, out);
   }
