@@ -157,11 +157,12 @@ std::map<std::string, stats::RatioInterval> variant_ratios(const nlohmann::json&
   }
   std::map<std::string, stats::RatioInterval> out;
   for (const auto& [name, by_round] : rate) {
-    const auto a = name.find('/'), b = a == std::string::npos ? a : name.find('/', a + 1), c = b == std::string::npos ? b : name.find('/', b + 1);
-    if (c == std::string::npos) continue;
-    const std::string other = partner(name.substr(b + 1, c - b - 1));
+    auto parts = rb::bench::BenchName::parse(name);
+    if (!parts) continue;
+    const std::string other = partner(parts->variant);
     if (other.empty()) continue;
-    const auto base = rate.find(name.substr(0, b + 1) + other + name.substr(c));
+    parts->variant = other;
+    const auto base = rate.find(parts->str());
     if (base == rate.end()) continue;
     std::vector<double> x, y;
     for (const auto& [round, r] : by_round)

@@ -13,6 +13,7 @@
 // which kernel to run: see SphereGeometricSpec for the shape.
 #pragma once
 
+#include "bench/bench_name.hpp"
 #include "core/counted.hpp"
 #include "soa/prims.hpp"
 #include "soa/rays.hpp"

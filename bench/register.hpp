@@ -23,7 +23,7 @@ inline std::vector<std::string>& registered_names() {
 template <class Spec, Variant V>
 void register_one() {
   for (Case c : {Case::hit, Case::miss, Case::half}) {
-    const std::string name = std::string(Spec::kernel) + "/" + Spec::method + "/" + variant_name(V) + "/" + case_name(c);
+    const std::string name = BenchName{Spec::kernel, Spec::method, variant_name(V), case_name(c)}.str();
     registered_names().push_back(name);
     benchmark::RegisterBenchmark(name.c_str(), [c](benchmark::State& st) {
       const auto d = std::make_unique<BenchData<Spec>>(make_bench_data<Spec>(c));  // set-up, not timed

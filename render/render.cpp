@@ -10,6 +10,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -359,6 +360,27 @@ RenderStats render_tiles(const Renderer& r, std::vector<float>& samples, int thr
   RenderStats st;
   for (const auto& p : per) st.add(p);
   return st;
+}
+
+std::vector<std::uint8_t> render_rgb8(const scene::Scene& s, tracer::Model m, int size, int threads) {
+  const tracer::SceneAccel a = tracer::SceneAccel::build(s, tracer::make_plan(s, m));
+  RenderOptions o;
+  o.width = o.height = size;
+  const Renderer r(s, a, o);
+  std::vector<float> samples;
+  render_tiles(r, samples, threads);
+  return to_rgb8(r.resolve(samples));
+}
+
+double differing_pixels(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b, int tolerance) {
+  std::size_t bad = 0;
+  const std::size_t pixels = std::min(a.size(), b.size()) / 3;
+  for (std::size_t p = 0; p < pixels; ++p) {
+    int worst = 0;
+    for (std::size_t c = 0; c < 3; ++c) worst = std::max(worst, std::abs(int(a[3 * p + c]) - int(b[3 * p + c])));
+    bad += worst > tolerance;
+  }
+  return double(bad) / double(std::max<std::size_t>(1, pixels));
 }
 
 std::vector<std::uint8_t> to_rgb8(const std::vector<float>& rgb) {

@@ -156,4 +156,11 @@ Vec3f surface_color(const scene::Material& m, const Vec3d& p);
 void write_png(const std::string& path, int width, int height, const std::vector<float>& rgb);
 std::vector<std::uint8_t> to_rgb8(const std::vector<float>& rgb);
 
+// The scene rendered under a model (its plan made and the scene built for it), size x size pixels on
+// `threads` TBB threads, as 8-bit RGB: what the plan's invariance checks compare (the report's far
+// and scaled copies, the tests).
+std::vector<std::uint8_t> render_rgb8(const scene::Scene& s, tracer::Model m, int size, int threads = 1);
+// The share of pixels whose largest channel difference is above `tolerance` (of 255).
+double differing_pixels(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b, int tolerance = 4);
+
 }  // namespace rb::render

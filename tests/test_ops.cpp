@@ -1,5 +1,6 @@
 // Golden operation counts of the first kernels (Counted<float>, Counted<simd8>), and the rules
 // of the ops table: every difference from a slide has a note; the JSON has the documented keys.
+#include "bench/bench_name.hpp"
 #include "bench/ops_table.hpp"
 #include "kernel_test_util.hpp"
 #include "bench/specs_planar.hpp"
@@ -20,6 +21,20 @@ using test::find_row;
 using test::gold;
 using test::Golden;
 using test::ops_rows;
+
+// Benchmark names in their parts, and back; names of another shape are not kernel benchmarks.
+TEST(BenchName, PartsAndBack) {
+  const auto b = bench::BenchName::parse("sphere/geometric/rays_in_lanes16/half");
+  ASSERT_TRUE(b.has_value());
+  EXPECT_EQ(b->kernel, "sphere");
+  EXPECT_EQ(b->method, "geometric");
+  EXPECT_EQ(b->variant, "rays_in_lanes16");
+  EXPECT_EQ(b->kase, "half");
+  EXPECT_EQ(b->kernel_method(), "sphere/geometric");
+  EXPECT_EQ(b->str(), "sphere/geometric/rays_in_lanes16/half");
+  for (const char* other : {"wide_node_slab/fast/l1", "a/b/c/d/e", "", "sphere", "a/b/c/d/", "a//c/d"})
+    EXPECT_FALSE(bench::BenchName::parse(other).has_value()) << other;
+}
 
 TEST(OpsTable, GoldenScalarCounts) {
   // The lecture's plane: negative 2+- 3*, positive 5+- 6* 1/ (+ comparisons and the final select).

@@ -415,26 +415,8 @@ TEST(PlanAccuracy, AutoAndExactHaveNoFailureOnAnyWholeSceneCase) {
 }
 
 // ---- invariance ----------------------------------------------------------------------------------
-std::vector<std::uint8_t> render(const scene::Scene& s, Model m, int size = 64) {
-  const tracer::SceneAccel a = tracer::SceneAccel::build(s, tracer::make_plan(s, m));
-  render::RenderOptions o;
-  o.width = o.height = size;
-  o.count_tests = false;
-  const render::Renderer r(s, a, o);
-  std::vector<float> samples;
-  render::render_tiles(r, samples, 1);
-  return render::to_rgb8(r.resolve(samples));
-}
-// The share of pixels whose largest channel difference is above 4/255.
-double differing(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b) {
-  std::size_t bad = 0;
-  for (std::size_t p = 0; p < a.size() / 3; ++p) {
-    int worst = 0;
-    for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(int(a[3 * p + std::size_t(c)]) - int(b[3 * p + std::size_t(c)])));
-    bad += worst > 4;
-  }
-  return double(bad) / double(a.size() / 3);
-}
+std::vector<std::uint8_t> render(const scene::Scene& s, Model m, int size = 64) { return render::render_rgb8(s, m, size); }
+double differing(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b) { return render::differing_pixels(a, b); }
 
 // Both scenes: the balls on a floor, and the same with a cylinder, a cone, a triangle mesh and a
 // torus beside them (every kind's plan moved and scaled at once).

@@ -58,26 +58,6 @@ std::string plan_kinds_text(const tracer::Plan& p) {
   return o;
 }
 
-std::vector<std::uint8_t> plan_render_rgb(const scene::Scene& s, tracer::Model m, int size) {
-  const tracer::SceneAccel a = tracer::SceneAccel::build(s, tracer::make_plan(s, m));
-  render::RenderOptions o;
-  o.width = o.height = size;
-  o.count_tests = false;
-  const render::Renderer r(s, a, o);
-  std::vector<float> samples;
-  render::render_tiles(r, samples, 2);
-  return render::to_rgb8(r.resolve(samples));
-}
-double plan_differing(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b) {
-  std::size_t bad = 0;
-  for (std::size_t p = 0; p < a.size() / 3; ++p) {
-    int worst = 0;
-    for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(int(a[3 * p + std::size_t(c)]) - int(b[3 * p + std::size_t(c)])));
-    bad += worst > 4;
-  }
-  return double(bad) / double(std::max<std::size_t>(1, a.size() / 3));
-}
-
 // The goal of auto against fast on a mesh where fast fails no ray: auto keeps at least 0.97 of its
 // speed and at most 1.05 of its memory.
 constexpr double kAutoSpeedGoal = 0.97, kAutoMemoryGoal = 1.05;
@@ -137,7 +117,7 @@ std::string plan_copies(const ReportOptions& o, Record& rec, const fs::path& out
   // Each copy rendered (its image written) and compared with the original: {copy, image, differing_pixels}.
   copies_json = rec.take("plan/copies", [&] {
     const scene::Scene base = scene::precision_scene("kinds_ground");
-    const auto ref = plan_render_rgb(base, tracer::Model::automatic, size);
+    const auto ref = render::render_rgb8(base, tracer::Model::automatic, size, 2);
     struct Copy {
       std::string label, file;
       scene::Scene s;
@@ -153,11 +133,11 @@ std::string plan_copies(const ReportOptions& o, Record& rec, const fs::path& out
     };
     json cj = json::array();
     for (const auto& c : copies) {
-      const auto img = c.label.rfind("auto, at", 0) == 0 ? ref : plan_render_rgb(c.s, c.m, size);
+      const auto img = c.label.rfind("auto, at", 0) == 0 ? ref : render::render_rgb8(c.s, c.m, size, 2);
       std::vector<float> f(img.size());
       for (std::size_t i = 0; i < img.size(); ++i) f[i] = float(img[i]) / 255.0f;
       render::write_png((out / c.file).string(), size, size, f);
-      cj.push_back({{"copy", c.label}, {"image", c.file}, {"differing_pixels", plan_differing(img, ref)}});
+      cj.push_back({{"copy", c.label}, {"image", c.file}, {"differing_pixels", render::differing_pixels(img, ref)}});
     }
     return cj;
   });

@@ -7,6 +7,7 @@
 #include "apps/report/report_doc.hpp"
 #include "apps/report/report_sections.hpp"
 #include "apps/results/stats.hpp"
+#include "bench/bench_name.hpp"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -78,15 +79,11 @@ std::string speed_section(const json& bench, json& summary) {
   std::vector<std::string> order;
   std::map<std::string, std::map<std::string, json>> rows;  // "kernel/method/case" -> variant -> median
   for (const auto& [name, b] : med) {
-    // kernel/method/variant/case
-    std::vector<std::string> p;
-    std::size_t s = 0, e;
-    while ((e = name.find('/', s)) != std::string::npos) { p.push_back(name.substr(s, e - s)); s = e + 1; }
-    p.push_back(name.substr(s));
-    if (p.size() != 4) continue;
-    const std::string k = p[0] + "/" + p[1] + "/" + p[3];
+    const auto p = bench::BenchName::parse(name);
+    if (!p) continue;
+    const std::string k = p->kernel_method() + "/" + p->kase;
     if (!rows.count(k)) order.push_back(k);
-    rows[k][p[2]] = b;
+    rows[k][p->variant] = b;
   }
   std::string md =
       "| kernel | method | case | scalar Mtests/s | rays in lanes Mtests/s | prims in lanes Mtests/s | speedup rays | speedup prims "
@@ -362,11 +359,10 @@ std::string sixteen_over_scalar(const json& bench, json& summary, std::vector<do
     // method -> case -> the better 16-lane mapping's speedup over scalar
     std::map<std::string, std::map<std::string, stats::RatioInterval>> by;
     for (const auto& [name, r] : speedup) {
-      const auto a = name.find('/'), b = name.find('/', a + 1), c = name.find('/', b + 1);
-      if (c == std::string::npos || name.substr(0, a) != kernel || !std::isfinite(r.ratio)) continue;
-      const std::string variant = name.substr(b + 1, c - b - 1);
-      if (variant != "rays_in_lanes16" && variant != "prims_in_lanes16") continue;
-      auto& slot = by[name.substr(a + 1, b - a - 1)][name.substr(c + 1)];
+      const auto p = bench::BenchName::parse(name);
+      if (!p || p->kernel != kernel || !std::isfinite(r.ratio)) continue;
+      if (p->variant != "rays_in_lanes16" && p->variant != "prims_in_lanes16") continue;
+      auto& slot = by[p->method][p->kase];
       if (!std::isfinite(slot.ratio) || r.ratio > slot.ratio) slot = r;
     }
     std::string best;
@@ -400,10 +396,10 @@ std::string simd16_section(const json& bench, json& summary, std::vector<doc::Go
   std::map<std::string, std::map<std::string, stats::RatioInterval>> best;
   std::map<std::string, std::map<std::string, std::string>> row_of;
   for (const auto& [name, r] : ratios) {
-    const auto a = name.find('/'), b = name.find('/', a + 1), c = name.find('/', b + 1);
-    if (c == std::string::npos || !std::isfinite(r.ratio)) continue;
-    auto& slot = best[name.substr(0, b)][name.substr(c + 1)];
-    if (!std::isfinite(slot.ratio) || r.ratio > slot.ratio) slot = r, row_of[name.substr(0, b)][name.substr(c + 1)] = name;
+    const auto p = bench::BenchName::parse(name);
+    if (!p || !std::isfinite(r.ratio)) continue;
+    auto& slot = best[p->kernel_method()][p->kase];
+    if (!std::isfinite(slot.ratio) || r.ratio > slot.ratio) slot = r, row_of[p->kernel_method()][p->kase] = name;
   }
   const auto counters = medians(bench);
   // A 16-lane row's operations per test (per lane) and its 8-lane row's: more at 16 lanes where an
@@ -415,8 +411,10 @@ std::string simd16_section(const json& bench, json& summary, std::vector<doc::Go
                : std::numeric_limits<double>::quiet_NaN();
   };
   auto eight_lane_name = [](const std::string& name16) {
-    const auto b = name16.find('/', name16.find('/') + 1), c = name16.find('/', b + 1);
-    return name16.substr(0, c - 2) + name16.substr(c);  // "..._lanes16/case" -> "..._lanes/case"
+    auto p = bench::BenchName::parse(name16);
+    if (!p || p->variant.size() < 2) return std::string();
+    p->variant.resize(p->variant.size() - 2);  // "rays_in_lanes16" -> "rays_in_lanes"
+    return p->str();
   };
   std::string md =
       "| kernel/method | hit | miss | half | ops/test per lane, 8 -> 16 lanes (lowest case) | >= 1.6x | why not |\n"
@@ -439,7 +437,8 @@ std::string simd16_section(const json& bench, json& summary, std::vector<doc::Go
     for (const auto& [c, r] : cases)
       if (low_case.empty() || r.ratio < cases.at(low_case).ratio) low_case = c;
     const std::string low16 = row_of[km][low_case];  // kernel/method/mapping16/case
-    const std::string mapping = low16.substr(km.size() + 1, low16.rfind('/') - km.size() - 1);
+    const auto low_parts = bench::BenchName::parse(low16);
+    const std::string mapping = low_parts ? low_parts->variant : "";
     const double ops16 = ops_of(low16), ops8 = ops_of(eight_lane_name(low16));
     const bool more_ops = ops16 > 1.05 * ops8;
     std::string measured_why;
