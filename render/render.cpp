@@ -1,5 +1,6 @@
 #include "render/render.hpp"
 
+#include "bvh/traverse.hpp"
 #include "render/optics.hpp"
 #include "tracer/parallel.hpp"
 
@@ -174,6 +175,10 @@ void Renderer::trace(Work& w, const std::vector<Ray<float>>& rays, bool any, boo
   if (secondary && to.packet == 8) octant_order(rays, w.order);
   const bool sorted = !w.order.empty();
   fill(w.soa, rays, sorted ? w.order.data() : nullptr);
+  std::uint64_t coherent = 0, groups = 0;
+  for (std::size_t i = 0; i < w.soa.size(); i += 8, ++groups) coherent += bvh::shared_octant(w.soa, i, 8);
+  (shadow ? g.shadow_groups : g.groups) += groups;
+  (shadow ? g.shadow_coherent_groups : g.coherent_groups) += coherent;
   const auto t1 = Clock::now();
   std::vector<bvh::HitRec>& out = sorted ? w.sorted_hits : w.hits;
   out.resize(w.soa.size());

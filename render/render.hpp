@@ -61,6 +61,10 @@ struct RenderOptions {
 // over threads; under MPI, this rank's own).
 struct GenerationStats {
   std::uint64_t rays = 0, hits = 0, shadow_rays = 0;
+  // Coherence: of its rays' 8-ray groups (in the order they are traced), those whose valid rays
+  // share a direction octant, which the traversal takes as one packet when the packet size is 8 or
+  // more; the same for its shadow rays.
+  std::uint64_t groups = 0, coherent_groups = 0, shadow_groups = 0, shadow_coherent_groups = 0;
   double pack_s = 0;             // rays sorted into packet order and copied into SoA (its rays and its shadow rays)
   double traverse_s = 0;         // its rays through the BVH
   double shadow_traverse_s = 0;  // its shadow rays through the BVH (every round past transmitting occluders)
@@ -69,6 +73,8 @@ struct GenerationStats {
   double seconds() const { return pack_s + traverse_s + shadow_traverse_s + shade_s + shadow_light_s; }
   void add(const GenerationStats& o) {
     rays += o.rays; hits += o.hits; shadow_rays += o.shadow_rays;
+    groups += o.groups; coherent_groups += o.coherent_groups;
+    shadow_groups += o.shadow_groups; shadow_coherent_groups += o.shadow_coherent_groups;
     pack_s += o.pack_s; traverse_s += o.traverse_s; shadow_traverse_s += o.shadow_traverse_s;
     shade_s += o.shade_s; shadow_light_s += o.shadow_light_s;
   }

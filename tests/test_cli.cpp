@@ -310,7 +310,7 @@ TEST(Cli, RenderWithoutOutputWritesSceneNameAndHainesOnlyUnderSpd) {
 // is not timed; the image is the same. Every render says where its time went, per generation.
 TEST(Cli, RenderCountsOnlyWhenAskedAndSplitsItsTime) {
   Scratch s("render-counts");
-  const std::string base = "render lecture:five_glass_balls --width 24 -r 2 --warmup 0 --min-time 0 --eye-packet 8 --secondary-packet 8 ";
+  const std::string base = "render lecture:five_glass_balls --width 32 -r 2 --warmup 0 --min-time 0 --eye-packet 8 --secondary-packet 8 ";
   Outcome r = run_in(s.dir, base + "-o a.png --json -");
   ASSERT_EQ(r.status, 0) << r.err;
   const nlohmann::json plain = r.json();
@@ -342,6 +342,15 @@ TEST(Cli, RenderCountsOnlyWhenAskedAndSplitsItsTime) {
   EXPECT_EQ(rays, plain["eye_rays"].get<std::uint64_t>() + plain["reflect_rays"].get<std::uint64_t>() + plain["refract_rays"].get<std::uint64_t>());
   EXPECT_EQ(shadow, plain["shadow_rays"].get<std::uint64_t>());
   EXPECT_EQ(ts["generations"][0]["hits"], plain["eye_hit_rays"]);
+  for (const auto& g : ts["generations"])
+    for (const char* k : {"coherent_groups", "shadow_coherent_groups"}) {
+      EXPECT_GE(g[k].get<double>(), 0.0) << k;
+      EXPECT_LE(g[k].get<double>(), 1.0) << k;
+    }
+  // 32 pixels wide: every 8-ray group of eye rays lies within one row and on one side of the centre
+  // column, and this camera has no roll (a ray's x sign follows its column, its y and z signs its
+  // row), so every group shares an octant.
+  EXPECT_EQ(ts["generations"][0]["coherent_groups"].get<double>(), 1.0);
   double parts = 0;
   for (const char* k : {"generate_ms", "pack_ms", "traverse_eye_ms", "traverse_secondary_ms", "traverse_shadow_ms", "shade_ms", "shadow_light_ms"}) {
     EXPECT_GE(ts[k].get<double>(), 0.0) << k;

@@ -164,9 +164,11 @@ std::string render_split_table(std::initializer_list<const std::vector<json>*> g
       "Thread time of the last timed render (summed over the threads), split into the eye rays made, the rays packed "
       "(sorted by octant and copied into SoA batches), the BVH by kind of ray, shading (local light, the next generation's "
       "and the shadow rays made) and the shadow rays' light; `accounted` is that sum over threads x wall time (the rest: "
-      "tiles waiting on the scheduler, clock reads). Per generation: `raybench render --json` (time_split.generations).\n\n"
+      "tiles waiting on the scheduler, clock reads). Coherent: the share of the reflection and refraction rays' 8-ray groups "
+      "(in the order they are traced) whose rays share a direction octant, which the traversal takes as one packet. Per "
+      "generation: `raybench render --json` (time_split.generations).\n\n"
       "| scene | thread ms | accounted | rays made | packed | BVH eye | BVH reflection, refraction | BVH shadow | shading | "
-      "shadow light | eye hit rate | generations |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+      "shadow light | eye hit rate | generations | generation 2 coherent |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const auto* group : groups)
     for (const auto& j : *group) {
       if (!j.contains("time_split")) continue;
@@ -175,10 +177,11 @@ std::string render_split_table(std::initializer_list<const std::vector<json>*> g
       if (!(total > 0)) continue;
       auto pc = [&](const char* key) { return fmt::format("{:.1f} %", 100.0 * ts[key].get<double>() / total); };
       const json& g = ts["generations"];
-      md += fmt::format("| {} | {:.1f} | {:.0f} % | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", j["scene"].get<std::string>(), total,
+      md += fmt::format("| {} | {:.1f} | {:.0f} % | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", j["scene"].get<std::string>(), total,
                         100.0 * total / (std::max(1, j["threads"].get<int>()) * ts["render_ms"].get<double>()), pc("generate_ms"), pc("pack_ms"),
                         pc("traverse_eye_ms"), pc("traverse_secondary_ms"), pc("traverse_shadow_ms"), pc("shade_ms"), pc("shadow_light_ms"),
-                        g.empty() ? "-" : fmt::format("{:.1f} %", 100.0 * g[0]["hit_rate"].get<double>()), g.size());
+                        g.empty() ? "-" : fmt::format("{:.1f} %", 100.0 * g[0]["hit_rate"].get<double>()), g.size(),
+                        g.size() < 2 || !g[1].contains("coherent_groups") ? "-" : fmt::format("{:.1f} %", 100.0 * g[1]["coherent_groups"].get<double>()));
     }
   return md;
 }
