@@ -1,6 +1,7 @@
 // `raybench trace SCENE`: trace a whole scene with the BVH, beside Embree on the same rays.
 #include "apps/cli.hpp"
 #include "apps/commands.hpp"
+#include "apps/rays_alone.hpp"
 #include "apps/results/machine.hpp"
 #include "apps/trace_run.hpp"
 
@@ -10,7 +11,27 @@
 
 namespace rb::app {
 
-int run_trace_command(const TraceRunOptions& opt, const JsonOut& out) {
+namespace {
+
+// `trace SCENE --rays FILE`: a ray file's sections traced alone, each with its packet size and query.
+int run_trace_file_command(const TraceRunOptions& o, const std::string& model, const JsonOut& out, const std::string& warn) {
+  std::cerr << fmt::format("raybench trace {}: the rays of {}, {} thread(s) of {} hardware threads, {} timed repetition(s)\n", o.scene,
+                           o.ray_set, o.threads, hardware_threads(), o.repetitions);
+  if (!warn.empty()) std::cerr << wrap_words(warn);
+  nlohmann::json j;
+  try {
+    j = run_trace_file(o.scene, o.ray_set, model, o.threads, o.repetitions, o.min_time, true);
+  } catch (const std::exception& e) {
+    std::cerr << error_line("trace", o.scene, e.what()) << "\n";
+    return kExitError;
+  }
+  j["machine"] = machine().json();
+  return write_result("trace", out, [&] { return trace_file_text(j); }, [&] { return j; }, "the trace result");
+}
+
+}  // namespace
+
+int run_trace_command(const TraceRunOptions& opt, const JsonOut& out, bool model_given) {
   TraceRunOptions o = opt;
   if (!is_generated_scene(o.scene))
     if (const std::string why = check_input_file(o.scene); !why.empty()) {
@@ -19,6 +40,7 @@ int run_trace_command(const TraceRunOptions& opt, const JsonOut& out) {
     }
   std::string warn;
   o.threads = resolve_threads(o.threads, &warn);
+  if (!tracer::is_ray_set_name(o.ray_set)) return run_trace_file_command(o, model_given ? o.model : "", out, warn);
   std::cerr << fmt::format("raybench trace {}: {} rays, {} thread(s) of {} hardware threads, {} warm-up + {} timed run(s) per engine\n",
                            o.scene, o.ray_set, o.threads, hardware_threads(), o.warmup, o.repetitions);
   if (!warn.empty()) std::cerr << wrap_words(warn);

@@ -46,7 +46,8 @@ struct HistoryOptions {
 int run_info_command(const std::string& scene, const JsonOut& out);
 // `raybench info SCENE --dump-json [FILE|-]`: the scene in the JSON scene format (cmd_info.cpp).
 int run_dump_scene_command(const std::string& scene, const std::string& file);               // cmd_info.cpp:  raybench info SCENE
-int run_trace_command(const TraceRunOptions& o, const JsonOut& out);              // cmd_trace.cpp: raybench trace SCENE
+// `model_given`: --model was on the command line (a ray file otherwise brings its own)
+int run_trace_command(const TraceRunOptions& o, const JsonOut& out, bool model_given = true);  // cmd_trace.cpp: raybench trace SCENE
 int run_render_command(const RenderRunOptions& o, const JsonOut& out);            // cmd_render.cpp: raybench render SCENE
 int run_accuracy_command(const acc::Options& o, bool list, const JsonOut& out);   // cmd_accuracy.cpp: raybench accuracy
 int run_csg_command(int repetitions, std::size_t rays, bool markdown, const std::string& filter, const JsonOut& out);  // report_csg.cpp: raybench csg

@@ -22,6 +22,10 @@ struct RenderRunOptions {
   int warmup = 0;               // untimed renders before the timed ones (the command line: 1)
   int repetitions = 1;          // timed renders; the median is quoted (the command line: 5)
   double min_time = 0;          // seconds a timed repetition lasts at least: renders repeated within it (the command line: 0.1)
+  // One more render, untimed, keeps the rays it traces: written to `rays_out` ("": not written) and,
+  // with `trace_alone`, traced alone (apps/rays_alone.hpp) as often as the render was timed.
+  std::string rays_out;
+  bool trace_alone = false;     // (the command line: on; --no-trace-alone)
 };
 
 }  // namespace rb::app

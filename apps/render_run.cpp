@@ -4,6 +4,7 @@
 
 #include "apps/cli.hpp"
 #include "apps/progress.hpp"
+#include "apps/rays_alone.hpp"
 #include "apps/results/stats.hpp"
 #include "tracer/parallel.hpp"
 #include "scene/sources.hpp"
@@ -86,6 +87,7 @@ struct RenderTimes {
   render::RenderStats st;
   json trial_rows = json::array();
   json machine_load;
+  json alone;  // the render's rays traced alone (o.trace_alone), null otherwise
   int trials = 0;
   int ranks = 1;
   bool rank0 = true;
@@ -125,7 +127,9 @@ RenderTimes time_renders(const RenderRunOptions& o, const scene::Scene& s, const
   const bool count = ro.count_tests;
   ro.count_tests = false;
   const int warmup = std::max(0, o.warmup), untimed = warmup + trials;
-  const int timed_end = untimed + std::max(1, o.repetitions), runs = timed_end + (count ? 1 : 0);
+  // Keeping the rays needs every tile in this process.
+  const bool keep = (o.trace_alone || !o.rays_out.empty()) && out.ranks == 1;
+  const int timed_end = untimed + std::max(1, o.repetitions), runs = timed_end + (count ? 1 : 0) + (keep ? 2 : 0);
   int run = 0;
   auto progress = [&](std::size_t done, std::size_t total) {
     bar.update((double(run) + double(done) / double(std::max<std::size_t>(1, total))) / double(runs));
@@ -165,6 +169,24 @@ RenderTimes time_renders(const RenderRunOptions& o, const scene::Scene& s, const
   if (count) {
     ro.count_tests = true;
     out.st.cost = render_once().cost;
+  }
+  if (keep) {
+    ++run;
+    ro.keep_rays = true;
+    const render::RenderStats kept = render_once();
+    ro.keep_rays = false;
+    tracer::RayFile f = render::Renderer(s, accel, ro).kept_rays(kept);
+    f.scene = o.scene;
+    f.model = o.model;
+    f.origin = accel.plan().origin;
+    if (!o.rays_out.empty()) tracer::write_ray_file(o.rays_out, f);
+    ++run;
+    if (o.trace_alone) {
+      out.alone = trace_rays_alone(accel, f, o.threads, o.repetitions, o.min_time, [&](double x) { progress(std::size_t(1e3 * x), 1000); });
+      // The render's rate over the rate of the same rays traced alone, counted as the render counts
+      // them: the traced-alone seconds over the render's, a ratio of medians with its interval.
+      out.alone["render_over_alone"] = stats::interval_json(stats::unpaired_ratio(out.alone["seconds"].get<std::vector<double>>(), out.trace_seconds));
+    }
   }
   out.machine_load = watch.json();
   bar.done();
@@ -284,6 +306,9 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
          {"cv", std::isfinite(spread.cv) ? json(spread.cv) : json(nullptr)},
          {"machine_load", rt.machine_load}};
   j["time_split"] = time_split(st);
+  if (!o.rays_out.empty() && rt.ranks == 1) j["rays_file"] = o.rays_out;
+  if (!rt.alone.is_null()) j["alone"] = rt.alone;
+  else if (o.trace_alone) j["alone"] = {{"skipped", "under MPI a rank renders only its own tiles"}};
   j["time_split"]["render_ms"] = 1e3 * rt.trace_seconds.back();  // the render the split is of: the last timed one
   if (!o.out.empty()) j["image"] = o.out;
   if (const auto f = haines_figures(spd_name(o.scene))) {
@@ -388,6 +413,16 @@ std::string render_text(const json& j) {
                      j["trace_ms_min"].get<double>(), j["trace_ms_max"].get<double>(),
                      j["cv"].is_null() ? "" : fmt::format(", CV {:.1f} %", 100 * j["cv"].get<double>()));
   if (j.contains("time_split")) t += time_split_text(j["time_split"], j["threads"].get<int>());
+  if (j.contains("alone") && j["alone"].contains("ms")) {
+    const json& a = j["alone"];
+    t += wrap_words(fmt::format("the same rays traced alone: {} rays in {} sections (every generation's rays and shadow rays, "
+                                "with the render's packets), {:.1f} ms per pass, {:.2f} Mrays/s; render / alone {} (the time "
+                                "tracing alone takes over the render's time: 1 would be a render that only traces)",
+                                a["rays"].get<std::size_t>(), a["sections"].size(), a["ms"].get<double>(), a["mrays_per_s"].get<double>(),
+                                stats::interval_text(stats::interval_from_json(a["render_over_alone"]))),
+                    80, "  ");
+  }
+  if (j.contains("rays_file")) t += fmt::format("wrote the rays traced to {}\n", j["rays_file"].get<std::string>());
   if (j.contains("machine_load")) t += wrap_words("      machine: " + load_text(j["machine_load"]), 80, "      ");
   if (j.contains("image")) {
     const std::string image = j["image"].get<std::string>();

@@ -179,6 +179,10 @@ void Renderer::trace(Work& w, const std::vector<Ray<float>>& rays, bool any, boo
   for (std::size_t i = 0; i < w.soa.size(); i += 8, ++groups) coherent += bvh::shared_octant(w.soa, i, 8);
   (shadow ? g.shadow_groups : g.groups) += groups;
   (shadow ? g.shadow_coherent_groups : g.coherent_groups) += coherent;
+  if (o_.keep_rays) {
+    std::vector<Ray<float>>& kept = shadow ? g.kept_shadow : g.kept;
+    for (std::size_t i = 0; i < w.soa.count; ++i) kept.push_back(w.soa.get(i));
+  }
   const auto t1 = Clock::now();
   std::vector<bvh::HitRec>& out = sorted ? w.sorted_hits : w.hits;
   out.resize(w.soa.size());
@@ -331,6 +335,19 @@ void Renderer::render_tile(std::size_t t, float* samples, RenderStats& st) const
     w.rays.swap(w.next_rays);
     w.path.swap(w.next_path);
   }
+}
+
+tracer::RayFile Renderer::kept_rays(const RenderStats& st) const {
+  tracer::RayFile f;
+  const int secondary = o_.secondary_packet == 8 ? 8 : 1;
+  for (std::size_t g = 0; g < st.generations.size(); ++g) {
+    const GenerationStats& x = st.generations[g];
+    tracer::RaySection rays{g == 0 ? "eye" : "secondary", int(g + 1), false, g == 0 ? o_.eye_packet : secondary, x.kept};
+    tracer::RaySection shadow{"shadow", int(g + 1), !transparent_, secondary, x.kept_shadow};
+    for (auto* s : {&rays, &shadow})
+      if (!s->rays.empty()) f.sections.push_back(std::move(*s));
+  }
+  return f;
 }
 
 std::vector<float> Renderer::resolve(const std::vector<float>& samples) const {

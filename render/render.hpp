@@ -24,6 +24,7 @@
 #include "scene/camera.hpp"
 #include "scene/scene.hpp"
 #include "tracer/accel.hpp"
+#include "tracer/ray_file.hpp"
 
 #include <cstdint>
 #include <functional>
@@ -54,6 +55,9 @@ struct RenderOptions {
   // Eye rays: rays per packet (1, 8, 16 or 64; a tile's rows of neighbouring pixels, so a
   // 64-ray packet is a 16x4 block of the image traced with a frustum test of the node's children).
   int eye_packet = 64;
+  // Keep every ray traced, per generation and in the order traced (GenerationStats::kept): what
+  // `raybench render --rays-out` writes and what the render's same-rays figure traces alone.
+  bool keep_rays = false;
 };
 
 // One generation of a render's rays (0: the eye rays; 1: their reflection and refraction rays; ...):
@@ -70,6 +74,9 @@ struct GenerationStats {
   double shadow_traverse_s = 0;  // its shadow rays through the BVH (every round past transmitting occluders)
   double shade_s = 0;            // RT_shade: local light, the next generation's rays and the shadow rays made
   double shadow_light_s = 0;     // the shadow rays' light added, rays past transmitting occluders made
+  // With RenderOptions::keep_rays: its rays and its shadow rays (every round past transmitting
+  // occluders included) as traced, tile after tile.
+  std::vector<Ray<float>> kept, kept_shadow;
   double seconds() const { return pack_s + traverse_s + shadow_traverse_s + shade_s + shadow_light_s; }
   void add(const GenerationStats& o) {
     rays += o.rays; hits += o.hits; shadow_rays += o.shadow_rays;
@@ -77,6 +84,8 @@ struct GenerationStats {
     shadow_groups += o.shadow_groups; shadow_coherent_groups += o.shadow_coherent_groups;
     pack_s += o.pack_s; traverse_s += o.traverse_s; shadow_traverse_s += o.shadow_traverse_s;
     shade_s += o.shade_s; shadow_light_s += o.shadow_light_s;
+    kept.insert(kept.end(), o.kept.begin(), o.kept.end());
+    kept_shadow.insert(kept_shadow.end(), o.kept_shadow.begin(), o.kept_shadow.end());
   }
 };
 
@@ -125,6 +134,9 @@ class Renderer {
   std::vector<float> resolve(const std::vector<float>& samples) const;
 
   const RenderOptions& options() const { return o_; }
+  // The rays a render kept (RenderOptions::keep_rays) as a ray file's sections, each with the query
+  // and packet size it was traced with (scene, model and origin left to the caller).
+  tracer::RayFile kept_rays(const RenderStats& st) const;
 
   struct Work;  // a tile's rays and payloads (render.cpp)
 

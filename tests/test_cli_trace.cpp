@@ -122,4 +122,53 @@ TEST(Cli, TraceComparesWithEmbreesBestModeAndEmbreesTree) {
   EXPECT_LE(widest(r.out), 80u) << r.out;
 }
 
+// A render's own rays: `render --rays-out` writes them, `trace --rays FILE` traces them alone, each
+// section with the render's packet size and query, and meets what the render met; the render's JSON
+// gives the same rays traced alone with render / alone (their time over the render's).
+TEST(Cli, RenderRaysTracedAloneByTrace) {
+  Scratch s("trace-rays");
+  const Outcome r = run_in(s.dir, "render lecture:nine_red_balls --width 32 -r 2 --warmup 0 --min-time 0 --eye-packet 16 "
+                                  "--secondary-packet 8 -o a.png --rays-out a.rays --json r.json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json rj = nlohmann::json::parse(slurp(s / "r.json"));
+  const auto& alone = rj["alone"];
+  ASSERT_TRUE(alone.contains("sections")) << alone;
+  EXPECT_EQ(alone["seconds"].size(), 2u);
+  EXPECT_TRUE(alone["render_over_alone"]["ratio"].is_number()) << alone;
+  EXPECT_GT(alone["render_over_alone"]["ratio"].get<double>(), 0.0);
+  EXPECT_EQ(rj["rays_file"], "a.rays");
+  const Outcome t = run_in(s.dir, "trace lecture:nine_red_balls --rays a.rays -r 2 --min-time 0 --json t.json");
+  ASSERT_EQ(t.status, 0) << t.err;
+  const nlohmann::json tj = nlohmann::json::parse(slurp(s / "t.json"));
+  EXPECT_EQ(tj["model"], "auto");
+  EXPECT_FALSE(tj["moved_frame"].get<bool>());
+  EXPECT_EQ(tj["rays"], alone["rays"]);
+  ASSERT_EQ(tj["sections"].size(), alone["sections"].size());
+  const auto& gens = rj["time_split"]["generations"];
+  std::uint64_t shadow = 0;
+  for (std::size_t i = 0; i < tj["sections"].size(); ++i) {
+    const auto& sec = tj["sections"][i];
+    EXPECT_EQ(sec["hits"], alone["sections"][i]["hits"]);
+    const auto& g = gens.at(sec["generation"].get<std::size_t>() - 1);
+    if (sec["kind"] == "shadow") {
+      EXPECT_EQ(sec["query"], "any") << "nine red balls are opaque";
+      EXPECT_EQ(sec["packet"], 8);
+      shadow += sec["rays"].get<std::uint64_t>();
+      continue;
+    }
+    EXPECT_EQ(sec["packet"], sec["kind"] == "eye" ? 16 : 8);
+    EXPECT_EQ(sec["rays"], g["rays"]);
+    EXPECT_EQ(sec["hits"], g["hits"]);
+  }
+  EXPECT_EQ(shadow, rj["shadow_rays"].get<std::uint64_t>());
+  // Errors: a misspelt ray set, a file that is not a ray file.
+  std::ofstream(s / "not.rays") << "hello\n";
+  const Outcome bad = run_in(s.dir, "trace lecture:nine_red_balls --rays not.rays");
+  EXPECT_EQ(bad.status, 1);
+  EXPECT_TRUE(has(bad.err, "not.rays: line 1: not a ray file")) << bad.err;
+  const Outcome typo = run_in(s.dir, "trace lecture:nine_red_balls --rays primry");
+  EXPECT_NE(typo.status, 0);
+  EXPECT_TRUE(has(typo.err, "did you mean 'primary'")) << typo.err;
+}
+
 }  // namespace

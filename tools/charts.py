@@ -170,6 +170,49 @@ def trace_matrix(out, summary):
     plt.close(fig)
 
 
+def render_speed(out, summary):
+    """Per scene: the render's rate over primary-ray tracing and over its own rays traced alone, with
+    their 95 % intervals as error bars and the two goals (0.5 and 0.8) as lines."""
+    rows = [r for r in summary.get("render", []) if r.get("render_over_primary")]
+    if not rows:
+        return
+    names = [r["scene"] for r in rows][::-1]
+    by = {r["scene"]: r for r in rows}
+
+    def series(get):
+        v, lo, hi = [], [], []
+        for n in names:
+            iv = get(by[n]) or {}
+            x = iv.get("ratio")
+            v.append(x if x is not None else 0)
+            a, b = iv.get("lo"), iv.get("hi")
+            lo.append(max(x - a, 0) if x is not None and a is not None else 0)
+            hi.append(max(b - x, 0) if x is not None and b is not None else 0)
+        return v, [lo, hi]
+
+    prim, prim_err = series(lambda r: r.get("render_over_primary"))
+    alone, alone_err = series(lambda r: r.get("alone", {}).get("render_over_alone"))
+    fig, ax = plt.subplots(figsize=(8.5, 1.2 + 0.32 * len(names)))
+    h = 0.38
+    y = range(len(names))
+    bars = dict(ecolor="0.2", capsize=1.5, error_kw=dict(lw=0.6))
+    ax.barh([i + h / 2 for i in y], alone, h, xerr=alone_err, label="render / its own rays traced alone", color="tab:blue", **bars)
+    ax.barh([i - h / 2 for i in y], prim, h, xerr=prim_err, label="render / primary-ray tracing", color="tab:orange", **bars)
+    ax.axvline(0.8, color="tab:blue", lw=0.8, ls="--", label="0.8 goal (overhead under 20 %)")
+    ax.axvline(0.5, color="tab:orange", lw=0.8, ls="--", label="0.5 goal")
+    ax.set_yticks(list(y))
+    ax.set_yticklabels(names, fontsize=8)
+    ax.set_ylim(-0.6, len(names) - 0.4)
+    ax.set_xlabel("rate per ray, ratio of medians (error bar: 95 % interval)")
+    ax.grid(axis="x", lw=0.3)
+    ax.legend(fontsize=7, loc="lower right")
+    m = summary["machine"]
+    ax.set_title(f"Rendering speed: {m['cpu']}, git {m['git']}", fontsize=9)
+    fig.tight_layout()
+    atomic_save.savefig(fig, os.path.join(out, "render_speed.png"), dpi=100)
+    plt.close(fig)
+
+
 def main():
     out = sys.argv[1] if len(sys.argv) > 1 else "report"
     with open(os.path.join(out, "summary.json")) as f:
@@ -178,6 +221,7 @@ def main():
     trace_scaling(out, summary)
     trace_matrix(out, summary)
     plan_models(out, summary)
+    render_speed(out, summary)
 
 
 if __name__ == "__main__":

@@ -28,6 +28,12 @@ RaySet parse_ray_set(const std::string& s) {
   throw std::invalid_argument("unknown ray set '" + s + "' (primary, shadow, diffuse, random)");
 }
 
+bool is_ray_set_name(const std::string& s) {
+  for (const char* n : kRaySetNames)
+    if (s == n) return true;
+  return false;
+}
+
 namespace {
 Vec3d unit(Vec3d a) { return a * (1.0 / std::sqrt(dot(a, a))); }
 }  // namespace

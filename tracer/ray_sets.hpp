@@ -32,6 +32,8 @@ namespace rb::tracer {
 enum class RaySet { primary, shadow, diffuse, random };
 const char* ray_set_name(RaySet s);
 RaySet parse_ray_set(const std::string& s);  // throws std::invalid_argument
+bool is_ray_set_name(const std::string& s);
+inline const char* const kRaySetNames[] = {"primary", "shadow", "diffuse", "random"};
 
 struct RaySetInfo {
   std::string camera;  // "scene" or "stated"

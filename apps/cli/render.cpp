@@ -13,6 +13,7 @@ class RenderCommand final : public Command {
     rdo.warmup = 1;
     rdo.repetitions = 5;  // 4 or more on each side let `compare`'s U test reach p < 0.05
     rdo.min_time = 0.1;
+    rdo.trace_alone = true;
     positional("scene", rdo.scene, "A scene, as `raybench info` takes it");
     output("-o,--out", rdo.out, "PNG file to write (default: SCENE.png in the\ncurrent folder; '-': stdout, the table then to\nstderr)");
     sub_->add_option("--width", rdo.width, "Image width in pixels (default 512, or the\nscene camera's resolution)")->check(CLI::Range(1, 16384));
@@ -42,6 +43,12 @@ class RenderCommand final : public Command {
     sub_->add_option("--min-time", rdo.min_time, "Seconds a timed repetition lasts at least: the\nimage rendered that many times over (the\nfigures are per render)")
         ->check(CLI::Range(0.0, 10.0))
         ->capture_default_str();
+    output("--rays-out", rdo.rays_out,
+           "Write the rays one more render traces (each\ngeneration's rays and shadow rays, as traced)\nto FILE, "
+           "for `raybench trace SCENE --rays FILE`");
+    sub_->add_flag("!--no-trace-alone", rdo.trace_alone,
+                   "Skip tracing the render's own rays alone (by\ndefault they are, after one more render, as\noften as the "
+                   "render was timed: the share of\nthe render that is tracing)");
     json_option("Write the result as JSON to FILE\n(no FILE: stdout instead of the summary)");
     history_option();
     sub_->footer(
@@ -49,7 +56,8 @@ class RenderCommand final : public Command {
         "reflection, Snell refraction. Writes the image (SCENE.png in the current folder\n"
         "without -o) and prints rays by kind, box and primitive tests by kind (--counts),\n"
         "Mrays/s (median of the timed renders, with range and CV) and where the time\n"
-        "went: rays made and packed, the BVH by kind of ray, shading, per generation.\n"
+        "went: rays made and packed, the BVH by kind of ray, shading, per generation,\n"
+        "and the same rays traced alone (the render's overhead over its tracing).\n"
         "--spd follows Haines' SPD protocol (513 x 513 corner rays averaged, depth 5,\n"
         "one-sided opaque surfaces but the teapot's) and shows his published counts\n"
         "beside ours. Under `mpirun -n N` the tiles are split across the ranks.");

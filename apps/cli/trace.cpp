@@ -1,16 +1,35 @@
 // `raybench trace`: trace a scene through the BVH beside Embree.
 #include "apps/cli/command.hpp"
 #include "apps/trace_options.hpp"
+#include "core/suggest.hpp"
+#include "tracer/ray_sets.hpp"
+
+#include <filesystem>
 
 namespace rb::app::cli {
 namespace {
+
+// A ray set's name, or a file (read, and told apart from a misspelt name, when the run starts).
+CLI::Validator ray_set_or_file() {
+  const std::vector<std::string> names(std::begin(tracer::kRaySetNames), std::end(tracer::kRaySetNames));
+  return CLI::Validator(
+      [names](std::string& s) -> std::string {
+        if (std::find(names.begin(), names.end(), s) != names.end() || std::filesystem::is_regular_file(s)) return "";
+        return "'" + s + "' is not one of primary,shadow,diffuse,random nor a ray file" + rb::did_you_mean(s, names);
+      },
+      "{primary,shadow,diffuse,random}|FILE");
+}
 
 class TraceCommand final : public Command {
   TraceRunOptions to;
  public:
   explicit TraceCommand(CLI::App& root) : Command(root, "trace", "Trace a scene through the BVH beside Embree") {
     positional("scene", to.scene, "A scene, as `raybench info` takes it");
-    sub_->add_option("--rays", to.ray_set, "Ray set")->check(one_of({"primary", "shadow", "diffuse", "random"}))->capture_default_str();
+    sub_->add_option("--rays", to.ray_set,
+                     "Ray set: primary, shadow, diffuse or random, or\na ray file (`raybench render --rays-out FILE`):\n"
+                     "its rays traced alone, each section with the\npacket size and query the render used")
+        ->check(ray_set_or_file())
+        ->capture_default_str();
     sub_->add_option("--threads", to.threads, "Threads for tracing and both builds\n(0: every hardware thread)")
         ->check(CLI::Range(0, 256))->capture_default_str();
     sub_->add_option("--packet", to.packet, "Rays per packet: 1 (single rays), 8, 16,\n64 or 256 (coherent packets)")
@@ -61,7 +80,7 @@ class TraceCommand final : public Command {
   int run(Context& c) override {
     if (!open_history(c)) return kExitError;
     const JsonOut out = recorded_json_out(c);
-    return run_trace_command(to, out);
+    return run_trace_command(to, out, sub_->get_option("--model")->count() > 0);
   }
 };
 

@@ -77,6 +77,13 @@ std::vector<doc::Goal> report_goals(const std::vector<doc::Goal>& simd, const js
                  fmt::format("met on {} of {} scenes, not met on {}, undecided on {}", met, n, no, und),
                  doc::goal_over(std::size_t(n), std::size_t(met), std::size_t(no)), "render_spd_balls.png"});
   }
+  if (summary.contains("render_goal_alone")) {
+    const auto& r = summary["render_goal_alone"];
+    const int met = r["met"].get<int>(), n = r["scenes"].get<int>(), no = r["not_met"].get<int>();
+    g.push_back({"Rendering", "each render at least 0.8x the rate of its own rays traced alone (overhead under 20 %), every scene",
+                 fmt::format("met on {} of {} scenes, not met on {}, undecided on {}", met, n, no, r["undecided"].get<int>()),
+                 doc::goal_over(std::size_t(n), std::size_t(met), std::size_t(no)), "render_speed.png"});
+  }
   if (summary.contains("plan") && summary["plan"].contains("auto_speed_goal")) {
     // Met on every mesh it applies to, not met on one, undecided otherwise.
     const json& a = summary["plan"]["auto_speed_goal"];

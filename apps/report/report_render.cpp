@@ -157,6 +157,43 @@ std::string render_time_table(int threads, std::initializer_list<const std::vect
   return md;
 }
 
+// Each render against the same rays traced alone (`raybench render --json`: alone): the render's
+// overhead over its tracing, and the goal that it stays under 20 % (render / alone >= 0.8, its
+// verdict in `summary`).
+std::string render_alone_table(std::initializer_list<const std::vector<json>*> groups, json& summary) {
+  std::string md =
+      "\n### The render against its own rays traced alone\n\n"
+      "One more render, untimed, keeps every ray it traces (each generation's rays and shadow rays, in the order and the "
+      "packets it traced them, shadow rays past transmitting occluders included); then those rays are traced alone, section "
+      "by section with the render's packet size and query and nothing else (no ray making, packing or shading), as often and "
+      "as long as the render was timed (`raybench render SCENE --rays-out FILE`, then `raybench trace SCENE --rays FILE`, "
+      "does the same from a file). render / alone is the time tracing alone takes over the render's time (the render's rate "
+      "over the rate of its own rays traced alone, both counted as the render counts them), with the 95 % interval of the two "
+      "samples measured apart; 1 would be a render that does nothing but trace.\n\n"
+      "| scene | render ms | rays traced alone | alone ms | alone Mrays/s | render / alone | >= 0.8 |\n|---|---:|---:|---:|---:|---:|---|\n";
+  int met = 0, below = 0, undecided = 0, all = 0;
+  for (const auto* group : groups)
+    for (const auto& j : *group) {
+      if (!j.contains("alone") || !j["alone"].contains("ms")) continue;
+      const json& a = j["alone"];
+      const stats::RatioInterval r = stats::interval_from_json(a["render_over_alone"]);
+      int verdict = doc::kGoalNotMeasured;
+      if (r.valid()) verdict = r.lo >= 0.8 ? doc::kGoalMet : r.hi < 0.8 ? doc::kGoalNotMet : doc::kGoalUndecided;
+      else if (std::isfinite(r.ratio)) verdict = doc::kGoalUndecided;
+      if (verdict != doc::kGoalNotMeasured) ++all;
+      met += verdict == doc::kGoalMet, below += verdict == doc::kGoalNotMet, undecided += verdict == doc::kGoalUndecided;
+      md += fmt::format("| {} | {:.1f} | {} | {:.1f} | {:.2f} | {} | {} |\n", j["scene"].get<std::string>(), j["trace_ms"].get<double>(),
+                        u(a["rays"]), a["ms"].get<double>(), a["mrays_per_s"].get<double>(),
+                        r.valid() ? stats::interval_text(r) : std::isfinite(r.ratio) ? fmt::format("{:.2f}", r.ratio) : "-",
+                        doc::goal_cell(verdict));
+    }
+  md += fmt::format("\nGoal: each render at least 0.8x the rate of its own rays traced alone (its overhead over tracing under "
+                    "20 %): met on {} of {} scenes, not met on {}, undecided on {}.\n\n"
+                    "![render / primary and render / alone per scene](render_speed.png)\n", met, all, below, undecided);
+  summary["render_goal_alone"] = {{"met", met}, {"not_met", below}, {"undecided", undecided}, {"scenes", all}};
+  return md;
+}
+
 // Where each render's time went (`raybench render --json`: time_split), as shares of its thread time.
 std::string render_split_table(std::initializer_list<const std::vector<json>*> groups) {
   std::string md =
@@ -224,6 +261,7 @@ std::string report_section_render(const ReportOptions& o, Record& rec, const fs:
     ro.count_tests = true;  // the tables' test counts, from one more render (untimed)
     ro.repetitions = 5;     // the ratio to primary tracing gets its interval from 5 against 5
     ro.min_time = 0.1;
+    ro.trace_alone = true;  // its own rays traced alone, as often as the render was timed
     if (o.quick) {  // the layout only: one render, the usual packet sizes, no trials
       ro.repetitions = 1;
       ro.min_time = 0;
@@ -252,6 +290,7 @@ std::string report_section_render(const ReportOptions& o, Record& rec, const fs:
   auto render_one = [&](const std::string& src, bool spd, const std::string& png) {
     std::cerr << fmt::format("[report render {}/{}] {}\n", ++step, total, src);
     json j = rec.take("render/" + src, [&] { return measure_one(src, spd, png); });
+    j["render_over_primary"] = stats::interval_json(render_over_primary(j));  // for the chart
     rows.push_back(j);
     return j;
   };
@@ -267,6 +306,7 @@ std::string report_section_render(const ReportOptions& o, Record& rec, const fs:
 
   md += render_spd_tables(spd);
   md += render_time_table(threads, {&spd, &lect, &csgs}, summary);
+  md += render_alone_table({&spd, &lect, &csgs}, summary);
   md += render_split_table({&spd, &lect, &csgs});
   std::vector<const json*> rows_lc;
   md += "\n### The lecture's scenes and the CSG scenes\n\n512 x 512, one ray per pixel centre, depth 5, two-sided surfaces.\n\n| scene | eye hits | "
