@@ -28,6 +28,10 @@ struct TraceRunOptions {
   // separates the tree's share of the gap to Embree from the kernel's (the SAH tree is then
   // timed beside it in the same run).
   std::string builder = "sah";
+  // The rays' order: "given" (the ray set's), or "sorted": each pass first sorts them into coherent
+  // groups (tracer/ray_order.hpp) and puts the hits back in the given order, both inside the timed
+  // pass; Embree then traces both orders, each mode sorting in its own pass.
+  std::string order = "given";
 };
 
 }  // namespace rb::app

@@ -5,9 +5,11 @@
 #include "apps/cli.hpp"
 #include "apps/progress.hpp"
 #include "apps/results/stats.hpp"
+#include "apps/trace_protocol.hpp"
 #include "core/median.hpp"
 #include "bench/embree_build.hpp"
 #include "scene/sources.hpp"
+#include "tracer/ray_order.hpp"
 
 #include <fmt/format.h>
 
@@ -112,77 +114,6 @@ json TraceSession::build_json() const {
 
 namespace {
 
-// An engine a trace run times: a tracer over the run's rays and where its hits go.
-struct Engine {
-  trace::Tracer trace;
-  std::vector<bvh::HitRec>* out;
-};
-
-// What the timing protocol measured, in seconds per pass over the ray set.
-struct Timings {
-  std::vector<double> warm_ours;                // the warm-up runs of raybench
-  std::vector<std::vector<double>> warm_modes;  // and of each Embree mode
-  int passes = 1;                               // passes per timed repetition
-  std::vector<double> ours, sah;                // raybench, and the SAH tree beside another builder's
-  std::vector<std::vector<double>> modes;       // each Embree mode (empty: left out of the rounds)
-};
-
-// The timing protocol of `raybench trace` (docs/DESIGN.md, command-line conventions): warm-up until
-// stable, passes for --min-time, Embree's clearly slower modes left out, then the engines alternating
-// repetition by repetition.
-Timings time_engines(trace::ThreadScope& ts, std::size_t n, const Engine& ours, const Engine* sah, const std::vector<Engine>& modes,
-                     const TraceRunOptions& o, ProgressBar& bar) {
-  const std::size_t tile = 256;  // a multiple of every packet and stream size
-  // Seconds per pass over the ray set, of `passes` passes in a row.
-  auto per_pass = [&](const Engine& e, int passes) {
-    double sum = 0;
-    for (const double x : trace::time_runs(ts, e.trace, n, *e.out, passes, tile)) sum += x;
-    return sum / passes;
-  };
-  Timings t;
-  t.warm_modes.resize(modes.size());
-  t.modes.resize(modes.size());
-  // 1. Warm-up until stable (caches, page faults, the thread pool's start, the clock's boost): the
-  // engines alternate run by run, for at least --warmup rounds and on while ours or Embree's fastest
-  // mode still moved by more than kSettled from its previous run (at most kMaxWarmup rounds).
-  constexpr double kSettled = 0.05;
-  constexpr int kMaxWarmup = 6;
-  auto moved = [&](const std::vector<double>& v) { return v.size() < 2 || std::fabs(v.back() / v[v.size() - 2] - 1) > kSettled; };
-  for (int w = 0; w < std::max(kMaxWarmup, o.warmup); ++w) {
-    t.warm_ours.push_back(per_pass(ours, 1));
-    if (sah) per_pass(*sah, 1);
-    std::size_t fastest = 0;
-    for (std::size_t m = 0; m < modes.size(); ++m) {
-      t.warm_modes[m].push_back(per_pass(modes[m], 1));
-      if (t.warm_modes[m].back() < t.warm_modes[fastest].back()) fastest = m;
-    }
-    bar.update(0.1 * double(w + 1) / std::max(kMaxWarmup, o.warmup));
-    if (w + 1 >= std::max(1, o.warmup) && !moved(t.warm_ours) && (modes.empty() || !moved(t.warm_modes[fastest]))) break;
-  }
-  // 2. Passes per repetition: enough for ours to last --min-time by its last warm-up run (more passes,
-  // never fewer rays); every engine makes the same passes. At most 10^4 (a pass of under 10 us is a
-  // handful of rays; no rays at all: one pass).
-  t.passes = n == 0 ? 1 : int(std::clamp(std::ceil(o.min_time / std::max(t.warm_ours.back(), 1e-9)), 1.0, 1e4));
-  // 3. Embree's modes in the timed rounds: the fastest in the warm-up and every mode within
-  // kModeSpread of it (the others are clearly slower: their warm-up figures are kept in the JSON).
-  constexpr double kModeSpread = 1.10;
-  std::vector<std::size_t> timed;
-  double best = std::numeric_limits<double>::infinity();
-  for (const auto& wm : t.warm_modes) best = std::min(best, wm.back());
-  for (std::size_t m = 0; m < modes.size(); ++m)
-    if (t.warm_modes[m].back() <= kModeSpread * best) timed.push_back(m);
-  // 4. The timed rounds: the engines alternate repetition by repetition (raybench, the SAH tree when
-  // another builder's tree is traced, then each timed Embree mode), so that a change in the
-  // machine's load falls on all alike.
-  for (int r = 0; r < o.repetitions; ++r) {
-    t.ours.push_back(per_pass(ours, t.passes));
-    if (sah) t.sah.push_back(per_pass(*sah, t.passes));
-    for (const std::size_t m : timed) t.modes[m].push_back(per_pass(modes[m], t.passes));
-    bar.update(0.1 + 0.85 * double(r + 1) / o.repetitions);
-  }
-  return t;
-}
-
 // Spread of timed runs (seconds per pass over n rays): the range in Mrays/s and the coefficient of
 // variation of the times, under `prefix`.
 void put_spread(json& j, const std::string& prefix, const std::vector<double>& t, std::size_t n) {
@@ -269,6 +200,43 @@ void put_embree(json& j, const trace::EmbreeBuild& embree, const std::vector<tra
 
 }
 
+// --order sorted: the sort's own time (median of 5, outside the rounds; inside every timed pass
+// too), and Embree's fastest mode on the sorted order with raybench over it round by round.
+void put_sorted(json& j, trace::ThreadScope& ts, const std::function<void()>& sort, const trace::EmbreeBuild& embree,
+                const std::vector<trace::EmbreeMode>& modes, const Timings& tm, const std::vector<bvh::HitRec>& ours,
+                const std::vector<std::vector<bvh::HitRec>>& theirs_sorted, std::size_t n, bool any) {
+  std::vector<double> sort_s;
+  for (int r = 0; r < 5; ++r) {
+    const auto t0 = std::chrono::steady_clock::now();
+    sort();
+    sort_s.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  (void)ts;
+  j["sort_ms"] = 1e3 * rb::median(sort_s);
+  j["sort_key"] = "direction octant, then the origin's Morton code (2^9 cells per axis of the scene's box), then the direction's (2^4 per axis)";
+  if (!embree.ok) {
+    j["embree_sorted"] = nullptr;
+    return;
+  }
+  std::size_t best = modes.size();
+  double best_mr = -1;
+  for (std::size_t m = 0; m < modes.size(); ++m) {
+    const std::vector<double>& es = tm.modes[modes.size() + m];
+    if (es.empty()) continue;
+    const double mr = double(n) / rb::median(es) / 1e6;
+    if (mr > best_mr) best_mr = mr, best = m;
+  }
+  if (best == modes.size()) {
+    j["embree_sorted"] = nullptr;
+    return;
+  }
+  const std::vector<double>& es = tm.modes[modes.size() + best];
+  const tracer::Compare c = tracer::compare(ours, theirs_sorted[best], n, any);
+  j["embree_sorted"] = {{"mode", modes[best].name(any)}, {"device", trace::embree_isa_label(modes[best].isa)},
+                        {"mrays_per_s", best_mr}, {"seconds", es}, {"mismatches", c.mismatches},
+                        {"vs_embree_sorted", stats::interval_json(stats::paired_ratio(es, tm.ours))}};
+}
+
 // The brute-force loop over all objects on a prefix of the rays (`brute_rays`; -1: a budget by
 // the scene's size): the oracle and the baseline.
 void put_brute(json& j, const tracer::SceneAccel& accel, trace::ThreadScope& ts, const RaySoA& rays, const std::vector<bvh::HitRec>& ours,
@@ -321,18 +289,39 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
 
   std::vector<bvh::HitRec> ours, sah_out;
   std::vector<std::vector<bvh::HitRec>> theirs(modes.size());
-  trace::Tracer mine = [&](std::size_t b, std::size_t e, bvh::HitRec* out) { accel_.trace(rays, b, e, out, to); };
+  // --order sorted: every pass of every engine sorts the stream (its origins quantised in the
+  // scene's box), traces the sorted rays and puts the hits back in the given order.
+  const bool sorted = o.order == "sorted";
+  if (sorted && sah_) throw std::invalid_argument("--order sorted traces raybench's own tree: leave --builder at sah");
+  tracer::RayOrder order;
+  const scene::Bounds box = scene_.bounds();
+  const Vec3f lo = accel_.to_frame(box.lo), hi = accel_.to_frame(box.hi);
+  auto sort = [&] { order.sort(rays, lo, hi, ts); };
+  std::vector<std::vector<bvh::HitRec>> sorted_hits(sorted ? 1 + modes.size() : 0), theirs_sorted(sorted ? modes.size() : 0);
+  Engine mine{[&](std::size_t b, std::size_t e, bvh::HitRec* out) { accel_.trace(rays, b, e, out, to); }, &ours};
+  if (sorted) {
+    mine.trace = [&](std::size_t b, std::size_t e, bvh::HitRec*) { accel_.trace(order.sorted(), b, e, sorted_hits[0].data(), to); };
+    mine.before = [&] { sort(); sorted_hits[0].resize(rays.size()); };
+    mine.after = [&] { order.unsort(sorted_hits[0].data(), ours.data(), ts); };
+  }
   std::vector<Engine> embree_engines;
   for (std::size_t m = 0; m < modes.size(); ++m) {
     const trace::EmbreeMode mode = modes[m];
     embree_engines.push_back({[&, mode](std::size_t b0, std::size_t e0, bvh::HitRec* out) { trace::embree_trace(embree_, mode, rays, b0, e0, out, any); },
                               &theirs[m]});
   }
+  for (std::size_t m = 0; sorted && m < modes.size(); ++m) {
+    const trace::EmbreeMode mode = modes[m];
+    std::vector<bvh::HitRec>& sh = sorted_hits[1 + m];
+    embree_engines.push_back({[&, mode](std::size_t b0, std::size_t e0, bvh::HitRec*) { trace::embree_trace(embree_, mode, order.sorted(), b0, e0, sh.data(), any); },
+                              &theirs_sorted[m], [&] { sort(); sh.resize(rays.size()); },
+                              [&, m] { order.unsort(sh.data(), theirs_sorted[m].data(), ts); }, 1});
+  }
   const Engine sah_engine{[&](std::size_t b, std::size_t e, bvh::HitRec* out) { sah_->trace(rays, b, e, out, to); }, &sah_out};
   // The machine around the runs: its load average before and after, and the CPU time the
   // hypervisor took from this guest while they ran.
   const LoadWatch watch;
-  const Timings tm = time_engines(ts, n, {mine, &ours}, sah_ ? &sah_engine : nullptr, embree_engines, o, bar);
+  const Timings tm = time_engines(ts, n, mine, sah_ ? &sah_engine : nullptr, embree_engines, o, bar);
   const std::vector<double>& secs = tm.ours;
   const std::vector<double>& sah_secs = tm.sah;
   const int passes = tm.passes;
@@ -344,7 +333,7 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   bvh::TraceCounters cnt;
   {
     std::vector<bvh::HitRec> tmp(rays.size());
-    ts.run([&] { accel_.trace_counted(rays, 0, rays.size(), tmp.data(), to, cnt); });
+    ts.run([&] { accel_.trace_counted(sorted ? order.sorted() : rays, 0, rays.size(), tmp.data(), to, cnt); });
   }
 
   json j;
@@ -398,6 +387,8 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   }
 
   put_embree(j, embree_, modes, tm, ours, theirs, n, any);
+  j["order"] = o.order;
+  if (sorted) put_sorted(j, ts, sort, embree_, modes, tm, ours, theirs_sorted, n, any);
   put_brute(j, accel_, ts, rays, ours, o.brute_rays, any);
   bar.done();
   return j;

@@ -98,6 +98,18 @@ std::string trace_text(const json& j) {
   } else {
     o += fmt::format("           Embree: {}\n", j["embree_why"].get<std::string>());
   }
+  if (j.value("order", std::string("given")) == "sorted") {
+    o += wrap_words(fmt::format("order      sorted: every pass of every engine sorts the rays ({}; {:.2f} ms a sort) and puts the hits "
+                                "back in the given order, inside the timed pass; Embree's figures above are on the given order",
+                                j["sort_key"].get<std::string>(), j["sort_ms"].get<double>()),
+                    80, "           ");
+    if (j.contains("embree_sorted") && !j["embree_sorted"].is_null()) {
+      const json& e = j["embree_sorted"];
+      const stats::RatioInterval vr = stats::interval_from_json(e["vs_embree_sorted"]);
+      o += fmt::format("           Embree on the sorted order, best mode {}: {:.2f} Mrays/s; raybench / Embree sorted {}\n",
+                       e["mode"].get<std::string>(), e["mrays_per_s"].get<double>(), stats::interval_text(vr));
+    }
+  }
   if (!j["brute_mrays_per_s"].is_null())
     o += fmt::format("brute      loop over all objects on {} rays: {:.4f} Mrays/s, {} mismatches against the BVH\n",
                      j["brute_rays"].get<std::size_t>(), j["brute_mrays_per_s"].get<double>(), j["brute_mismatches"].get<std::size_t>());

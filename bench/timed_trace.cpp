@@ -12,13 +12,16 @@
 namespace rb::trace {
 
 std::vector<double> time_runs(ThreadScope& ts, const Tracer& t, std::size_t rays, std::vector<HitRec>& out, int reps, std::size_t tile,
-                              const std::function<void(int, int)>& progress) {
+                              const std::function<void(int, int)>& progress, const std::function<void()>& before,
+                              const std::function<void()>& after) {
   out.resize(round_up(rays, 16));
   const std::size_t tiles = (rays + tile - 1) / tile;
   std::vector<double> secs;
   for (int r = 0; r < reps; ++r) {
     const auto t0 = std::chrono::steady_clock::now();
+    if (before) before();
     ts.parallel_for(tiles, 1, [&](std::size_t k) { t(k * tile, std::min(rays, (k + 1) * tile), out.data()); });
+    if (after) after();
     secs.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     if (progress) progress(r + 1, reps);
   }

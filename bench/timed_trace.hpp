@@ -20,9 +20,12 @@ using bvh::HitRec;
 using Tracer = std::function<void(std::size_t begin, std::size_t end, HitRec* out)>;
 
 // Times `reps` runs of the tracer over all rays with TBB parallel_for over tiles of `tile` rays;
-// returns the seconds of each run. `progress(done, total)` after each run.
+// returns the seconds of each run. `progress(done, total)` after each run. `before` and `after`,
+// when given, run inside each timed run before and after the tiles (a stream's sort and the hits
+// put back in its order).
 std::vector<double> time_runs(ThreadScope& ts, const Tracer& t, std::size_t rays, std::vector<HitRec>& out, int reps,
-                              std::size_t tile, const std::function<void(int, int)>& progress = {});
+                              std::size_t tile, const std::function<void(int, int)>& progress = {},
+                              const std::function<void()>& before = {}, const std::function<void()>& after = {});
 
 // A progress bar on stderr (only when stderr is a terminal).
 struct Progress {

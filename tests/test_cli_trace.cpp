@@ -171,4 +171,31 @@ TEST(Cli, RenderRaysTracedAloneByTrace) {
   EXPECT_TRUE(has(typo.err, "did you mean 'primary'")) << typo.err;
 }
 
+// --order sorted: the same answers as the given order (the digest of every ray's hit), the sort
+// timed, Embree on both orders with raybench over each.
+TEST(Cli, TraceSortedOrderGivesTheSameHitsAndEmbreeOnBothOrders) {
+  Scratch s("trace-sorted");
+  const std::string base = "trace spd:balls:1 --rays diffuse --count 4096 --packet 8 -r 2 --warmup 1 --min-time 0 --brute 256 ";
+  const Outcome g = run_in(s.dir, base + "--json g.json");
+  ASSERT_EQ(g.status, 0) << g.err;
+  const Outcome r = run_in(s.dir, base + "--order sorted --json o.json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json gj = nlohmann::json::parse(slurp(s / "g.json")), oj = nlohmann::json::parse(slurp(s / "o.json"));
+  EXPECT_EQ(gj["order"], "given");
+  EXPECT_EQ(oj["order"], "sorted");
+  EXPECT_EQ(oj["hits_fnv1a"], gj["hits_fnv1a"]);
+  EXPECT_EQ(oj["brute_mismatches"], 0u);
+  EXPECT_GT(oj["sort_ms"].get<double>(), 0.0);
+  if (!oj["embree_mrays_per_s"].is_null()) {
+    ASSERT_FALSE(oj["embree_sorted"].is_null()) << oj;
+    EXPECT_EQ(oj["embree_sorted"]["mismatches"], oj["mismatches"]) << "Embree answers alike in both orders";
+    EXPECT_EQ(oj["mismatches"], gj["mismatches"]);
+    EXPECT_EQ(oj["embree_sorted"]["seconds"].size(), 2u);
+    EXPECT_TRUE(oj["embree_sorted"]["vs_embree_sorted"]["ratio"].is_number());
+  }
+  const Outcome t = run_in(s.dir, base + "--order sorted");
+  EXPECT_TRUE(has(t.out, "order      sorted")) << t.out;
+  EXPECT_LE(widest(t.out), 80u) << t.out;
+}
+
 }  // namespace

@@ -38,6 +38,11 @@ class TraceCommand final : public Command {
     sub_->add_option("--count", to.count, "About this many rays (primary: the nearest\nsquare image of 16x16 blocks)")
         ->transform(count_up_to(std::size_t(1) << 28, "rays"))->capture_default_str();
     sub_->add_option("--seed", to.seed, "Seed of the ray set")->capture_default_str();
+    sub_->add_option("--order", to.order,
+                     "given: the ray set's order; sorted: every pass\nsorts the rays into coherent groups first (octant,\n"
+                     "origin, direction) and puts the hits back, both\ntimed; Embree then traces both orders")
+        ->check(one_of({"given", "sorted"}))
+        ->capture_default_str();
     sub_->add_option("--model", to.model, "How the scene is modelled: auto (what it\nneeds: `raybench plan`), fast or exact")
         ->check(one_of({"auto", "fast", "exact"}))->capture_default_str();
     sub_->add_option("--slab", to.slab, "Slab test: plan (the model's), conservative,\nfast or robust")

@@ -250,7 +250,7 @@ std::string report_section_render(const ReportOptions& o, Record& rec, const fs:
   std::size_t step = 0;
   const std::size_t total = names.size() + 1 + scene::lecture_scene_names().size() + scene::csg_scene_names().size();
   // A render and the primary-ray trace of the same scene, measured (writing its image) or replayed.
-  auto measure_one = [&](const std::string& src, bool spd, const std::string& png) {
+  auto measure_one = [&](const std::string& src, bool spd, const std::string& png, bool alone) {
     RenderRunOptions ro;
     ro.scene = src;
     ro.out = (out / png).string();
@@ -261,7 +261,7 @@ std::string report_section_render(const ReportOptions& o, Record& rec, const fs:
     ro.count_tests = true;  // the tables' test counts, from one more render (untimed)
     ro.repetitions = 5;     // the ratio to primary tracing gets its interval from 5 against 5
     ro.min_time = 0.1;
-    ro.trace_alone = true;  // its own rays traced alone, as often as the render was timed
+    ro.trace_alone = alone;  // its own rays traced alone, as often as the render was timed
     if (o.quick) {  // the layout only: one render, the usual packet sizes, no trials
       ro.repetitions = 1;
       ro.min_time = 0;
@@ -287,9 +287,10 @@ std::string report_section_render(const ReportOptions& o, Record& rec, const fs:
     j["png"] = png;
     return j;
   };
-  auto render_one = [&](const std::string& src, bool spd, const std::string& png) {
+  // --quick (the layout only) traces the rays alone for the first scene of each group.
+  auto render_one = [&](const std::string& src, bool spd, const std::string& png, bool first) {
     std::cerr << fmt::format("[report render {}/{}] {}\n", ++step, total, src);
-    json j = rec.take("render/" + src, [&] { return measure_one(src, spd, png); });
+    json j = rec.take("render/" + src, [&] { return measure_one(src, spd, png, first || !o.quick); });
     j["render_over_primary"] = stats::interval_json(render_over_primary(j));  // for the chart
     rows.push_back(j);
     return j;
@@ -297,12 +298,13 @@ std::string report_section_render(const ReportOptions& o, Record& rec, const fs:
 
   std::vector<json> spd, lect;
   for (const auto& n : names) {
-    spd.push_back(render_one("spd:" + n, true, "render_spd_" + n + ".png"));
-    if (n == "teapot") spd.push_back(render_one("spd:teapot:12", true, "render_spd_teapot_12.png"));
+    spd.push_back(render_one("spd:" + n, true, "render_spd_" + n + ".png", spd.empty()));
+    if (n == "teapot") spd.push_back(render_one("spd:teapot:12", true, "render_spd_teapot_12.png", false));
   }
-  for (const auto& n : scene::lecture_scene_names()) lect.push_back(render_one("lecture:" + n, false, "render_lecture_" + n + ".png"));
+  for (const auto& n : scene::lecture_scene_names())
+    lect.push_back(render_one("lecture:" + n, false, "render_lecture_" + n + ".png", lect.empty()));
   std::vector<json> csgs;  // the embedded CSG scenes (the JSON scene format's camera, lights, materials)
-  for (const auto& n : scene::csg_scene_names()) csgs.push_back(render_one("csg:" + n, false, "render_csg_" + n + ".png"));
+  for (const auto& n : scene::csg_scene_names()) csgs.push_back(render_one("csg:" + n, false, "render_csg_" + n + ".png", csgs.empty()));
 
   md += render_spd_tables(spd);
   md += render_time_table(threads, {&spd, &lect, &csgs}, summary);

@@ -1,0 +1,38 @@
+// The timing protocol of `raybench trace` (and the report's traces): the engines a run times, warm-up
+// until stable, passes for --min-time, Embree's clearly slower modes left out, then the engines
+// alternating repetition by repetition (docs/DESIGN.md, command-line conventions).
+#pragma once
+
+#include "apps/progress.hpp"
+#include "apps/trace_options.hpp"
+#include "bench/timed_trace.hpp"
+
+#include <functional>
+#include <vector>
+
+namespace rb::app {
+
+// An engine a trace run times: a tracer over the run's rays and where its hits go.
+struct Engine {
+  trace::Tracer trace;
+  std::vector<bvh::HitRec>* out;
+  std::function<void()> before = {}, after = {};  // inside each timed pass (a sorted stream: the sort, the hits put back)
+  int group = 0;  // Embree's modes: 0 on the given order, 1 on the sorted order (each group's slow modes left out apart)
+};
+
+// What the timing protocol measured, in seconds per pass over the ray set.
+struct Timings {
+  std::vector<double> warm_ours;                // the warm-up runs of raybench
+  std::vector<std::vector<double>> warm_modes;  // and of each Embree mode
+  int passes = 1;                               // passes per timed repetition
+  std::vector<double> ours, sah;                // raybench, and the SAH tree beside another builder's
+  std::vector<std::vector<double>> modes;       // each Embree mode (empty: left out of the rounds)
+};
+
+// The timing protocol of `raybench trace` (docs/DESIGN.md, command-line conventions): warm-up until
+// stable, passes for --min-time, Embree's clearly slower modes left out, then the engines alternating
+// repetition by repetition.
+Timings time_engines(trace::ThreadScope& ts, std::size_t n, const Engine& ours, const Engine* sah, const std::vector<Engine>& modes,
+                     const TraceRunOptions& o, ProgressBar& bar);
+
+}  // namespace rb::app
