@@ -19,6 +19,7 @@
 // 8-ray packets on one thread. Method = the model, precision = the frame it chose.
 #include "accuracy/common.hpp"
 #include "accuracy/exact.hpp"
+#include "accuracy/kind_reference.hpp"
 #include "core/median.hpp"
 #include "scene/camera.hpp"
 #include "scene/sources.hpp"
@@ -35,12 +36,12 @@ namespace rb::acc {
 
 namespace {
 
-using kinds::ref::LD;
-using kinds::ref::V3;
+using reference::LD;
+using reference::V3;
 V3 vl(const Vec3d& v) { return {LD(v.x), LD(v.y), LD(v.z)}; }
 V3 vl(const Vec3f& v) { return {LD(v.x), LD(v.y), LD(v.z)}; }
 
-// The first hit of the whole scene: every primitive's reference (its kind's, tracer/kinds/*.hpp)
+// The first hit of the whole scene: every primitive's reference (its kind's, accuracy/kind_reference.hpp)
 // against the ray, brute force. Its t, and the primitive code (bvh::prim_code). Primitives whose
 // bounding sphere (about its box; radius widened by 2^-40 of the largest coordinate of the scene and
 // the ray's origin, far more than double's rounding of the ray and of the distance) the ray's line
@@ -70,9 +71,9 @@ struct Reference {
     cand.resize(codes.size());
   }
   bvh::HitRec trace(V3 o, V3 d, LD lo, LD hi, LD& t) const {
-    t = kinds::ref::kNone;
+    t = reference::kNone;
     std::uint32_t prim = bvh::kNoPrim;
-    const kinds::ref::Ray r{o, d, lo, hi};
+    const reference::Ray r{o, d, lo, hi};
     const double ox = double(o.x), oy = double(o.y), oz = double(o.z), dx = double(d.x), dy = double(d.y), dz = double(d.z);
     const double w = 0x1p-40 * std::max({coord_max, std::fabs(ox), std::fabs(oy), std::fabs(oz)});
     const double dd = dx * dx + dy * dy + dz * dz;
@@ -88,7 +89,7 @@ struct Reference {
     }
     for (std::size_t k = 0; k < n; ++k) {  // ascending: kinds in order, each in scene order (ties: the first)
       const std::uint32_t code = codes[cand[k]];
-      const LD tt = kinds::AllKinds::at<LD>(kinds::kind_of(code), [&]<class K>() { return K::reference(s, kinds::index_of(code), r); });
+      const LD tt = kinds::AllKinds::at<LD>(kinds::kind_of(code), [&]<class K>() { return reference::first_of<K>(s, kinds::index_of(code), r); });
       if (tt < t) t = tt, prim = code;
     }
     return {float(t), prim};

@@ -89,6 +89,25 @@ std::string isa_from_report(const std::string& text) {
   return "unknown";
 }
 
+// How Embree models a kind (the tracer's kinds know nothing of Embree): as a triangle mesh (the shared
+// vertex array, each primitive's three indices), as point spheres (centre and radius), or not at all.
+enum class EmbreeGeometry { none, triangles, spheres };
+template <class K>
+struct EmbreeOf {
+  static constexpr EmbreeGeometry geometry = EmbreeGeometry::none;
+};
+template <>
+struct EmbreeOf<kinds::TriangleKind> {
+  static constexpr EmbreeGeometry geometry = EmbreeGeometry::triangles;
+  static const std::vector<Vec3d>& vertices(const scene::Scene& s) { return s.verts; }
+  static std::array<std::uint32_t, 3> indices(const scene::Scene& s, std::uint32_t i) { return s.triangles[i].v; }
+};
+template <>
+struct EmbreeOf<kinds::SphereKind> {
+  static constexpr EmbreeGeometry geometry = EmbreeGeometry::spheres;
+  static void sphere(const scene::Scene& s, std::uint32_t i, Vec3d& c, double& r) { c = s.spheres[i].c, r = s.spheres[i].r; }
+};
+
 // One device and the scene on it.
 bool build_on(EmbreeScene& e, const tracer::SceneAccel& a, const std::string& cfg) {
   const scene::Scene& s = a.scene();
@@ -99,8 +118,8 @@ bool build_on(EmbreeScene& e, const tracer::SceneAccel& a, const std::string& cf
   kinds::AllKinds::each([&]<class K>() {
     const std::size_t n = K::count(s);
     if (!n) return;
-    if constexpr (K::embree == kinds::EmbreeType::triangle) {
-      const std::vector<Vec3d>& verts = K::mesh_vertices(s);
+    if constexpr (EmbreeOf<K>::geometry == EmbreeGeometry::triangles) {
+      const std::vector<Vec3d>& verts = EmbreeOf<K>::vertices(s);
       RTCGeometry g = rtcNewGeometry(e.device, RTC_GEOMETRY_TYPE_TRIANGLE);
       auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), verts.size()));
       for (std::size_t i = 0; i < verts.size(); ++i) {
@@ -109,19 +128,19 @@ bool build_on(EmbreeScene& e, const tracer::SceneAccel& a, const std::string& cf
       }
       auto* ix = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), n));
       for (std::uint32_t i = 0; i < n; ++i) {
-        const auto t = K::mesh_indices(s, i);
+        const auto t = EmbreeOf<K>::indices(s, i);
         for (int k = 0; k < 3; ++k) ix[3 * std::size_t(i) + std::size_t(k)] = t[std::size_t(k)];
       }
       rtcCommitGeometry(g);
       rtcAttachGeometryByID(e.scene, g, unsigned(K::id));
       rtcReleaseGeometry(g);
-    } else if constexpr (K::embree == kinds::EmbreeType::sphere) {
+    } else if constexpr (EmbreeOf<K>::geometry == EmbreeGeometry::spheres) {
       RTCGeometry g = rtcNewGeometry(e.device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
       auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), n));
       for (std::uint32_t i = 0; i < n; ++i) {
         Vec3d c;
         double r;
-        K::sphere_of(s, i, c, r);
+        EmbreeOf<K>::sphere(s, i, c, r);
         const Vec3f f = a.to_frame(c);
         v[4 * i] = f.x; v[4 * i + 1] = f.y; v[4 * i + 2] = f.z; v[4 * i + 3] = float(r);
       }
@@ -144,7 +163,7 @@ EmbreeBuild embree_build(const tracer::SceneAccel& a, int threads) {
   const scene::Scene& s = a.scene();
   std::string missing;
   kinds::AllKinds::each([&]<class K>() {
-    if (K::embree == kinds::EmbreeType::none && K::count(s) > 0) missing += std::string(missing.empty() ? "" : ", ") + K::name;
+    if (EmbreeOf<K>::geometry == EmbreeGeometry::none && K::count(s) > 0) missing += std::string(missing.empty() ? "" : ", ") + K::name;
   });
   if (!missing.empty()) {
     b.why = "the scene has primitives Embree does not model (" + missing + ")";

@@ -11,12 +11,13 @@
 //     the profile tells whether float storage reproduces the input (tracer/profile.hpp);
 //   - its methods, cheapest first, each a kernel over any number type (hit<M>), with what each
 //     precision costs and which lab cases show where it fails (tracer/plan.cpp chooses);
-//   - the surface at a hit (point, normals, material: the renderer's shading input);
-//   - how Embree models it (triangle, sphere, or not at all).
+//   - the surface at a hit (point, normals, material: the renderer's shading input).
+// What other layers know of a kind lives with them: how Embree models it in bench/embree_trace.cpp,
+// the accuracy lab's long-double reference in accuracy/kind_reference.hpp.
 // Kinds whose batch is not a PrimSoA (polygons: projected vertices by slot; CSG: one tree per
 // slot) say `custom = true` and bring their own batch and leaf functions (tracer/leaves.hpp
 // calls them). Nothing else in the engine switches on a kind: the tracer, the renderer, the
-// Embree adapter, the profile and the plan iterate over the list at the bottom of this file.
+// Embree adapter, the lab, the profile and the plan iterate over the list at the bottom of this file.
 // Adding a kind: write its header in tracer/kinds/, include it and add it to RB_KIND_LIST below.
 #pragma once
 
@@ -67,8 +68,6 @@ struct Surface {
   // (SceneAccel::surface sets it from the plan's storage; 0 for a primitive stored in double).
   double err = 0;
 };
-
-enum class EmbreeType : std::uint8_t { none, triangle, sphere };
 
 // A method of a kind: its name, what it is, and the precisions the tracer can run it in.
 struct MethodInfo {
@@ -151,40 +150,6 @@ inline Vec3f interpolate(const Vec3d* v, const Vec3f* n, std::size_t count, cons
   return ns;
 }
 }  // namespace detail
-
-// The accuracy lab's reference (accuracy/scenes.cpp): a ray in long double, world coordinates. Each
-// kind's `reference(scene, i, ray)` gives the first t of primitive i in [lo, hi] from the scene's own
-// double geometry in long double arithmetic (+inf: none; NaN: the kind has no reference).
-namespace ref {
-using LD = long double;
-struct V3 {
-  LD x, y, z;
-};
-inline V3 operator+(V3 a, V3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-inline V3 operator-(V3 a, V3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-inline V3 operator*(V3 a, LD k) { return {a.x * k, a.y * k, a.z * k}; }
-inline LD dot(V3 a, V3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline V3 cross(V3 a, V3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-inline V3 of(const Vec3d& v) { return {LD(v.x), LD(v.y), LD(v.z)}; }
-inline constexpr LD kNone = std::numeric_limits<LD>::infinity();
-struct Ray {
-  V3 o, d;
-  LD lo, hi;
-};
-// The first root in [lo, hi] of a t^2 + 2 b t + c (kNone: none).
-inline LD quadratic_first(LD a, LD b, LD c, LD lo, LD hi) {
-  if (a == 0) return kNone;
-  const LD disc = b * b - a * c;
-  if (disc < 0) return kNone;
-  const LD sq = std::sqrt(disc);
-  const LD q = -(b + (b < 0 ? -sq : sq));
-  LD t0 = q / a, t1 = q != 0 ? c / q : t0;
-  if (t0 > t1) std::swap(t0, t1);
-  if (t0 >= lo && t0 <= hi) return t0;
-  if (t1 >= lo && t1 <= hi) return t1;
-  return kNone;
-}
-}  // namespace ref
 
 // A primitive's scene index and kind, packed as the tracer's hits are (bvh::prim_code).
 inline std::uint32_t code(Kind k, std::uint32_t index) { return bvh::prim_code(int(k), index); }

@@ -108,7 +108,8 @@ std::string trace_sorted_rows(TracingRun& x, const std::string& label, const jso
       const stats::RatioInterval vs = es.is_null() ? stats::RatioInterval{} : stats::interval_from_json(es["vs_embree_sorted"]);
       md += fmt::format("| {} | {} | {} | {} | {:.2f} | {} | {} | {} | {} |\n", set, th, given.is_null() ? "-" : f2(given["mrays_per_s"]),
                         f2(j["mrays_per_s"]), j["sort_ms"].get<double>(), f2(j["embree_mrays_per_s"]),
-                        es.is_null() ? "-" : f2(es["mrays_per_s"]), vs_embree(j), vs.valid() ? stats::interval_text(vs) : "-");
+                        es.is_null() ? "-" : f2(es["mrays_per_s"]), vs_embree(j),
+                        vs.valid() ? stats::interval_text(vs) : es.is_null() ? "-" : ratio(j["mrays_per_s"], es["mrays_per_s"]));
       x.sorted.push_back(j);
     }
   return md + "\n";

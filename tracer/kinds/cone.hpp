@@ -9,7 +9,6 @@ namespace rb::kinds {
 struct ConeKind {
   static constexpr Kind id = Kind::cone;
   static constexpr const char* name = "cone";
-  static constexpr EmbreeType embree = EmbreeType::none;
   static constexpr bool custom = false;
 
   static std::size_t count(const Scene& s) { return s.cones.size() - CylinderKind::count(s); }
@@ -56,7 +55,6 @@ struct ConeKind {
     else return intersect_transformed_recentred(r, p, Vec3<F>{F(0), F(0), F(0.5) * (p.prim.z0 + p.prim.z1)}, k);
   }
   static std::size_t input_bytes(const Scene& s) { return count(s) * sizeof(scene::ConeIn); }
-  static ref::LD reference(const Scene& s, std::uint32_t i, const ref::Ray& r) { return detail::shell_reference(s.cones[i], r); }
   static Surface surface(const HitQuery& q, std::uint32_t i) { return detail::shell_surface(q, q.scene->cones.at(i)); }
 };
 

@@ -17,7 +17,6 @@ namespace rb::kinds {
 struct CsgKind {
   static constexpr Kind id = Kind::csg;
   static constexpr const char* name = "csg";
-  static constexpr EmbreeType embree = EmbreeType::none;
   static constexpr bool custom = true;
 
   static std::size_t count(const Scene& s) { return s.csgs.size(); }
@@ -118,8 +117,6 @@ struct CsgKind {
     what = "CSG trees (" + std::to_string(nodes) + " nodes, depth " + std::to_string(depth) + "; leaves: " + mix + ")";
     return bytes;
   }
-  // No reference: a tree is checked against its own interval algebra (tests/test_csg.cpp).
-  static ref::LD reference(const Scene&, std::uint32_t, const ref::Ray&) { return std::numeric_limits<ref::LD>::quiet_NaN(); }
 
   // The tree's own closest-hit query on the ray as traced gives the outward normal (flipped on
   // subtracted surfaces) and the material of the leaf surface hit.

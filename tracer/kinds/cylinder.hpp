@@ -32,33 +32,6 @@ inline Feature shell_feature(const scene::ConeIn& c) {
   const double rmin = r0 > 0 && r1 > 0 ? std::min(r0, r1) : std::max(r0, r1);
   return {(c.base + c.apex) * 0.5, std::min(rmin, len), std::max({2 * r0, 2 * r1, len})};
 }
-// The shell's normal at p: F = |q| - r(s) with s along the axis and q the radial part, grad F =
-// q/|q| - (r1 - r0)/h a; negative radii (NFF: the inside is seen) flip it.
-// The reference of an NFF shell (open): |q_perp| = r(s) for 0 <= s <= len, q = p - base, s = q . a.
-inline ref::LD shell_reference(const scene::ConeIn& c, const ref::Ray& r) {
-  using namespace ref;
-  const V3 b = of(c.base), ax0 = of(c.apex) - b;
-  const LD len = std::sqrt(ref::dot(ax0, ax0));
-  const V3 a = ax0 * (LD(1) / len);
-  const LD r0 = std::fabs(LD(c.base_r)), r1 = std::fabs(LD(c.apex_r)), k = (r1 - r0) / len;
-  const V3 f = r.o - b;
-  const LD fa = ref::dot(f, a), da = ref::dot(r.d, a);
-  const V3 fp = f - a * fa, dp = r.d - a * da;
-  const LD A = ref::dot(dp, dp) - k * k * da * da, B = ref::dot(fp, dp) - (r0 + k * fa) * k * da,
-           C = ref::dot(fp, fp) - (r0 + k * fa) * (r0 + k * fa);
-  const LD disc = B * B - A * C;
-  if (A == 0 || disc < 0) return kNone;
-  const LD sq = std::sqrt(disc);
-  const LD q = -(B + (B < 0 ? -sq : sq));
-  LD ts[2] = {q / A, q != 0 ? C / q : q / A};
-  if (ts[0] > ts[1]) std::swap(ts[0], ts[1]);
-  for (LD tt : ts) {
-    if (!(tt >= r.lo && tt <= r.hi)) continue;
-    const LD sa = fa + tt * da;
-    if (sa >= 0 && sa <= len && r0 + k * sa >= 0) return tt;
-  }
-  return kNone;
-}
 
 inline Surface shell_surface(const HitQuery& q, const scene::ConeIn& c) {
   const Vec3d axis = c.apex - c.base;
@@ -84,7 +57,6 @@ inline Surface shell_surface(const HitQuery& q, const scene::ConeIn& c) {
 struct CylinderKind {
   static constexpr Kind id = Kind::cylinder;
   static constexpr const char* name = "cylinder";
-  static constexpr EmbreeType embree = EmbreeType::none;
   static constexpr bool custom = false;
 
   static bool is_cylinder(const scene::ConeIn& c) { return c.base_r == c.apex_r; }
@@ -135,7 +107,6 @@ struct CylinderKind {
     else return intersect_transformed_recentred(r, p, Vec3<F>{p.prim.cx, p.prim.cy, F(0.5) * (p.prim.z0 + p.prim.z1)}, k);
   }
   static std::size_t input_bytes(const Scene& s) { return count(s) * sizeof(scene::ConeIn); }
-  static ref::LD reference(const Scene& s, std::uint32_t i, const ref::Ray& r) { return detail::shell_reference(s.cones[i], r); }
   static Surface surface(const HitQuery& q, std::uint32_t i) { return detail::shell_surface(q, q.scene->cones.at(i)); }
 };
 

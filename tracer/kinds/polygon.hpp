@@ -14,7 +14,6 @@ namespace rb::kinds {
 struct PolygonKind {
   static constexpr Kind id = Kind::polygon;
   static constexpr const char* name = "polygon";
-  static constexpr EmbreeType embree = EmbreeType::none;
   static constexpr bool custom = true;
 
   static std::size_t count(const Scene& s) { return s.polygons.size(); }
@@ -133,27 +132,6 @@ struct PolygonKind {
     const PolygonSoA soa = PolygonSoA::build(polys);
     what = "PolygonSoA (" + std::to_string(soa.degenerate) + " degenerate kept as never-hit slots)";
     return soa.bytes();
-  }
-  static ref::LD reference(const Scene& s, std::uint32_t i, const ref::Ray& r) {
-    using namespace ref;
-    const auto& pg = s.polygons[i];
-    const Vec3d* v = s.poly_verts.data() + pg.first;
-    const Vec3d n = newell_normal(v, pg.count);
-    const V3 nl = of(n);
-    const LD den = ref::dot(nl, r.d);
-    if (den == 0) return kNone;
-    const LD tt = ref::dot(of(v[0]) - r.o, nl) / den;
-    if (!(tt >= r.lo && tt <= r.hi)) return kNone;
-    const V3 p = r.o + r.d * tt;
-    const int ax = dominant_axis(n), a = (ax + 1) % 3, b = (ax + 2) % 3;
-    auto c = [](V3 q, int k) { return k == 0 ? q.x : k == 1 ? q.y : q.z; };
-    bool in = false;
-    for (std::uint32_t k = 0; k < pg.count; ++k) {
-      const V3 p0 = of(v[k]) - p, p1 = of(v[(k + 1) % pg.count]) - p;
-      const LD y0 = c(p0, b), y1 = c(p1, b), x0 = c(p0, a), x1 = c(p1, a);
-      if ((y0 >= 0) != (y1 >= 0) && ((y1 * (x0 - x1) >= x1 * (y0 - y1)) == (y1 >= 0))) in = !in;
-    }
-    return in ? tt : kNone;
   }
 
   static Surface surface(const HitQuery& q, std::uint32_t i) {

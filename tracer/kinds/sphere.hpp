@@ -8,7 +8,6 @@ namespace rb::kinds {
 struct SphereKind {
   static constexpr Kind id = Kind::sphere;
   static constexpr const char* name = "sphere";
-  static constexpr EmbreeType embree = EmbreeType::sphere;
   static constexpr bool custom = false;
 
   static std::size_t count(const Scene& s) { return s.spheres.size(); }
@@ -82,14 +81,6 @@ struct SphereKind {
   }
 
   static std::size_t input_bytes(const Scene& s) { return s.spheres.size() * sizeof(scene::SphereIn); }
-  static ref::LD reference(const Scene& s, std::uint32_t i, const ref::Ray& r) {
-    const auto& sp = s.spheres[i];
-    const ref::V3 f = r.o - ref::of(sp.c);
-    return ref::quadratic_first(ref::dot(r.d, r.d), ref::dot(f, r.d), ref::dot(f, f) - ref::LD(sp.r) * ref::LD(sp.r), r.lo, r.hi);
-  }
-
-  // Embree's sphere geometry (point spheres): centre and radius.
-  static void sphere_of(const Scene& s, std::uint32_t i, Vec3d& c, double& r) { c = s.spheres[i].c, r = s.spheres[i].r; }
 
   static Surface surface(const HitQuery& q, std::uint32_t i) {
     const auto& sp = q.scene->spheres.at(i);

@@ -2,7 +2,6 @@
 // the axis, swept by a tube of radius r < R.
 #pragma once
 
-#include "core/roots_ld.hpp"
 #include "kernels/torus.hpp"
 
 namespace rb::kinds {
@@ -10,7 +9,6 @@ namespace rb::kinds {
 struct TorusKind {
   static constexpr Kind id = Kind::torus;
   static constexpr const char* name = "torus";
-  static constexpr EmbreeType embree = EmbreeType::none;
   static constexpr bool custom = false;
 
   static std::size_t count(const Scene& s) { return s.tori.size(); }
@@ -72,28 +70,6 @@ struct TorusKind {
     else return intersect_torus_robust(r, p);
   }
   static std::size_t input_bytes(const Scene& s) { return s.tori.size() * sizeof(scene::TorusIn); }
-  // The quartic T(o + t d) re-centred at the closest approach to the centre, its roots isolated in
-  // long double (kernels/poly.hpp's isolation on the long double polynomial).
-  static ref::LD reference(const Scene& s, std::uint32_t i, const ref::Ray& r) {
-    using namespace ref;
-    const auto& tr = s.tori[i];
-    const V3 w = of(unit_axis(tr)), c = of(tr.c);
-    const LD R = LD(tr.R), rr = LD(tr.r);
-    const LD dd = ref::dot(r.d, r.d);
-    const LD t0 = -ref::dot(r.o - c, r.d) / dd;
-    const V3 q = r.o + r.d * t0 - c;
-    // T(q + s d) = (|q + s d|^2 - R^2 - r^2)^2 - 4 R^2 (r^2 - ((q + s d) . w)^2), in s.
-    const LD qq = ref::dot(q, q), qd = ref::dot(q, r.d), qw = ref::dot(q, w), dw = ref::dot(r.d, w);
-    const LD k0 = qq - R * R - rr * rr, k1 = 2 * qd, k2 = dd;
-    const long double cf[5] = {k0 * k0 - 4 * R * R * (rr * rr - qw * qw), 2 * k0 * k1 + 8 * R * R * qw * dw,
-                               k1 * k1 + 2 * k0 * k2 + 4 * R * R * dw * dw, 2 * k1 * k2, k2 * k2};
-    const LD ext = (2 * (R + rr) + std::sqrt(qq)) / std::sqrt(dd);
-    for (LD sr : poly_roots_ld(cf, 4, -ext, ext)) {
-      const LD tt = t0 + sr;
-      if (tt >= r.lo && tt <= r.hi) return tt;
-    }
-    return kNone;
-  }
 
   static Surface surface(const HitQuery& q, std::uint32_t i) {
     const auto& t = q.scene->tori.at(i);

@@ -8,7 +8,6 @@ namespace rb::kinds {
 struct TriangleKind {
   static constexpr Kind id = Kind::triangle;
   static constexpr const char* name = "triangle";
-  static constexpr EmbreeType embree = EmbreeType::triangle;
   static constexpr bool custom = false;
 
   static std::size_t count(const Scene& s) { return s.triangles.size(); }
@@ -77,28 +76,6 @@ struct TriangleKind {
   static std::size_t input_bytes(const Scene& s) {
     return s.triangles.size() * sizeof(scene::TriangleIn) + s.verts.size() * sizeof(Vec3d) + s.vert_normals.size() * sizeof(Vec3f);
   }
-  // Moller-Trumbore in long double: at this precision which of two triangles sharing an edge a ray
-  // through it hits does not matter (the lab compares distances).
-  static ref::LD reference(const Scene& s, std::uint32_t i, const ref::Ray& r) {
-    using namespace ref;
-    const auto& t = s.triangles[i];
-    const V3 a = of(s.verts[t.v[0]]), e1 = of(s.verts[t.v[1]]) - a, e2 = of(s.verts[t.v[2]]) - a;
-    const V3 p = cross(r.d, e2);
-    const LD det = dot(e1, p);
-    if (det == 0) return kNone;
-    const V3 tv = r.o - a;
-    const LD u = dot(tv, p) / det;
-    if (u < 0 || u > 1) return kNone;
-    const V3 q = cross(tv, e1);
-    const LD v = dot(r.d, q) / det;
-    if (v < 0 || u + v > 1) return kNone;
-    const LD tt = dot(e2, q) / det;
-    return tt >= r.lo && tt <= r.hi ? tt : kNone;
-  }
-
-  // Embree's triangle geometry: the shared vertex array and each triangle's three indices.
-  static const std::vector<Vec3d>& mesh_vertices(const Scene& s) { return s.verts; }
-  static std::array<std::uint32_t, 3> mesh_indices(const Scene& s, std::uint32_t i) { return s.triangles[i].v; }
 
   static Surface surface(const HitQuery& q, std::uint32_t i) {
     const Scene& s = *q.scene;
