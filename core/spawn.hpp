@@ -80,12 +80,13 @@ inline __m256 step_floats8(__m256 v, __m256i n) {
 inline float away(float po, float off) { return off > 0 ? next_up(po) : off < 0 ? next_down(po) : po; }
 
 // p (within err of the surface, per coordinate) moved along the unit normal n (on the outgoing
-// side) by |n| . err, each moved coordinate rounded one float further.
+// side) by |n| . err, each moved coordinate rounded one float further. Fused explicitly (p + n d
+// rounded once), so that the point is the same wherever this is inlined: left to
+// -ffp-contract=fast, the compiler fused it in one caller and not in another.
 inline Vec3f bound_offset(const Vec3f& p, const Vec3f& err, const Vec3f& n) {
-  const float d = std::fabs(n.x) * err.x + std::fabs(n.y) * err.y + std::fabs(n.z) * err.z;
-  const Vec3f off = n * d;
-  const Vec3f po = p + off;
-  return {away(po.x, off.x), away(po.y, off.y), away(po.z, off.z)};
+  const float d = std::fma(std::fabs(n.x), err.x, std::fma(std::fabs(n.y), err.y, std::fabs(n.z) * err.z));
+  const Vec3f po{std::fma(n.x, d, p.x), std::fma(n.y, d, p.y), std::fma(n.z, d, p.z)};
+  return {away(po.x, n.x * d), away(po.y, n.y * d), away(po.z, n.z * d)};
 }
 
 // The point moved along n by eps (the extent-epsilon scheme).
@@ -95,10 +96,12 @@ inline Vec3f eps_offset(const Vec3f& p, const Vec3f& n, float eps) { return p + 
 // integer offset's near-origin constants. 1 for an empty or non-finite size.
 inline float pow2_scale(double size) {
   if (!(size > 0) || !std::isfinite(size)) return 1.0f;
-  int e = 0;
-  std::frexp(size, &e);  // size = m 2^e, m in [0.5, 1)
-  e = std::max(-100, std::min(100, e - 1));
-  return std::ldexp(1.0f, e);
+  // size = m 2^e with m in [0.5, 1): e from the exponent bits (a subnormal size clamps below), the
+  // power of two built from its bits: frexp and ldexp without their library calls (the spawn point
+  // of every secondary ray pays for this).
+  const int bits = int((std::bit_cast<std::uint64_t>(size) >> 52) & 0x7ff);
+  const int e = bits == 0 ? -100 : std::max(-100, std::min(100, bits - 1022 - 1));
+  return std::bit_cast<float>(std::uint32_t(e + 127) << 23);
 }
 
 }  // namespace rb::spawn

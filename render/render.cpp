@@ -144,6 +144,7 @@ Renderer::Renderer(const scene::Scene& s, const tracer::SceneAccel& a, const Ren
     light_pos_.push_back(view_.from);
     light_col_.push_back(Vec3f{1, 1, 1});
   }
+  for (const auto& p : light_pos_) light_frame_.push_back(a_.to_frame(p));
 }
 
 // Eye rays, row-major in the tile: neighbours on a row (and the rows below them) form a packet. NFF's hither plane is for
@@ -228,8 +229,11 @@ void Renderer::shade(float* samples, Work& w, RenderStats& st) const {
     // Ambient.
     add_to(samples, pr.sample, mul(pr.w, base * (o_.ambient * m.kd)));
     // Lights: Lambert + Phong, each behind a shadow ray from the surface (on the light test's
-    // side) to the light, in the frame.
+    // side) to the light, in the frame. Every shadow ray leaves from one point (the side of ngl).
     const Vec3f view = -r.d;
+    const tracer::SceneAccel::SpawnBase spawn = a_.spawn_base(sf);
+    bool have_shadow_origin = false;
+    Vec3f shadow_origin{0, 0, 0};
     for (std::size_t l = 0; l < light_pos_.size(); ++l) {
       const Vec3d to = light_pos_[l] - sf.p;
       const double dist = std::sqrt(dot(to, to));
@@ -243,9 +247,10 @@ void Renderer::shade(float* samples, Work& w, RenderStats& st) const {
         if (rv > 0.0f) spec = m.ks * std::pow(rv, m.shine);
       }
       const Vec3f local = base * (m.kd * ndl) + Vec3f{spec, spec, spec};
-      const Vec3f o = a_.spawn_point(sf, ngl);
+      if (!have_shadow_origin) shadow_origin = a_.spawn_point(spawn, ngl), have_shadow_origin = true;
+      const Vec3f o = shadow_origin;
       w.shadow.push_back({pr.sample, mul(mul(pr.w, light_col_[l]), local)});
-      w.srays.push_back(make_ray(o, a_.to_frame(light_pos_[l]) - o, 0.0f, 1.0f - 1e-6f));
+      w.srays.push_back(make_ray(o, light_frame_[l] - o, 0.0f, 1.0f - 1e-6f));
     }
     // Reflection and refraction below the depth limit.
     if (pr.depth >= o_.depth) continue;
@@ -255,7 +260,7 @@ void Renderer::shade(float* samples, Work& w, RenderStats& st) const {
       const float eta_i = front ? 1.0f : m.ior, eta_t = front ? m.ior : 1.0f;
       const auto dt = refract(r.d, ns_in, eta_i, eta_t);
       if (dt) {
-        const Vec3f o = a_.spawn_point(sf, dot(*dt, ng_in) < 0.0f ? -ng_in : ng_in);
+        const Vec3f o = a_.spawn_point(spawn, dot(*dt, ng_in) < 0.0f ? -ng_in : ng_in);
         w.next_rays.push_back(make_ray(o, *dt));
         w.next_path.push_back({pr.sample, pr.depth + 1, pr.w * m.t});
         ++st.refract;
@@ -266,7 +271,7 @@ void Renderer::shade(float* samples, Work& w, RenderStats& st) const {
     const float kr = m.ks + (tir ? m.t : 0.0f);
     if (o_.spd ? (reflective || transmits) : kr > 0.0f) {
       const Vec3f dr = reflect(r.d, ns_in);
-      const Vec3f o = a_.spawn_point(sf, dot(dr, ng_in) < 0.0f ? -ng_in : ng_in);
+      const Vec3f o = a_.spawn_point(spawn, dot(dr, ng_in) < 0.0f ? -ng_in : ng_in);
       w.next_rays.push_back(make_ray(o, dr));
       w.next_path.push_back({pr.sample, pr.depth + 1, pr.w * kr});
       ++st.reflect;

@@ -151,6 +151,7 @@ class Renderer {
   bool transparent_;        // the scene has a transmitting material (shadow rays see through)
   std::vector<scene::Material> mats_;
   std::vector<Vec3d> light_pos_;  // world
+  std::vector<Vec3f> light_frame_;  // the same in the tracer's frame
   std::vector<Vec3f> light_col_;
 
   // The steps of one generation (RT_trace / RT_shade), in the order render_tile runs them.

@@ -71,6 +71,15 @@ class SceneAccel {
   // by the plan's spawn scheme: the hit point in frame coordinates moved off the surface on the
   // side `dir` leaves to. `n` is the unit geometric normal.
   Vec3f spawn_point(const kinds::Surface& sf, const Vec3f& dir) const;
+  // The same in two steps, for a hit that spawns several rays (shadow rays to every light, a
+  // reflection and a refraction ray): what depends on the hit alone once, then each ray's side.
+  struct SpawnBase {
+    Vec3f p, err;      // the hit point in frame coordinates; the error-bound scheme's bound per axis
+    Vec3f ng;          // the unit geometric normal
+    float scale = 1;   // the integer scheme's scale
+  };
+  SpawnBase spawn_base(const kinds::Surface& sf) const;
+  Vec3f spawn_point(const SpawnBase& b, const Vec3f& dir) const;
 
   // Traces rays [begin, end) (frame coordinates; begin a multiple of 8) into out[begin, end).
   void trace(const RaySoA& rays, std::size_t begin, std::size_t end, HitRec* out, const TraceOptions& o) const;
