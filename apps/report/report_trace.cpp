@@ -251,8 +251,8 @@ std::string trace_goals(const TracingRun& x, json& goal_rows) {
     goal_rows.push_back(
         {{"goal", goal},
          {"measured", n == 0 ? fmt::format("no interval ({} round(s) per row)", reps)
-                             : fmt::format("lowest {} ({}{}); {} of {} rows clear {:.1f}x, {} below", stats::interval_text(low), where,
-                                           extra, cleared, n, target, below)},
+                             : fmt::format("lowest {} ({}{}); {} of {} rows clear {}x, {} below", stats::interval_text(low), where,
+                                           extra, cleared, n, fmt::format(fmt::runtime(target * 10 == std::round(target * 10) ? "{:.1f}" : "{:.2f}"), target), below)},
          {"met", met},
          {"verdict", doc::goal_word(met)},
          {"lowest", stats::interval_json(low)}});
