@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <stdexcept>
 #include <utility>
 
 namespace rb::app {
@@ -119,6 +120,9 @@ RenderTimes time_renders(const RenderRunOptions& o, const scene::Scene& s, const
   int rank = 0;
 #ifdef RB_HAVE_MPI
   if (mpi) rank = mpi->rank(), out.ranks = mpi->size();
+  // Every rank sees the same options, so every rank stops here alike (before any collective call).
+  if (!o.rays_out.empty() && out.ranks > 1)
+    throw std::invalid_argument("--rays-out needs every tile in one process: under MPI a rank renders only its own tiles");
   if (mpi) mpi->barrier();
 #endif
   out.rank0 = rank == 0;
