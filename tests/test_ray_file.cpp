@@ -258,6 +258,16 @@ TEST(RayOrder, SortedStreamIsAPermutationWithTheSameHits) {
     for (std::size_t i = 0; i < n; ++i) differ += back[i].prim != given[i].prim || back[i].t != given[i].t;
     EXPECT_EQ(differ, 0u) << tracer::ray_set_name(set);
   }
+  // Origins far outside the key's box (and a huge box) clamp to its cells: sorted, nothing lost.
+  RaySoA far;
+  for (float x : {1e30f, -1e30f, 3e38f, 0.0f, 1.0f})
+    far.push(make_ray(Vec3f{x, -x, x}, Vec3f{0.0f, 1.0f, 0.0f}));
+  tracer::RayOrder order;
+  tracer::ThreadScope ts(1);
+  order.sort(far, Vec3f{-1, -1, -1}, Vec3f{1, 1, 1}, ts);
+  EXPECT_EQ(order.order().size(), far.count);
+  order.sort(far, Vec3f{-3e38f, -3e38f, -3e38f}, Vec3f{3e38f, 3e38f, 3e38f}, ts);
+  EXPECT_EQ(order.order().size(), far.count);
 }
 
 }  // namespace

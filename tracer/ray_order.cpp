@@ -25,10 +25,12 @@ struct Spread {
 };
 const Spread kSpread;
 
+// The cell of x in [lo, lo + cells / scale), clamped (a coordinate far outside, or NaN, converts to
+// no integer out of range).
 std::uint32_t cell(float x, float lo, float scale, std::uint32_t cells) {
   const float c = (x - lo) * scale;
   if (!(c > 0.0f)) return 0;  // below, and NaN
-  return std::min(cells - 1, std::uint32_t(c));
+  return c < float(cells) ? std::uint32_t(c) : cells - 1;
 }
 
 // A key and its ray's index in one 64-bit word: the key in the top 36 bits, the index (below 2^28,
