@@ -386,6 +386,9 @@ TEST(Outputs, AReportFollowsTheRuleForEveryFileItWrites) {
   }
   EXPECT_TRUE(is_json(slurp(s / "rep/tracing.json")));
   EXPECT_TRUE(temporaries(s.dir / "rep").empty() && temporaries(s.dir).empty());
+  // --no-charts: the page names the charts it leaves out rather than linking missing files.
+  EXPECT_FALSE(has(r.err, ".png\": no such file beside the page")) << r.err;
+  EXPECT_TRUE(has(slurp(s / "kept.md"), "_Chart not drawn (`--no-charts`)")) << "an undrawn chart named";
 
   // The same page again from the folder's record, without measuring: the one line that says so added.
   const std::string first = slurp(s / "kept.md");

@@ -63,6 +63,22 @@ std::string terminal_summary(const json& summary, const std::vector<doc::Goal>& 
 // The goals every section checks, for the summary at the top of the report: those of section
 // "Scalar against SIMD" (its speed goals and 4x target, report_simd.cpp), the tracing goals (checked
 // by that section), the rendering goal and the accuracy lab's targets.
+// With --no-charts the page names each chart it would have shown instead of linking a file that
+// was never drawn (an image the report writes itself, such as a rendering, stays).
+std::string without_undrawn_charts(const std::string& md, const fs::path& out) {
+  static const std::regex image(R"re(!\[([^\]]*)\]\(([^)\s]+\.png)\))re");
+  std::string r;
+  auto last = md.begin();
+  for (std::sregex_iterator it(md.begin(), md.end(), image), e; it != e; ++it) {
+    r.append(last, md.begin() + it->position());
+    const std::string file = (*it)[2];
+    r += fs::is_regular_file(out / file) ? it->str() : "_Chart not drawn (`--no-charts`): " + std::string((*it)[1]) + " (`" + file + "`)._";
+    last = md.begin() + it->position() + it->length();
+  }
+  r.append(last, md.end());
+  return r;
+}
+
 std::vector<doc::Goal> report_goals(const std::vector<doc::Goal>& simd, const json& summary) {
   std::vector<doc::Goal> g = simd;
   // The tracing goals are checked by the section itself, each against its worst row.
@@ -255,9 +271,15 @@ int run_report(const ReportOptions& opts) {
   if (!rec.replay()) write_file(out / kRecordFile, rec.document().dump(1) + "\n");
   md += fmt::format("---\n\nReport measured in {:.0f} s by `raybench report --out {}{}`.\n", seconds, o.out, o.quick ? " --quick" : "");
   if (rec.replay()) md += fmt::format("Written again from its record ({}) by `raybench report --from {}`.\n", kRecordFile, o.out);
+  std::vector<doc::Goal> page_goals = all_goals;
+  if (!o.charts) {
+    md = without_undrawn_charts(md, out);
+    for (auto& g : page_goals)
+      if (!g.figure.empty() && !fs::is_regular_file(out / g.figure)) g.figure.clear();
+  }
   // One model, two pages: index.md and the self-contained index.html beside it.
   doc::Document page = doc::parse_markdown(md);
-  doc::organise(page, all_goals, out);
+  doc::organise(page, page_goals, out);
   write_file(out / "index.md", doc::to_markdown(page));
   const std::string html = doc::to_html(page);
   write_file(out / "index.html", html);
