@@ -10,12 +10,18 @@
 #include "soa/prims.hpp"
 #include "soa/rays.hpp"
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <random>
 #include <string>
 #include <vector>
+
+namespace rb {
+template <class F>
+struct TriVerts;  // kernels/triangle_woop.hpp
+}  // namespace rb
 
 namespace rb::acc {
 
@@ -208,7 +214,6 @@ void run_boxes(Ctx& x);
 void run_secondary(Ctx& x);
 void run_implicit(Ctx& x);
 void run_quartics(Ctx& x);
-void run_scenes(Ctx& x);
 std::vector<CaseInfo> triangle_cases();
 std::vector<CaseInfo> sphere_cases();
 std::vector<CaseInfo> quadric_cases();
@@ -217,6 +222,16 @@ std::vector<CaseInfo> box_cases();
 std::vector<CaseInfo> secondary_cases();
 std::vector<CaseInfo> implicit_cases();
 std::vector<CaseInfo> quartic_cases();
+
+// The cases through the whole tracer (library rb_accuracy_tracer: accuracy/bvh_cases.cpp and
+// accuracy/scenes.cpp), which a lab run includes when Options::tracer points here.
+struct TracerCases {
+  // A closed-mesh triangle case traced through an 8-wide BVH of the mesh (family "bvh" rows).
+  void (*mesh_rows)(Ctx& x, const Case<TriVerts>& woop, const std::vector<Vec3f>& verts, const std::vector<std::array<int, 3>>& faces);
+  std::vector<CaseInfo> (*scene_cases)();  // family "scene"
+  void (*run_scenes)(Ctx& x);
+};
 std::vector<CaseInfo> scene_cases();
+void run_scenes(Ctx& x);
 
 }  // namespace rb::acc

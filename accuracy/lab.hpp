@@ -25,6 +25,12 @@ struct Scene;
 
 namespace rb::acc {
 
+// The lab's cases through the whole tracer (the BVH rows of the closed-mesh triangle cases, the
+// whole scenes): in the library rb_accuracy_tracer, which links the tracer; rb_accuracy alone runs
+// the kernel families only.
+struct TracerCases;
+const TracerCases& tracer_cases();
+
 struct Options {
   bool full = false;              // larger ray counts and every case variant
   std::uint32_t seed = 1;         // seed of every generator
@@ -36,6 +42,8 @@ struct Options {
   std::string data_dir;
   bool real_meshes = true;
   std::function<void(double, const std::string&)> progress;  // fraction done, what
+  // &tracer_cases() to include the cases through the whole tracer; nullptr: the kernels' only.
+  const TracerCases* tracer = nullptr;
 };
 
 // One method in one precision on one case. Rates are per million tests (rays for leak_ppm).
@@ -63,7 +71,8 @@ struct Row {
 struct CaseInfo {
   std::string family, name, what;
 };
-std::vector<CaseInfo> case_list();
+// Every case, with the tracer's (families "bvh" and "scene") when `tracer` is given.
+std::vector<CaseInfo> case_list(const TracerCases* tracer);
 
 // Whether --filter selects the case "family/case": a POSIX extended regular expression searched in
 // it, as every --filter of the command line. Throws std::regex_error on a bad expression.
@@ -72,7 +81,7 @@ bool selects(const std::string& filter, const std::string& family_case);
 // Runs every selected case of every family. Rows come out in a stable order.
 std::vector<Row> run_lab(const Options& o);
 
-// One whole scene traced under the fast, auto and exact models (rows in that order) against the
+// (rb_accuracy_tracer) One whole scene traced under the fast, auto and exact models (rows in that order) against the
 // exact reference (the rows of family "scene", accuracy/scenes.cpp): about `rays` primary rays
 // through the scene's view and a spawned secondary ray per hit. Where the auto model stores
 // primitives apart in local frames, a fourth row, method kApartInDouble, is its plan with them in

@@ -3,7 +3,6 @@
 // watertightness test does), the mesh far from the origin and the camera far from the mesh,
 // grazing rays, needle and tiny triangles.
 #include "accuracy/exact.hpp"
-#include "tracer/accel.hpp"
 #include "kernels/triangle.hpp"
 #include "kernels/triangle_cramer.hpp"
 #include "kernels/triangle_woop.hpp"
@@ -224,73 +223,10 @@ void measure_all(Ctx& x, const TriCase& c) {
   measure(x, c.woop, "woop", [](const auto& r, const auto& p, IterCount*) { return intersect_triangle_woop(r, p); });
 }
 
-// The closed-mesh cases through the whole tracer: one BVH over the mesh, single rays (8-wide
-// nodes, "float") and 8-ray packets ("simd8"). Methods of family "bvh": `default` is the tracer's
-// default configuration (the auto model's plan: conservative node boxes, the fast slab test
-// within their bound, the robust one beyond it), `fast_slabs` the fast test on boxes as built (the
-// fast model), `robust_slabs` Ize's test on every node. The lab's rays and references are in
-// world coordinates, so every plan here keeps the world frame. Per ray, the exact first crossing
-// against the traced hit; leaks as above.
+// The closed-mesh cases through the whole tracer (family "bvh"), where the lab runs with the
+// tracer's cases (Options::tracer, accuracy/bvh_cases.cpp).
 void bvh_rows(Ctx& x, const TriCase& c, const Mesh& m) {
-  if (c.woop.must_hit.empty()) return;
-  scene::Scene s;
-  s.name = c.woop.name;
-  for (const auto& v : m.v) s.verts.push_back(to_double(v));
-  for (const auto& f : m.f) s.triangles.push_back({{std::uint32_t(f[0]), std::uint32_t(f[1]), std::uint32_t(f[2])}, 0});
-  // Ray origins: the box of every ray of the case (the lab has no camera).
-  tracer::Plan plan = tracer::make_plan(s, tracer::Model::automatic);
-  plan.frame = tracer::FrameKind::world;
-  plan.origin = {0, 0, 0};
-  double ob = 0;
-  for (const auto& v : s.verts) ob = std::max({ob, std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
-  plan.origin_bound = float(ob * (1 + 0x1p-10));
-  const tracer::SceneAccel a = tracer::SceneAccel::build(s, plan);
-  const tracer::SceneAccel fast = tracer::SceneAccel::build(s, tracer::make_plan(s, tracer::Model::fast));
-  const std::size_t nr = c.woop.nrays(), np = c.woop.nprims();
-  std::vector<Ref> ref(nr);
-  for (std::size_t i = 0; i < nr; ++i) {
-    Ref& f = ref[i];
-    for (std::size_t j = 0; j < np; ++j) {
-      const Ref& t = c.woop.ref[j * nr + i];
-      f.scale = t.scale;
-      if (t.cls == Cls::hit) f.cls = Cls::hit;
-      if (t.cls == Cls::either && f.cls == Cls::miss) f.cls = Cls::either;
-      if (t.has_t && (!f.has_t || t.t < f.t)) f.t = t.t, f.has_t = true;
-    }
-  }
-  for (int mode = 0; mode < 3; ++mode)
-    for (int packet : {1, 8}) {
-      tracer::TraceOptions opt;
-      opt.packet = packet;
-      if (mode == 2) opt.slab_given = true, opt.slab = bvh::Slab::robust;
-      const tracer::SceneAccel& accel = mode == 1 ? fast : a;
-      const char* method = mode == 0 ? "default" : mode == 1 ? "fast_slabs" : "robust_slabs";
-      x.tick("bvh", c.woop.name);
-      std::vector<bvh::HitRec> hits(c.woop.rays.size());
-      accel.trace(c.woop.rays, 0, c.woop.rays.size(), hits.data(), opt);
-      std::vector<Out> out(nr);
-      for (std::size_t i = 0; i < nr; ++i) out[i] = {hits[i].prim != bvh::kNoPrim, double(hits[i].t)};
-      Row r = tally("bvh", method, packet == 1 ? "float" : "simd8", c.woop.name,
-                    c.woop.what + " (traced through an 8-wide BVH)", nr, ref, out, double(std::numeric_limits<float>::epsilon()), true,
-                    {}, true);  // a hit 1e3 eps scale past the first crossing: a farther face (the near one culled)
-      std::size_t leaks = 0, crossing = 0;
-      for (std::size_t i = 0; i < nr; ++i)
-        if (c.woop.must_hit[i]) ++crossing, leaks += !out[i].hit;
-      r.leaks = leaks;
-      r.leak_ppm = 1e6 * double(leaks) / double(std::max<std::size_t>(crossing, 1));
-      r.iterations = std::numeric_limits<double>::quiet_NaN();
-      r.ns_per_test = std::numeric_limits<double>::quiet_NaN();
-      if (x.o->timing) {
-        double best = 1e300;
-        for (int k = 0; k < 10; ++k) {
-          const auto t0 = std::chrono::steady_clock::now();
-          accel.trace(c.woop.rays, 0, c.woop.rays.size(), hits.data(), opt);
-          best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-        }
-        r.ns_per_test = best * 1e9 / double(nr);
-      }
-      x.rows->push_back(r);
-    }
+  if (x.o->tracer) x.o->tracer->mesh_rows(x, c.woop, m.v, m.f);
 }
 
 void triangle_grazing(Ctx& x, const std::string& what) {

@@ -42,7 +42,7 @@ nlohmann::json accuracy_json(const acc::Options& o, const std::vector<acc::Row>&
   j["rows"] = nlohmann::json::array();
   for (const auto& r : rows) j["rows"].push_back(r.json());
   j["cases"] = nlohmann::json::array();
-  for (const auto& c : acc::case_list()) j["cases"].push_back({{"family", c.family}, {"case", c.name}, {"what", c.what}});
+  for (const auto& c : acc::case_list(&acc::tracer_cases())) j["cases"].push_back({{"family", c.family}, {"case", c.name}, {"what", c.what}});
   return j;
 }
 
@@ -78,6 +78,7 @@ std::vector<acc::Row> run_accuracy(acc::Options o, const std::string& label) {
   auto bar = std::make_shared<ProgressBar>(label);
   o.progress = [bar](double f, const std::string& what) { bar->update(f, what); };
   if (o.data_dir.empty()) o.data_dir = data_dir();  // the scene family's real meshes
+  o.tracer = &acc::tracer_cases();                   // with the cases through the whole tracer
   auto rows = acc::run_lab(o);
   bar->done();
   return rows;
@@ -88,7 +89,7 @@ int run_accuracy_command(const acc::Options& o, bool list, const JsonOut& out) {
   std::vector<acc::CaseInfo> cases;
   try {
     if (!o.filter.empty()) filter_regex(o.filter);  // one message for a bad expression
-    for (const auto& c : acc::case_list())
+    for (const auto& c : acc::case_list(&acc::tracer_cases()))
       if (acc::selects(o.filter, c.family + "/" + c.name)) ++selected, cases.push_back(c);
   } catch (const std::exception& e) {
     std::cerr << error_line("accuracy", "", e.what()) << "\n";

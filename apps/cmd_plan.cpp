@@ -62,6 +62,7 @@ json verify(const tracer::Plan& plan) {
       o.filter = c;
       o.rays = 4000;
       o.timing = false;
+      o.tracer = &acc::tracer_cases();
       for (const acc::Row& r : acc::run_lab(o)) {
         if (r.family + "/" + r.case_name != c || r.method != method) continue;
         const bool ours = kp.f64 ? r.precision == "double" : r.precision != "double";

@@ -392,6 +392,7 @@ TEST(PlanAccuracy, AutoAndExactHaveNoFailureOnAnyWholeSceneCase) {
   o.rays = 1024;
   o.timing = false;
   o.data_dir = std::string(RB_SOURCE_DIR) + "/data";
+  o.tracer = &acc::tracer_cases();
   auto rows = acc::run_lab(o);
   o.filter = "^scene/bunny";  // the real mesh's reference loops over 69,451 triangles per ray: 256 rays
   o.rays = 256;
