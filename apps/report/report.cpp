@@ -60,9 +60,6 @@ std::string terminal_summary(const json& summary, const std::vector<doc::Goal>& 
   return t;
 }
 
-// The goals every section checks, for the summary at the top of the report: those of section
-// "Scalar against SIMD" (its speed goals and 4x target, report_simd.cpp), the tracing goals (checked
-// by that section), the rendering goal and the accuracy lab's targets.
 // With --no-charts the page names each chart it would have shown instead of linking a file that
 // was never drawn (an image the report writes itself, such as a rendering, stays).
 std::string without_undrawn_charts(const std::string& md, const fs::path& out) {
@@ -79,6 +76,9 @@ std::string without_undrawn_charts(const std::string& md, const fs::path& out) {
   return r;
 }
 
+// The goals every section checks, for the summary at the top of the report: those of section
+// "Scalar against SIMD" (its speed goals and 4x target, report_simd.cpp), the tracing goals (checked
+// by that section), the rendering goal and the accuracy lab's targets.
 std::vector<doc::Goal> report_goals(const std::vector<doc::Goal>& simd, const json& summary) {
   std::vector<doc::Goal> g = simd;
   // The tracing goals are checked by the section itself, each against its worst row.
