@@ -21,7 +21,7 @@ namespace {
 // within their bound, the robust one beyond it), `fast_slabs` the fast test on boxes as built (the
 // fast model), `robust_slabs` Ize's test on every node. The lab's rays and references are in
 // world coordinates, so every plan here keeps the world frame. Per ray, the exact first crossing
-// against the traced hit; leaks as above.
+// against the traced hit; leaks counted as in the triangle family (accuracy/triangle_cases.cpp).
 void mesh_rows(Ctx& x, const Case<TriVerts>& woop, const std::vector<Vec3f>& verts, const std::vector<std::array<int, 3>>& faces) {
   if (woop.must_hit.empty()) return;
   scene::Scene s;
