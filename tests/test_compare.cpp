@@ -295,6 +295,21 @@ TEST(Compare, TraceRenderAccuracyKinds) {
   ASSERT_EQ(rb::app::result_kind(ra), "render");
   const rb::app::Comparison r = rb::app::compare_results(rb::app::figures_of("render", ra), rb::app::figures_of("render", rb2), {});
   EXPECT_EQ(r.changed, 1u);  // a ray count that moved: neither better nor worse, but not equal
+  // Test counts follow the packet sizes a render chose (by timing trial renders): counts of renders
+  // that traced in other packets are not paired as better or worse.
+  json ca = ra;
+  ca["tests_counted"] = true;
+  ca["eye_packet"] = 64;
+  ca["secondary_packet"] = 1;
+  ca["box_tests"] = 30000;
+  json cb = ca;
+  cb["secondary_packet"] = 8;
+  cb["box_tests"] = 20000;
+  const rb::app::Comparison rc = rb::app::compare_results(rb::app::figures_of("render", ca), rb::app::figures_of("render", cb), {});
+  EXPECT_EQ(rc.better + rc.worse + rc.changed, 0u);
+  cb["secondary_packet"] = 1;
+  const rb::app::Comparison same = rb::app::compare_results(rb::app::figures_of("render", ca), rb::app::figures_of("render", cb), {});
+  EXPECT_EQ(same.better, 1u);  // the same packets: fewer tests is better
 
   const json aa = {{"mode", "quick"}, {"seed", 1}, {"rows", {{{"family", "sphere"}, {"case", "far"}, {"method", "geometric"},
                                                               {"precision", "float"}, {"false_hit_ppm", 0.0}, {"false_miss_ppm", 10.0},
