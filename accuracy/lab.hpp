@@ -31,12 +31,17 @@ namespace rb::acc {
 struct TracerCases;
 const TracerCases& tracer_cases();
 
+// Timed rounds of a whole-scene case (family "scene") by default; the report's quick mode takes fewer.
+inline constexpr int kWholeSceneRounds = 15;
+
 struct Options {
   bool full = false;              // larger ray counts and every case variant
   std::uint32_t seed = 1;         // seed of every generator
   std::size_t rays = 0;           // rays per case (0: 10000 quick, 100000 full)
   std::string filter;             // regex searched in "family/case" (POSIX extended; empty: all)
   bool timing = true;             // measure ns per test (off: every ns figure is NaN)
+  // Timed rounds of each whole-scene case (family "scene"; accuracy/scenes.cpp), with timing on.
+  int scene_rounds = kWholeSceneRounds;
   // Where the embedded meshes are (their folder `meshes/`): the scene family's real meshes (the
   // bunny, the dragon) are traced from there; empty, or real_meshes false: those cases are left out.
   std::string data_dir;
@@ -85,11 +90,10 @@ std::vector<Row> run_lab(const Options& o);
 // exact reference (the rows of family "scene", accuracy/scenes.cpp): about `rays` primary rays
 // through the scene's view and a spawned secondary ray per hit. Where the auto model stores
 // primitives apart in local frames, a fourth row, method kApartInDouble, is its plan with them in
-// double. With timing, kWholeSceneRounds timed rounds in which the rows' trees take turns, each
+// double. `timed_rounds` timed rounds (none: no timing) in which the rows' trees take turns, each
 // turn repeating the trace to last about kWholeSceneTurn seconds for the fast model.
 inline constexpr const char* kApartInDouble = "auto_apart_double";
-inline constexpr int kWholeSceneRounds = 15;
 inline constexpr double kWholeSceneTurn = 0.015;
 std::vector<Row> whole_scene_rows(const scene::Scene& s, const std::string& case_name, const std::string& what, std::size_t rays,
-                                  bool timing, std::uint64_t seed);
+                                  int timed_rounds, std::uint64_t seed);
 }  // namespace rb::acc

@@ -207,7 +207,7 @@ std::vector<CaseInfo> scene_cases() {
 }
 
 std::vector<Row> whole_scene_rows(const scene::Scene& s, const std::string& case_name, const std::string& what, std::size_t nrays,
-                                  bool timing, std::uint64_t seed) {
+                                  int timed_rounds, std::uint64_t seed) {
   std::vector<Row> rows;
   const tracer::Profile prof = tracer::make_profile(s);
   const Reference ref{s};
@@ -303,7 +303,7 @@ std::vector<Row> whole_scene_rows(const scene::Scene& s, const std::string& case
     rows.push_back(r);
     primaries.push_back(std::move(rays));
   }
-  if (!timing) return rows;
+  if (timed_rounds <= 0) return rows;
   // Timed rounds: in each, every model traces its primary rays in 8-ray packets `reps` times, the
   // first model of the round turning from round to round; one untimed run each before. `reps` makes
   // the fast model's turn last about kWholeSceneTurn (a few thousand rays take well under a
@@ -321,7 +321,7 @@ std::vector<Row> whole_scene_rows(const scene::Scene& s, const std::string& case
   const double first = run(0, 1);
   for (std::size_t k = 1; k < accels.size(); ++k) run(k, 1);
   const int reps = int(std::clamp(std::ceil(kWholeSceneTurn / std::max(first, 1e-9)), 1.0, 1000.0));
-  for (int round = 0; round < kWholeSceneRounds; ++round)
+  for (int round = 0; round < timed_rounds; ++round)
     for (std::size_t i = 0; i < accels.size(); ++i) {
       const std::size_t k = (i + std::size_t(round)) % accels.size();
       rows[k].round_seconds.push_back(run(k, reps));
@@ -337,7 +337,7 @@ void run_scenes(Ctx& x) {
     x.tick("scene", c.name);
     if ((c.mesh && (x.o->data_dir.empty() || !x.o->real_meshes)) || (c.full_only && !x.o->full)) continue;
     x.reseed("scene", c.name);
-    for (Row& r : whole_scene_rows(case_scene(c, x.o->data_dir), c.name, c.what, x.rays, x.o->timing, x.rng()))
+    for (Row& r : whole_scene_rows(case_scene(c, x.o->data_dir), c.name, c.what, x.rays, x.o->timing ? x.o->scene_rounds : 0, x.rng()))
       x.rows->push_back(std::move(r));
   }
 }

@@ -211,6 +211,7 @@ json spawn_evidence(const std::vector<Row>& rows) {
 
 std::string report_section_accuracy(const ReportOptions& o, Record& rec, const fs::path& out, json& summary) {
   acc::Options ao;
+  ao.scene_rounds = whole_scene_rounds(o);
   if (o.quick) ao.rays = 200, ao.real_meshes = false;  // the layout only: the real meshes' references take the longest
   const json kept = rec.take("accuracy", [&] {
     const auto t0 = std::chrono::steady_clock::now();

@@ -178,7 +178,7 @@ std::string plan_scene_row(const ReportOptions& o, Record& rec, const PlanSource
     const scene::Scene s = src.make();
     const tracer::Plan plan = tracer::make_plan(s, tracer::Model::automatic);
     json rj = json::array();
-    for (const acc::Row& x : acc::whole_scene_rows(s, src.label, s.name, o.quick ? src.rays / 16 : src.rays, true, 1)) rj.push_back(x.json());
+    for (const acc::Row& x : acc::whole_scene_rows(s, src.label, s.name, o.quick ? src.rays / 16 : src.rays, whole_scene_rounds(o), 1)) rj.push_back(x.json());
     // The memory each model's tree and batches take (tracer/accel.hpp), per primitive.
     auto bytes = [&](tracer::Model m) -> json {
       return double(tracer::SceneAccel::build(s, tracer::make_plan(s, m)).bytes()) / double(std::max<std::size_t>(1, s.primitive_count()));
@@ -236,6 +236,8 @@ std::string plan_scene_row(const ReportOptions& o, Record& rec, const PlanSource
 
 }  // namespace
 
+int whole_scene_rounds(const ReportOptions& o) { return o.quick ? 3 : acc::kWholeSceneRounds; }
+
 std::string report_section_plan(const ReportOptions& o, Record& rec, const fs::path& out, json& summary) {
   std::string md = "## What each scene needs: the plan, its cost and its failures\n\n";
   md += "Model no more than a scene needs. Before tracing, raybench reads the scene's numerical profile (per primitive kind: the "
@@ -254,7 +256,7 @@ std::string report_section_plan(const ReportOptions& o, Record& rec, const fs::p
         "double (a brute-force loop). Per primary ray through the scene's view: a false hit or miss, or a wrong hit (another "
         "surface than the first, or the right one off by more than 1e-5 of the distance); per hit, a secondary ray spawned at the "
         "model's hit point that hits its own surface again. Speed: the model's primary rays in 8-ray packets on one thread, Mrays/s, "
-        "the median of " + std::to_string(acc::kWholeSceneRounds) + " rounds in which the three models take turns (each turn traces the "
+        "the median of " + std::to_string(whole_scene_rounds(o)) + " rounds in which the three models take turns (each turn traces the "
         "rays as often as makes the fast model's last about " + fmt::format("{:.0f}", 1e3 * acc::kWholeSceneTurn) + " ms); auto / fast is "
         "the median of the rounds' own ratios with its 95 % interval (the sign test's; the range of the rounds where they are "
         "too few). CSG scenes have no reference and are left out.\n\n";
