@@ -3,11 +3,10 @@
 // parallel reductions.
 #include "bvh/bvh.hpp"
 
+#include "core/box4.hpp"
+#include "core/lanes.hpp"
 #include "core/memory.hpp"
 #include "core/par.hpp"
-#include "core/spawn.hpp"
-
-#include <immintrin.h>
 
 #include <algorithm>
 #include <array>
@@ -28,21 +27,9 @@ constexpr std::size_t kParallelNode = 16384;  // primitives above which a node b
 constexpr std::size_t kTaskNode = 4096;       // primitives above which a child subtree is a task
 constexpr int kMaxBins = 64;
 
-// Boxes as two SSE registers (x, y, z, unused): binning grows 3 bins per primitive with 2
-// min/max instructions each.
-struct Box {
-  __m128 lo = _mm_set1_ps(kInfF), hi = _mm_set1_ps(-kInfF);
-  void grow(const Box& b) { lo = _mm_min_ps(lo, b.lo); hi = _mm_max_ps(hi, b.hi); }
-  void grow(__m128 p) { lo = _mm_min_ps(lo, p); hi = _mm_max_ps(hi, p); }
-  float l(int k) const { alignas(16) float v[4]; _mm_store_ps(v, lo); return v[k]; }
-  float h(int k) const { alignas(16) float v[4]; _mm_store_ps(v, hi); return v[k]; }
-  float area() const {
-    alignas(16) float d[4];
-    _mm_store_ps(d, _mm_sub_ps(hi, lo));
-    if (!(d[0] >= 0)) return 0.f;
-    return 2.f * (d[0] * d[1] + d[1] * d[2] + d[2] * d[0]);
-  }
-};
+// Boxes as two SSE registers (core/box4.hpp): binning grows 3 bins per primitive with 2 min/max
+// instructions each.
+using Box = Box4;
 
 struct Bin {
   Box box;
@@ -72,9 +59,9 @@ struct Bins {
 // partitioning read memory front to back instead of through an index array.
 struct alignas(16) PrimRef {
   Box box;
-  std::uint32_t id() const { return std::uint32_t(_mm_cvtsi128_si32(_mm_castps_si128(_mm_shuffle_ps(box.lo, box.lo, 3)))); }
+  std::uint32_t id() const { return box.tag(); }
   // Twice the box centre (the halving cancels in every use: bins and centroid bounds alike).
-  __m128 centre2() const { return _mm_add_ps(box.lo, box.hi); }
+  __m128 centre2() const { return box.centre2(); }
 };
 
 struct Builder {
@@ -84,9 +71,6 @@ struct Builder {
   BNode* nodes;  // room for 2 n nodes, each written once when the build claims it
   std::atomic<std::uint32_t> next{1};
 
-  // Lane `axis` of v by a variable permute (through memory it waited on a store each time: the
-  // partition asks twice per primitive).
-  static float lane(__m128 v, int axis) { return _mm_cvtss_f32(_mm_permutevar_ps(v, _mm_set1_epi32(axis))); }
   std::uint8_t kind_of(std::size_t i) const { return kind[refs[i].id()]; }
   // Box and (doubled) centroid box of refs[begin, end).
   std::pair<Box, Box> bounds(std::size_t begin, std::size_t end) const {
@@ -112,7 +96,7 @@ struct Builder {
     return float((n + b - 1) / b);
   }
   static int bin_of(const PrimRef& r, int axis, float clo, float scale, int nb) {
-    const int b = int((lane(r.centre2(), axis) - clo) * scale);
+    const int b = int((lane4(r.centre2(), axis) - clo) * scale);
     return std::clamp(b, 0, nb - 1);
   }
 
@@ -156,15 +140,13 @@ struct Builder {
       Bins bins(nb);
       float scale[3];
       for (int k = 0; k < 3; ++k) scale[k] = ext[k] > 0 ? float(nb) * (1.f - 1e-6f) / ext[k] : 0.f;
-      const __m128 vclo = cbox.lo;
-      const __m128 vscale = _mm_setr_ps(scale[0], scale[1], scale[2], 0.f);
-      const __m128i vmax = _mm_set1_epi32(nb - 1), vzero = _mm_setzero_si128();
+      // Copies: the bins' stores could alias the box behind a reference, which would be read again
+      // for every primitive.
+      const __m128 vclo = cbox.lo, vscale = f4(scale[0], scale[1], scale[2]);
       auto body = [&](std::size_t b, std::size_t e, Bins& acc) {
         for (std::size_t i = b; i < e; ++i) {
           const Box& pb = refs[i].box;
-          const __m128i bi = _mm_min_epi32(_mm_max_epi32(_mm_cvttps_epi32(_mm_mul_ps(_mm_sub_ps(refs[i].centre2(), vclo), vscale)), vzero), vmax);
-          alignas(16) int b3[4];
-          _mm_store_si128(reinterpret_cast<__m128i*>(b3), bi);
+          const std::array<int, 4> b3 = bins4(refs[i].centre2(), vclo, vscale, nb);
           for (int k = 0; k < 3; ++k) {
             Bin& bin = acc.at(k, b3[k]);
             bin.box.grow(pb);
@@ -229,7 +211,7 @@ struct Builder {
       have_bounds = false;
       if (!flat)
         std::nth_element(refs.begin() + std::ptrdiff_t(begin), refs.begin() + std::ptrdiff_t(mid), refs.begin() + std::ptrdiff_t(end),
-                         [&](const PrimRef& a, const PrimRef& b) { return lane(a.centre2(), axis) < lane(b.centre2(), axis); });
+                         [&](const PrimRef& a, const PrimRef& b) { return lane4(a.centre2(), axis) < lane4(b.centre2(), axis); });
     }
     const std::uint32_t c = next.fetch_add(2);
     node.first = c;
@@ -262,13 +244,7 @@ Bvh2 build_sah(std::size_t n, const BoxFill& boxes, const std::vector<std::uint8
   // references are first written here, in parallel.
   uninit_array<PrimRef> refs_a(std::max<std::size_t>(n, 1));
   PrimRef* const rs = refs_a.data();
-  auto usable = [](const PrimRef& r) {
-    const __m128 lo = r.box.lo, hi = r.box.hi;
-    // lanes 0-2: finite (x - x == 0 fails for inf and NaN) and lo <= hi
-    const __m128 ok = _mm_and_ps(_mm_and_ps(_mm_cmpeq_ps(_mm_sub_ps(lo, lo), _mm_setzero_ps()), _mm_cmpeq_ps(_mm_sub_ps(hi, hi), _mm_setzero_ps())),
-                                 _mm_cmple_ps(lo, hi));
-    return (_mm_movemask_ps(ok) & 7) == 7;
-  };
+  auto usable = [](const PrimRef& r) { return r.box.usable(); };
   struct Scan {
     std::size_t bad = 0;
     int kmin = 256, kmax = -1;
@@ -282,8 +258,7 @@ Bvh2 build_sah(std::size_t n, const BoxFill& boxes, const std::vector<std::uint8
         const float* l = lo + 3 * (i - c);
         const float* h = hi + 3 * (i - c);
         PrimRef& r = rs[i];
-        r.box.lo = _mm_castsi128_ps(_mm_insert_epi32(_mm_castps_si128(_mm_setr_ps(l[0], l[1], l[2], 0.f)), int(i), 3));
-        r.box.hi = _mm_setr_ps(h[0], h[1], h[2], 0.f);
+        r.box = Box::of(l, h, std::uint32_t(i));
         if (usable(r)) {
           acc.kmin = std::min(acc.kmin, int(kind[i]));
           acc.kmax = std::max(acc.kmax, int(kind[i]));
@@ -450,41 +425,17 @@ Bvh8 collapse8(const Bvh2& b) {
 }
 
 void make_conservative(Bvh8& t, float origin_bound) {
-  // A row of 8 coordinates, moved out by 4 u (|c| + O) in double (4 lanes at a time), rounded to
-  // float, and one float further out in the lanes where that rounding went inward (the same
-  // arithmetic as one coordinate at a time, 48 at once per node instead of 48 nextafter calls).
-  const __m256d k4u = _mm256_set1_pd(4 * 0x1p-24), O = _mm256_set1_pd(double(origin_bound));
-  const __m256d abs_mask = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7FFFFFFFFFFFFFFF));
-  const __m256i evens = _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6);
-  auto out = [&]<bool Up>(__m256 row) {
-    const __m256d c[2] = {_mm256_cvtps_pd(_mm256_castps256_ps128(row)), _mm256_cvtps_pd(_mm256_extractf128_ps(row, 1))};
-    __m256d moved[2];
-    __m128 f[2];
-    __m128i inward[2];
-    for (int h = 0; h < 2; ++h) {
-      const __m256d d = _mm256_mul_pd(k4u, _mm256_add_pd(_mm256_and_pd(c[h], abs_mask), O));
-      moved[h] = Up ? _mm256_add_pd(c[h], d) : _mm256_sub_pd(c[h], d);
-      f[h] = _mm256_cvtpd_ps(moved[h]);
-      const __m256d back = _mm256_cvtps_pd(f[h]);
-      const __m256d in = Up ? _mm256_cmp_pd(back, moved[h], _CMP_LT_OQ) : _mm256_cmp_pd(back, moved[h], _CMP_GT_OQ);
-      inward[h] = _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(in), evens));  // -1 where inward
-    }
-    const __m256i in8 = _mm256_set_m128i(inward[1], inward[0]);
-    const __m256 rounded = _mm256_set_m128(f[1], f[0]);
-    // (Only those lanes: stepping by 0 would also turn -0 into +0.)
-    return _mm256_blendv_ps(rounded, spawn::step_floats8(rounded, Up ? _mm256_sub_epi32(_mm256_setzero_si256(), in8) : in8),
-                            _mm256_castsi256_ps(in8));
-  };
+  // Every child box rounded outward, a row of 8 coordinates at a time (lanes::round_outward: 48 at
+  // once per node instead of 48 nextafter calls).
   auto widen = [&](WNode& n) {
     // Empty slots keep their inverted boxes (lo = +inf, hi = -inf).
-    const __m256 empty = _mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(n.child)),
-                                                                _mm256_set1_epi32(int(kEmpty))));
+    const f8_mask empty = lanes::of(lanes::equal_bits(n.child, kEmpty));
     for (int a = 0; a < 3; ++a) {
       float* lo = n.b[2 * a];
       float* hi = n.b[2 * a + 1];
-      const __m256 l = _mm256_loadu_ps(lo), h = _mm256_loadu_ps(hi);
-      _mm256_storeu_ps(lo, _mm256_blendv_ps(out.template operator()<false>(l), l, empty));
-      _mm256_storeu_ps(hi, _mm256_blendv_ps(out.template operator()<true>(h), h, empty));
+      const f8 l = f8::load_unaligned(lo), h = f8::load_unaligned(hi);
+      xsimd::select(empty, l, lanes::round_outward<false>(l, double(origin_bound))).store_unaligned(lo);
+      xsimd::select(empty, h, lanes::round_outward<true>(h, double(origin_bound))).store_unaligned(hi);
     }
   };
   par::for_range(0, t.nodes.size(), 1024, [&](std::size_t b, std::size_t e) {

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "core/num.hpp"
+#include "core/spawn.hpp"
 
 #include <immintrin.h>
 
@@ -82,6 +83,34 @@ RB_INLINE unsigned le_bits(const f8& a, const f8& b) { return unsigned(_mm256_mo
 RB_INLINE unsigned not_gt_bits(const f8& a, const f8& b) { return unsigned(_mm256_movemask_ps(_mm256_cmp_ps(a, b, _CMP_NGT_UQ))); }
 // Float bits in an integer of the same order for every float (negative floats' magnitude flipped).
 RB_INLINE __m256i ordered(__m256i b) { return _mm256_xor_si256(b, _mm256_srli_epi32(_mm256_srai_epi32(b, 31), 1)); }
+
+// ---- rounding outward ----------------------------------------------------------------------------
+// 8 coordinates each moved outward (up if Up, else down) by 4 u (|c| + O), u = 2^-24, in double
+// (4 lanes at a time), rounded to float, and one float further in the lanes where that rounding went
+// inward: the same arithmetic as one coordinate at a time (bvh::make_conservative's definition),
+// 8 at once. Stepping only those lanes keeps -0 where no step is needed.
+template <bool Up>
+RB_INLINE f8 round_outward(const f8& row, double origin_bound) {
+  const __m256d k4u = _mm256_set1_pd(4 * 0x1p-24), O = _mm256_set1_pd(origin_bound);
+  const __m256d abs_mask = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7FFFFFFFFFFFFFFF));
+  const __m256i evens = _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6);
+  const __m256 r = row;
+  const __m256d c[2] = {_mm256_cvtps_pd(_mm256_castps256_ps128(r)), _mm256_cvtps_pd(_mm256_extractf128_ps(r, 1))};
+  __m128 f[2];
+  __m128i inward[2];
+  for (int h = 0; h < 2; ++h) {
+    const __m256d d = _mm256_mul_pd(k4u, _mm256_add_pd(_mm256_and_pd(c[h], abs_mask), O));
+    const __m256d moved = Up ? _mm256_add_pd(c[h], d) : _mm256_sub_pd(c[h], d);
+    f[h] = _mm256_cvtpd_ps(moved);
+    const __m256d back = _mm256_cvtps_pd(f[h]);
+    const __m256d in = Up ? _mm256_cmp_pd(back, moved, _CMP_LT_OQ) : _mm256_cmp_pd(back, moved, _CMP_GT_OQ);
+    inward[h] = _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(in), evens));  // -1 where inward
+  }
+  const __m256i in8 = _mm256_set_m128i(inward[1], inward[0]);
+  const __m256 rounded = _mm256_set_m128(f[1], f[0]);
+  return f8(_mm256_blendv_ps(rounded, spawn::step_floats8(rounded, Up ? _mm256_sub_epi32(_mm256_setzero_si256(), in8) : in8),
+                             _mm256_castsi256_ps(in8)));
+}
 
 // ---- sorting and compacting 8 lanes --------------------------------------------------------------
 namespace detail {

@@ -77,6 +77,18 @@ inline __m256 step_floats8(__m256 v, __m256i n) {
                                       _mm256_set1_ps(std::numeric_limits<float>::max()), _CMP_LE_OQ);
   return _mm256_blendv_ps(v, _mm256_castsi256_ps(r), finite);
 }
+// Every lane stepped n floats.
+inline __m256 step_floats8(__m256 v, int n) { return step_floats8(v, _mm256_set1_epi32(n)); }
+// The box [lo, hi] relative to `origin`: each bound's difference rounded to the nearest float, then
+// `steps` floats outward, all 6 in the lanes of one register.
+inline void relative_box_outward(const Vec3d& lo, const Vec3d& hi, const Vec3d& origin, int steps, float out_lo[3], float out_hi[3]) {
+  const __m256d o = _mm256_setr_pd(origin.x, origin.y, origin.z, 0.0);
+  const __m128 l = _mm256_cvtpd_ps(_mm256_sub_pd(_mm256_setr_pd(lo.x, lo.y, lo.z, 0.0), o));
+  const __m128 h = _mm256_cvtpd_ps(_mm256_sub_pd(_mm256_setr_pd(hi.x, hi.y, hi.z, 0.0), o));
+  alignas(32) float v[8];
+  _mm256_store_ps(v, step_floats8(_mm256_set_m128(h, l), _mm256_setr_epi32(-steps, -steps, -steps, 0, steps, steps, steps, 0)));
+  for (int k = 0; k < 3; ++k) out_lo[k] = v[k], out_hi[k] = v[4 + k];
+}
 inline float away(float po, float off) { return off > 0 ? next_up(po) : off < 0 ? next_down(po) : po; }
 
 // p (within err of the surface, per coordinate) moved along the unit normal n (on the outgoing

@@ -167,12 +167,7 @@ inline void frame_box(const Bounds& b, const Vec3d& origin, float lo[3], float h
     for (int k = 0; k < 3; ++k) lo[k] = inf, hi[k] = -inf;
     return;
   }
-  const __m256d o = _mm256_setr_pd(origin.x, origin.y, origin.z, 0.0);
-  const __m128 l = _mm256_cvtpd_ps(_mm256_sub_pd(_mm256_setr_pd(b.lo.x, b.lo.y, b.lo.z, 0.0), o));
-  const __m128 h = _mm256_cvtpd_ps(_mm256_sub_pd(_mm256_setr_pd(b.hi.x, b.hi.y, b.hi.z, 0.0), o));
-  alignas(32) float v[8];
-  _mm256_store_ps(v, spawn::step_floats8(_mm256_set_m128(h, l), _mm256_setr_epi32(-3, -3, -3, 0, 3, 3, 3, 0)));
-  for (int k = 0; k < 3; ++k) lo[k] = v[k], hi[k] = v[4 + k];
+  spawn::relative_box_outward(b.lo, b.hi, origin, 3, lo, hi);
 }
 
 }  // namespace rb::kinds
@@ -193,6 +188,11 @@ namespace rb::kinds {
 template <class... K>
 struct KindList {
   static constexpr std::size_t size = sizeof...(K);
+  // Each kind's id is its place in the list (the tables indexed by Kind rely on it).
+  static constexpr bool ids_in_order() {
+    std::size_t i = 0;
+    return ((std::size_t(K::id) == i++) && ...);
+  }
   // f.template operator()<K>() for every kind, in order.
   template <class Fn>
   static void each(Fn&& f) { (f.template operator()<K>(), ...); }
@@ -205,7 +205,7 @@ struct KindList {
   }
 };
 using AllKinds = KindList<RB_KIND_LIST>;
-static_assert(AllKinds::size == kKinds);
+static_assert(AllKinds::size == kKinds && AllKinds::ids_in_order(), "RB_KIND_LIST lists every Kind once, in Kind order");
 
 const char* kind_name(Kind k);
 // The kind of a name ("sphere", ...); false when there is none.

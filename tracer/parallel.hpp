@@ -29,16 +29,13 @@ class ThreadScope {
   explicit ThreadScope(int threads)
       : threads_(std::max(1, threads)),
         limit_(tbb::global_control::max_allowed_parallelism, std::size_t(threads_)),
-        arena_(threads_),
-        saved_csr_(_mm_getcsr()) {
-    set_ftz_daz();
+        arena_(threads_) {
 #if RB_TSAN
     saved_concurrency_ = par::concurrency();
     par::concurrency() = threads_;
 #endif
   }
   ~ThreadScope() {
-    _mm_setcsr(saved_csr_);
 #if RB_TSAN
     par::concurrency() = saved_concurrency_;
 #endif
@@ -74,7 +71,7 @@ class ThreadScope {
   int threads_;
   tbb::global_control limit_;
   tbb::task_arena arena_;
-  unsigned saved_csr_;
+  FtzScope ftz_;  // FTZ and DAZ on the calling thread while the scope lives, its MXCSR restored after
 #if RB_TSAN
   int saved_concurrency_ = 2;
 #endif
