@@ -14,7 +14,7 @@ class ReportCommand final : public Command {
  public:
   explicit ReportCommand(CLI::App& root) : Command(root, "report", "The main job: every measurement, as a report") {
     sub_->add_option("-o,--out", ro.out, "Output folder")->capture_default_str();
-    sub_->add_option("-r,--repetitions", ro.repetitions, "Benchmark rounds (each runs every benchmark\nonce: medians, and SIMD / scalar with a 95 %\ninterval from 6 rounds)")
+    sub_->add_option("-r,--repetitions", ro.repetitions, "Benchmark rounds (each runs every benchmark\nonce: medians, and SIMD / scalar with a 95 %\ninterval from 6 rounds; from 9 it leaves out\nthe most extreme round on each side)")
         ->capture_default_str()->check(CLI::Range(1, 100));
     sub_->add_option("--min-time", ro.min_time, "Seconds per benchmark repetition")->capture_default_str()->check(CLI::Range(0.001, 10.0));
     sub_->add_option("--filter", ro.filter, "Only the benchmarks whose name\n(kernel/method/variant/case) matches this regex")

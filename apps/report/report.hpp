@@ -15,8 +15,12 @@ namespace rb::app {
 
 struct ReportOptions {
   std::string out = "report";
-  int repetitions = 7;          // benchmark rounds (apps/bench_run.cpp); medians, and ratios with a 95 % interval
-  double min_time = 0.05;       // seconds per benchmark repetition
+  // Benchmark rounds (apps/bench_run.cpp): medians, and ratios with a 95 % interval. 9 is the
+  // fewest rounds whose sign-test interval leaves out the most extreme round on each side (from 6
+  // to 8 it is the whole range, which one disturbed round widens); a repetition's time is shorter
+  // than `bench`'s so that the section takes about what 7 rounds of 0.05 s took (docs/DESIGN.md).
+  int repetitions = 9;
+  double min_time = 0.04;       // seconds per benchmark repetition
   std::string filter = ".";     // benchmark name filter (regex)
   bool charts = true;
   // A small report in about a minute (few repetitions, few rays, small images, fewer scenes): to
