@@ -30,8 +30,8 @@ std::string report_section_render(const ReportOptions& o, Record& rec, const std
 std::string report_section_accuracy(const ReportOptions& o, Record& rec, const std::filesystem::path& out, nlohmann::json& summary);  // report_accuracy.cpp
 std::string report_section_plan(const ReportOptions& o, Record& rec, const std::filesystem::path& out, nlohmann::json& summary);  // report_plan.cpp
 // The timed rounds of each whole scene in the lab's section and the plan's table: the lab's default,
-// or 3 in quick mode (the layout only: the rounds' fixed time is most of those sections there).  // report_plan.cpp
-int whole_scene_rounds(const ReportOptions& o);
+// or 3 in quick mode (the layout only: the rounds' fixed time is most of those sections there).
+int whole_scene_rounds(const ReportOptions& o);  // report_plan.cpp
 // (`ops`: the ops table's rows, for the CSG queries' counts.)
 std::string report_section_csg(const ReportOptions& o, Record& rec, const std::filesystem::path& out, nlohmann::json& summary,
                                const std::vector<opstable::Row>& ops);  // report_csg.cpp
