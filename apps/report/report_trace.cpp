@@ -406,7 +406,8 @@ std::string trace_by_size(TracingRun& x, json& builds) {
 std::string report_section_tracing(const ReportOptions& o, Record& rec, const fs::path& out, json& summary) {
   const std::string data = data_dir() + "/meshes/";
   const std::size_t count = o.quick ? 1u << 12 : 1u << 18;
-  // 7 rounds: from 6 the ratio to Embree has its 95 % interval (apps/stats.hpp).
+  // 7 rounds: from 6 the ratio to Embree has its 95 % interval (apps/stats.hpp); unlike the kernel
+  // rows, trace rows are within 5 % at 7 on most rows, so 9 would buy little (docs/DESIGN.md).
   const int reps = o.quick ? 1 : 7;
   // Each repetition lasts at least 0.1 s (a few ms of rays are below the host's jitter).
   const double min_time = o.quick ? 0.0 : 0.1;
