@@ -12,7 +12,7 @@ class BenchCommand final : public Command {
   explicit BenchCommand(CLI::App& root) : Command(root, "bench", "Kernel benchmarks: scalar against 8 and 16 lanes") {
     sub_->add_option("--filter", bo.filter, "Only the benchmarks whose name\n(kernel/method/variant/case) matches this regex")
         ->capture_default_str();
-    sub_->add_option("-r,--repetitions", bo.repetitions, "Rounds: each runs every selected benchmark\nonce; a benchmark's repetitions are its rounds\n(the median is quoted; from 6, ratios carry a\n95 % interval)")->capture_default_str()->check(CLI::Range(1, 100));
+    sub_->add_option("-r,--repetitions", bo.repetitions, "Rounds: each runs every selected benchmark\nonce; a benchmark's repetitions are its rounds\n(the median is quoted; from 6, ratios carry a\n95 % interval; from 9 it leaves out the most\nextreme round on each side)")->capture_default_str()->check(CLI::Range(1, 100));
     sub_->add_option("--min-time", bo.min_time, "Seconds per benchmark per round")->capture_default_str()->check(CLI::Range(0.001, 10.0));
     sub_->add_option("--isa", bo.isa, "auto: 16 AVX-512 lanes beside 8 AVX2 lanes where\nthe CPU and the build have them; avx2: 8 lanes\nonly; avx512: fail where 16 lanes cannot run")
         ->capture_default_str()->check(CLI::IsMember({"auto", "avx2", "avx512"}));
