@@ -244,7 +244,6 @@ Bvh2 build_sah(std::size_t n, const BoxFill& boxes, const std::vector<std::uint8
   // references are first written here, in parallel.
   uninit_array<PrimRef> refs_a(std::max<std::size_t>(n, 1));
   PrimRef* const rs = refs_a.data();
-  auto usable = [](const PrimRef& r) { return r.box.usable(); };
   struct Scan {
     std::size_t bad = 0;
     int kmin = 256, kmax = -1;
@@ -259,7 +258,7 @@ Bvh2 build_sah(std::size_t n, const BoxFill& boxes, const std::vector<std::uint8
         const float* h = hi + 3 * (i - c);
         PrimRef& r = rs[i];
         r.box = Box::of(l, h, std::uint32_t(i));
-        if (usable(r)) {
+        if (r.box.usable()) {
           acc.kmin = std::min(acc.kmin, int(kind[i]));
           acc.kmax = std::max(acc.kmax, int(kind[i]));
         } else {
@@ -282,7 +281,7 @@ Bvh2 build_sah(std::size_t n, const BoxFill& boxes, const std::vector<std::uint8
   if (sc.bad) {  // rare: the usable references moved to the front, in order
     m = 0;
     for (std::size_t i = 0; i < n; ++i)
-      if (usable(rs[i])) rs[m++] = rs[i];
+      if (rs[i].box.usable()) rs[m++] = rs[i];
   }
   if (m == 0) {
     out.stats.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
