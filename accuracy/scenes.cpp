@@ -198,6 +198,33 @@ scene::Scene case_scene(const SceneCase& c, const std::string& data_dir) {
   return s;
 }
 
+// Timed rounds: in each, every model traces its primary rays in 8-ray packets `reps` times, the
+// first model of the round turning from round to round; one untimed run each before. `reps` makes
+// the fast model's turn last about kWholeSceneTurn (a few thousand rays take well under a
+// millisecond, where a timer's and the host's jitter would decide the ratio); a round's figure is
+// the seconds of one trace.
+void time_rows(std::vector<Row>& rows, const std::vector<tracer::SceneAccel>& accels, const std::vector<RaySoA>& primaries, int timed_rounds) {
+  tracer::TraceOptions to;
+  to.packet = 8;
+  std::vector<bvh::HitRec> hits;
+  auto run = [&](std::size_t k, int reps) {
+    hits.resize(primaries[k].size());
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int r = 0; r < reps; ++r) accels[k].trace(primaries[k], 0, primaries[k].size(), hits.data(), to);
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / reps;
+  };
+  const double first = run(0, 1);
+  for (std::size_t k = 1; k < accels.size(); ++k) run(k, 1);
+  const int reps = int(std::clamp(std::ceil(kWholeSceneTurn / std::max(first, 1e-9)), 1.0, 1000.0));
+  for (int round = 0; round < timed_rounds; ++round)
+    for (std::size_t i = 0; i < accels.size(); ++i) {
+      const std::size_t k = (i + std::size_t(round)) % accels.size();
+      rows[k].round_seconds.push_back(run(k, reps));
+    }
+  for (std::size_t k = 0; k < rows.size(); ++k)
+    rows[k].ns_per_test = rb::median(rows[k].round_seconds) * 1e9 / double(std::max<std::size_t>(primaries[k].count, 1));
+}
+
 }  // namespace
 
 std::vector<CaseInfo> scene_cases() {
@@ -303,31 +330,7 @@ std::vector<Row> whole_scene_rows(const scene::Scene& s, const std::string& case
     rows.push_back(r);
     primaries.push_back(std::move(rays));
   }
-  if (timed_rounds <= 0) return rows;
-  // Timed rounds: in each, every model traces its primary rays in 8-ray packets `reps` times, the
-  // first model of the round turning from round to round; one untimed run each before. `reps` makes
-  // the fast model's turn last about kWholeSceneTurn (a few thousand rays take well under a
-  // millisecond, where a timer's and the host's jitter would decide the ratio); a round's figure is
-  // the seconds of one trace.
-  tracer::TraceOptions to;
-  to.packet = 8;
-  std::vector<bvh::HitRec> hits;
-  auto run = [&](std::size_t k, int reps) {
-    hits.resize(primaries[k].size());
-    const auto t0 = std::chrono::steady_clock::now();
-    for (int r = 0; r < reps; ++r) accels[k].trace(primaries[k], 0, primaries[k].size(), hits.data(), to);
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / reps;
-  };
-  const double first = run(0, 1);
-  for (std::size_t k = 1; k < accels.size(); ++k) run(k, 1);
-  const int reps = int(std::clamp(std::ceil(kWholeSceneTurn / std::max(first, 1e-9)), 1.0, 1000.0));
-  for (int round = 0; round < timed_rounds; ++round)
-    for (std::size_t i = 0; i < accels.size(); ++i) {
-      const std::size_t k = (i + std::size_t(round)) % accels.size();
-      rows[k].round_seconds.push_back(run(k, reps));
-    }
-  for (std::size_t k = 0; k < rows.size(); ++k)
-    rows[k].ns_per_test = rb::median(rows[k].round_seconds) * 1e9 / double(std::max<std::size_t>(primaries[k].count, 1));
+  if (timed_rounds > 0) time_rows(rows, accels, primaries, timed_rounds);
   return rows;
 }
 

@@ -263,6 +263,30 @@ void put_brute(json& j, const tracer::SceneAccel& accel, trace::ThreadScope& ts,
   }
 }
 
+// Traversal cost per ray: nodes visited, box and primitive tests.
+void put_cost(json& j, const bvh::TraceCounters& c, std::size_t n) {
+  const double rays = double(std::max<std::size_t>(1, n));
+  j["nodes_per_ray"] = double(c.nodes) / rays;
+  j["box_tests_per_ray"] = double(c.boxes) / rays;
+  j["prim_tests_per_ray"] = double(c.prims) / rays;
+}
+
+// The SAH tree traced beside the tree of Embree's builder (--builder embree): its rate, its cost
+// per ray (one counted pass, not timed) and the rays whose hits differ from the builder tree's.
+void put_sah_tree(json& t, const tracer::SceneAccel& sah, trace::ThreadScope& ts, const RaySoA& rays, const tracer::TraceOptions& to,
+                  const std::vector<double>& secs, const std::vector<bvh::HitRec>& ours, const std::vector<bvh::HitRec>& sah_out,
+                  bool any) {
+  const std::size_t n = rays.count;
+  bvh::TraceCounters sc;
+  std::vector<bvh::HitRec> tmp(rays.size());
+  ts.run([&] { sah.trace_counted(rays, 0, rays.size(), tmp.data(), to, sc); });
+  t["mrays_per_s"] = double(n) / rb::median(secs) / 1e6;
+  t["seconds"] = secs;
+  put_spread(t, "", secs, n);
+  put_cost(t, sc, n);
+  t["mismatches_vs_builder_tree"] = tracer::compare(ours, sah_out, n, any).mismatches;
+}
+
 }  // namespace
 
 json TraceSession::run(const TraceRunOptions& o, bool progress) {
@@ -327,7 +351,6 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   const int passes = tm.passes;
   const json machine_load = watch.json();
   const double mrays = double(n) / rb::median(secs) / 1e6;
-  auto spread = [&](json& j, const std::string& prefix, const std::vector<double>& t) { put_spread(j, prefix, t, n); };
 
   // Traversal cost per ray (one extra single-threaded counted pass, not timed).
   bvh::TraceCounters cnt;
@@ -359,10 +382,8 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   j["mrays_per_s"] = mrays;
   j["seconds"] = secs;
   j["machine_load"] = machine_load;
-  spread(j, "", secs);
-  j["nodes_per_ray"] = double(cnt.nodes) / double(std::max<std::size_t>(1, n));
-  j["box_tests_per_ray"] = double(cnt.boxes) / double(std::max<std::size_t>(1, n));
-  j["prim_tests_per_ray"] = double(cnt.prims) / double(std::max<std::size_t>(1, n));
+  put_spread(j, "", secs, n);
+  put_cost(j, cnt, n);
   std::size_t hits = 0;
   for (std::size_t i = 0; i < n; ++i) hits += ours[i].prim != bvh::kNoPrim;
   j["hit_fraction"] = double(hits) / double(std::max<std::size_t>(1, n));
@@ -370,21 +391,7 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   const json b = build_json();
   for (auto it = b.begin(); it != b.end(); ++it) j[it.key()] = it.value();
 
-  if (sah_) {
-    bvh::TraceCounters sc;
-    std::vector<bvh::HitRec> tmp(rays.size());
-    ts.run([&] { sah_->trace_counted(rays, 0, rays.size(), tmp.data(), to, sc); });
-    json t = j["sah_tree"];
-    t["mrays_per_s"] = double(n) / rb::median(sah_secs) / 1e6;
-    t["seconds"] = sah_secs;
-    spread(t, "", sah_secs);
-    t["nodes_per_ray"] = double(sc.nodes) / double(std::max<std::size_t>(1, n));
-    t["box_tests_per_ray"] = double(sc.boxes) / double(std::max<std::size_t>(1, n));
-    t["prim_tests_per_ray"] = double(sc.prims) / double(std::max<std::size_t>(1, n));
-    const tracer::Compare c = tracer::compare(ours, sah_out, n, any);
-    t["mismatches_vs_builder_tree"] = c.mismatches;
-    j["sah_tree"] = t;
-  }
+  if (sah_) put_sah_tree(j["sah_tree"], *sah_, ts, rays, to, sah_secs, ours, sah_out, any);
 
   put_embree(j, embree_, modes, tm, ours, theirs, n, any);
   j["order"] = o.order;

@@ -106,6 +106,78 @@ struct Builder {
     n.kind = kind_of(begin);
   }
 
+  struct Split {
+    float cost = kInfF;
+    int axis = -1, bin = 0;  // axis -1: none
+  };
+  // The cheapest binned SAH split of refs[begin, end) (box `box`, centroid box `cbox` of extent
+  // `ext`) over nb bins per axis.
+  Split best_split(std::size_t begin, std::size_t end, const Box& box, const Box& cbox, const float ext[3], int nb) const {
+    const std::size_t n = end - begin;
+    Split best;
+    Bins bins(nb);
+    float scale[3];
+    for (int k = 0; k < 3; ++k) scale[k] = ext[k] > 0 ? float(nb) * (1.f - 1e-6f) / ext[k] : 0.f;
+    // Copies: the bins' stores could alias the box behind a reference, which would be read again
+    // for every primitive.
+    const __m128 vclo = cbox.lo, vscale = f4(scale[0], scale[1], scale[2]);
+    auto body = [&](std::size_t b, std::size_t e, Bins& acc) {
+      for (std::size_t i = b; i < e; ++i) {
+        const Box& pb = refs[i].box;
+        const std::array<int, 4> b3 = bins4(refs[i].centre2(), vclo, vscale, nb);
+        for (int k = 0; k < 3; ++k) {
+          Bin& bin = acc.at(k, b3[k]);
+          bin.box.grow(pb);
+          ++bin.n;
+        }
+      }
+    };
+    if (opt.parallel && n >= kParallelNode) {
+      bins = par::reduce(
+          begin, end, 4096, Bins(nb), [&](std::size_t b, std::size_t e, Bins acc) { body(b, e, acc); return acc; },
+          [nb](Bins a, const Bins& b) { a.merge(b, nb); return a; });
+    } else {
+      body(begin, end, bins);
+    }
+    const float inv_area = box.area() > 0 ? 1.f / box.area() : 0.f;
+    for (int k = 0; k < 3; ++k) {
+      if (!(ext[k] > 0)) continue;
+      std::array<float, kMaxBins> right_cost{};
+      Box acc;
+      std::uint32_t cnt = 0;
+      for (int i = nb - 1; i > 0; --i) {
+        acc.grow(bins.at(k, i).box);
+        cnt += bins.at(k, i).n;
+        right_cost[i] = acc.area() * blocks(cnt);
+      }
+      acc = Box{};
+      cnt = 0;
+      for (int i = 0; i < nb - 1; ++i) {
+        acc.grow(bins.at(k, i).box);
+        cnt += bins.at(k, i).n;
+        if (cnt == 0 || cnt == n) continue;
+        const float c = opt.traversal_cost + opt.intersection_cost * inv_area * (acc.area() * blocks(cnt) + right_cost[i + 1]);
+        if (c < best.cost) best = {c, k, i};
+      }
+    }
+    return best;
+  }
+
+  // Moves the refs of [begin, end) in bins <= s.bin on axis s.axis before the others and returns
+  // where they end; both sides' boxes and centroid boxes are grown in the same pass.
+  std::size_t partition(std::size_t begin, std::size_t end, const Split& s, float clo, float extent, int nb, std::pair<Box, Box>& lb,
+                        std::pair<Box, Box>& rb) {
+    const float scale = float(nb) * (1.f - 1e-6f) / extent;
+    std::size_t i = begin, j = end;
+    for (;;) {
+      while (i < j && bin_of(refs[i], s.axis, clo, scale, nb) <= s.bin) { lb.first.grow(refs[i].box); lb.second.grow(refs[i].centre2()); ++i; }
+      while (i < j && bin_of(refs[j - 1], s.axis, clo, scale, nb) > s.bin) { rb.first.grow(refs[j - 1].box); rb.second.grow(refs[j - 1].centre2()); --j; }
+      if (i >= j) break;
+      std::swap(refs[i], refs[j - 1]);
+    }
+    return i;
+  }
+
   // Builds node `ni` over refs[begin, end) whose box is `box`. `may_mix`: the range may hold more
   // than one kind (false below a node that held one: its kinds are not scanned again).
   void build(std::uint32_t ni, std::size_t begin, std::size_t end, const Box& box, const Box& cbox, int depth, bool may_mix) {
@@ -134,70 +206,13 @@ struct Builder {
     if (ext[1] > ext[axis]) axis = 1;
     if (ext[2] > ext[axis]) axis = 2;
     const bool flat = !(ext[axis] > 0);
-    float best_cost = kInfF;
-    int best_axis = -1, best_bin = 0;
-    if (!flat && depth < std::min(opt.max_depth, kMaxSahDepth)) {
-      Bins bins(nb);
-      float scale[3];
-      for (int k = 0; k < 3; ++k) scale[k] = ext[k] > 0 ? float(nb) * (1.f - 1e-6f) / ext[k] : 0.f;
-      // Copies: the bins' stores could alias the box behind a reference, which would be read again
-      // for every primitive.
-      const __m128 vclo = cbox.lo, vscale = f4(scale[0], scale[1], scale[2]);
-      auto body = [&](std::size_t b, std::size_t e, Bins& acc) {
-        for (std::size_t i = b; i < e; ++i) {
-          const Box& pb = refs[i].box;
-          const std::array<int, 4> b3 = bins4(refs[i].centre2(), vclo, vscale, nb);
-          for (int k = 0; k < 3; ++k) {
-            Bin& bin = acc.at(k, b3[k]);
-            bin.box.grow(pb);
-            ++bin.n;
-          }
-        }
-      };
-      if (opt.parallel && n >= kParallelNode) {
-        bins = par::reduce(
-            begin, end, 4096, Bins(nb), [&](std::size_t b, std::size_t e, Bins acc) { body(b, e, acc); return acc; },
-            [nb](Bins a, const Bins& b) { a.merge(b, nb); return a; });
-      } else {
-        body(begin, end, bins);
-      }
-      const float inv_area = box.area() > 0 ? 1.f / box.area() : 0.f;
-      for (int k = 0; k < 3; ++k) {
-        if (!(ext[k] > 0)) continue;
-        std::array<float, kMaxBins> right_cost{};
-        Box acc;
-        std::uint32_t cnt = 0;
-        for (int i = nb - 1; i > 0; --i) {
-          acc.grow(bins.at(k, i).box);
-          cnt += bins.at(k, i).n;
-          right_cost[i] = acc.area() * blocks(cnt);
-        }
-        acc = Box{};
-        cnt = 0;
-        for (int i = 0; i < nb - 1; ++i) {
-          acc.grow(bins.at(k, i).box);
-          cnt += bins.at(k, i).n;
-          if (cnt == 0 || cnt == n) continue;
-          const float c = opt.traversal_cost + opt.intersection_cost * inv_area * (acc.area() * blocks(cnt) + right_cost[i + 1]);
-          if (c < best_cost) { best_cost = c; best_axis = k; best_bin = i; }
-        }
-      }
-    }
+    Split best;
+    if (!flat && depth < std::min(opt.max_depth, kMaxSahDepth)) best = best_split(begin, end, box, cbox, ext, nb);
     const float leaf_cost = opt.intersection_cost * blocks(n);
-    if (n <= max_leaf && !mixed && (best_axis < 0 || leaf_cost <= best_cost)) { make_leaf(node, begin, end); return; }
+    if (n <= max_leaf && !mixed && (best.axis < 0 || leaf_cost <= best.cost)) { make_leaf(node, begin, end); return; }
 
-    if (best_axis >= 0 && !(n <= max_leaf && mixed)) {
-      const float scale = float(nb) * (1.f - 1e-6f) / ext[best_axis];
-      const float clo = cbox.l(best_axis);
-      // Partition and bound both sides in the same pass.
-      std::size_t i = begin, j = end;
-      for (;;) {
-        while (i < j && bin_of(refs[i], best_axis, clo, scale, nb) <= best_bin) { lb.first.grow(refs[i].box); lb.second.grow(refs[i].centre2()); ++i; }
-        while (i < j && bin_of(refs[j - 1], best_axis, clo, scale, nb) > best_bin) { rb.first.grow(refs[j - 1].box); rb.second.grow(refs[j - 1].centre2()); --j; }
-        if (i >= j) break;
-        std::swap(refs[i], refs[j - 1]);
-      }
-      mid = i;
+    if (best.axis >= 0 && !(n <= max_leaf && mixed)) {
+      mid = partition(begin, end, best, cbox.l(best.axis), ext[best.axis], nb, lb, rb);
       have_bounds = true;
     } else if (mixed) {
       // Split off the first primitive's kind (a leaf holds one kind).

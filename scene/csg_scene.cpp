@@ -219,6 +219,71 @@ struct Builder {
     return add_node(n);
   }
 
+  // A union, intersection or difference: "left" and "right", or (not for a difference) "children",
+  // folded pairwise.
+  std::uint32_t operation(const json& j, const std::string& path, const std::string& type, const Affine3d& M, std::uint32_t mat, int depth) {
+    const CsgOp op = type == "union" ? CsgOp::unite : type == "intersection" ? CsgOp::intersect : CsgOp::subtract;
+    if (j.contains("children")) {
+      if (op == CsgOp::subtract) fail(path + ".children", "a difference has \"left\" and \"right\"");
+      const json& c = j["children"];
+      if (!c.is_array() || c.size() < 2) fail(path + ".children", "expected an array of at least two nodes");
+      std::vector<std::uint32_t> ids;
+      for (std::size_t i = 0; i < c.size(); ++i) ids.push_back(node(c[i], path + ".children[" + std::to_string(i) + "]", M, mat, depth + 1));
+      // A balanced fold: depth log2(n) instead of n.
+      while (ids.size() > 1) {
+        std::vector<std::uint32_t> next;
+        for (std::size_t i = 0; i + 1 < ids.size(); i += 2) next.push_back(combine(op, ids[i], ids[i + 1]));
+        if (ids.size() % 2) next.push_back(ids.back());
+        ids = std::move(next);
+      }
+      return ids[0];
+    }
+    const std::uint32_t a = node(need(j, path, "left"), key_path(path, "left"), M, mat, depth + 1);
+    const std::uint32_t b = node(need(j, path, "right"), key_path(path, "right"), M, mat, depth + 1);
+    return combine(op, a, b);
+  }
+
+  // An ellipsoid (centre and radii) or a general quadric (its 10 coefficients) that bounds a
+  // non-empty solid.
+  std::uint32_t quadric_leaf(const json& j, const std::string& path, const std::string& type, CsgLeaf L, const Affine3d& M) {
+    QuadricCoeffs q;
+    if (type == "ellipsoid") {
+      const Vec3d c = vec(j, path, "center"), r = vec(j, path, "radii");
+      if (!(r.x > 0 && r.y > 0 && r.z > 0)) fail(key_path(path, "radii"), "expected three positive numbers");
+      const double ax = 1 / (r.x * r.x), ay = 1 / (r.y * r.y), az = 1 / (r.z * r.z);
+      q = {ax, ay, az, 0, 0, 0, -c.x * ax, -c.y * ay, -c.z * az, c.x * c.x * ax + c.y * c.y * ay + c.z * c.z * az - 1};
+    } else {
+      const json& cj = need(j, path, "coefficients");
+      const std::string cp = key_path(path, "coefficients");
+      if (!cj.is_array() || cj.size() != 10) fail(cp, "expected [a,b,c,d,e,f,g,h,j,k]");
+      double v[10];
+      for (int i = 0; i < 10; ++i) v[i] = number(cj[std::size_t(i)], cp + "[" + std::to_string(i) + "]");
+      q = {v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9]};
+    }
+    // Bounded and non-empty: the 3x3 part positive definite (Sylvester), and F < 0 at the centre.
+    const double a = q.a, b = q.b, c = q.c, d = q.d, e = q.e, f = q.f;
+    const double m2 = a * b - d * d, m3 = a * (b * c - e * e) - d * (d * c - e * f) + f * (d * e - b * f);
+    if (!(a > 0 && m2 > 0 && m3 > 0)) fail(path, "quadric: not bounded (its quadratic part must be positive definite: an ellipsoid)");
+    // Inverse of the 3x3 part, centre x0 = -A^-1 g, and rhs = g . A^-1 g - k (> 0 iff non-empty).
+    const double inv[3][3] = {{(b * c - e * e) / m3, (f * e - d * c) / m3, (d * e - b * f) / m3},
+                              {(f * e - d * c) / m3, (a * c - f * f) / m3, (d * f - a * e) / m3},
+                              {(d * e - b * f) / m3, (d * f - a * e) / m3, m2 / m3}};
+    const double g[3] = {q.g, q.h, q.j};
+    Vec3d ctr{0, 0, 0};
+    double rhs = -q.k;
+    for (int i = 0; i < 3; ++i) {
+      double s = 0;
+      for (int k2 = 0; k2 < 3; ++k2) s += inv[i][k2] * g[k2];
+      (i == 0 ? ctr.x : i == 1 ? ctr.y : ctr.z) = -s;
+      rhs += g[i] * s;
+    }
+    if (!(rhs > 0)) fail(path, "quadric: empty (no point has F <= 0)");
+    L.kind = CsgLeafKind::quadric;
+    L.quad = make_quadric(q);
+    const Vec3d ext{std::sqrt(rhs * inv[0][0]), std::sqrt(rhs * inv[1][1]), std::sqrt(rhs * inv[2][2])};
+    return leaf(L, M, ctr - ext, ctr + ext, path);
+  }
+
   // Builds `j` under the accumulated transform M; returns its node and depth.
   std::uint32_t node(const json& j, const std::string& path, Affine3d M, std::uint32_t mat, int depth) {
     if (depth > kCsgMaxDepth) fail(path, "the CSG tree is deeper than " + std::to_string(kCsgMaxDepth) + " levels");
@@ -228,27 +293,7 @@ struct Builder {
     if (const auto keys = node_keys(type); !keys.empty()) only_keys(j, path, keys);
     if (j.contains("transform")) M = M * transform(j["transform"], key_path(path, "transform"));
     mat = material(j, path, mat);
-    if (type == "union" || type == "intersection" || type == "difference") {
-      const CsgOp op = type == "union" ? CsgOp::unite : type == "intersection" ? CsgOp::intersect : CsgOp::subtract;
-      if (j.contains("children")) {
-        if (op == CsgOp::subtract) fail(path + ".children", "a difference has \"left\" and \"right\"");
-        const json& c = j["children"];
-        if (!c.is_array() || c.size() < 2) fail(path + ".children", "expected an array of at least two nodes");
-        std::vector<std::uint32_t> ids;
-        for (std::size_t i = 0; i < c.size(); ++i) ids.push_back(node(c[i], path + ".children[" + std::to_string(i) + "]", M, mat, depth + 1));
-        // A balanced fold: depth log2(n) instead of n.
-        while (ids.size() > 1) {
-          std::vector<std::uint32_t> next;
-          for (std::size_t i = 0; i + 1 < ids.size(); i += 2) next.push_back(combine(op, ids[i], ids[i + 1]));
-          if (ids.size() % 2) next.push_back(ids.back());
-          ids = std::move(next);
-        }
-        return ids[0];
-      }
-      const std::uint32_t a = node(need(j, path, "left"), key_path(path, "left"), M, mat, depth + 1);
-      const std::uint32_t b = node(need(j, path, "right"), key_path(path, "right"), M, mat, depth + 1);
-      return combine(op, a, b);
-    }
+    if (type == "union" || type == "intersection" || type == "difference") return operation(j, path, type, M, mat, depth);
     CsgLeaf L;
     L.material = mat;
     std::string why;
@@ -321,44 +366,7 @@ struct Builder {
                     R * std::sqrt(std::max(0.0, 1 - u.z * u.z)) + r};
       return leaf(L, M, c - e, c + e, path);
     }
-    if (type == "ellipsoid" || type == "quadric") {
-      QuadricCoeffs q;
-      if (type == "ellipsoid") {
-        const Vec3d c = vec(j, path, "center"), r = vec(j, path, "radii");
-        if (!(r.x > 0 && r.y > 0 && r.z > 0)) fail(key_path(path, "radii"), "expected three positive numbers");
-        const double ax = 1 / (r.x * r.x), ay = 1 / (r.y * r.y), az = 1 / (r.z * r.z);
-        q = {ax, ay, az, 0, 0, 0, -c.x * ax, -c.y * ay, -c.z * az, c.x * c.x * ax + c.y * c.y * ay + c.z * c.z * az - 1};
-      } else {
-        const json& cj = need(j, path, "coefficients");
-        const std::string cp = key_path(path, "coefficients");
-        if (!cj.is_array() || cj.size() != 10) fail(cp, "expected [a,b,c,d,e,f,g,h,j,k]");
-        double v[10];
-        for (int i = 0; i < 10; ++i) v[i] = number(cj[std::size_t(i)], cp + "[" + std::to_string(i) + "]");
-        q = {v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9]};
-      }
-      // Bounded and non-empty: the 3x3 part positive definite (Sylvester), and F < 0 at the centre.
-      const double a = q.a, b = q.b, c = q.c, d = q.d, e = q.e, f = q.f;
-      const double m2 = a * b - d * d, m3 = a * (b * c - e * e) - d * (d * c - e * f) + f * (d * e - b * f);
-      if (!(a > 0 && m2 > 0 && m3 > 0)) fail(path, "quadric: not bounded (its quadratic part must be positive definite: an ellipsoid)");
-      // Inverse of the 3x3 part, centre x0 = -A^-1 g, and rhs = g . A^-1 g - k (> 0 iff non-empty).
-      const double inv[3][3] = {{(b * c - e * e) / m3, (f * e - d * c) / m3, (d * e - b * f) / m3},
-                                {(f * e - d * c) / m3, (a * c - f * f) / m3, (d * f - a * e) / m3},
-                                {(d * e - b * f) / m3, (d * f - a * e) / m3, m2 / m3}};
-      const double g[3] = {q.g, q.h, q.j};
-      Vec3d ctr{0, 0, 0};
-      double rhs = -q.k;
-      for (int i = 0; i < 3; ++i) {
-        double s = 0;
-        for (int k2 = 0; k2 < 3; ++k2) s += inv[i][k2] * g[k2];
-        (i == 0 ? ctr.x : i == 1 ? ctr.y : ctr.z) = -s;
-        rhs += g[i] * s;
-      }
-      if (!(rhs > 0)) fail(path, "quadric: empty (no point has F <= 0)");
-      L.kind = CsgLeafKind::quadric;
-      L.quad = make_quadric(q);
-      const Vec3d ext{std::sqrt(rhs * inv[0][0]), std::sqrt(rhs * inv[1][1]), std::sqrt(rhs * inv[2][2])};
-      return leaf(L, M, ctr - ext, ctr + ext, path);
-    }
+    if (type == "ellipsoid" || type == "quadric") return quadric_leaf(j, path, type, L, M);
     fail(key_path(path, "type"), "unknown type \"" + detail::quote(type) +
                                       "\" (union, intersection, difference, sphere, box, polyhedron, cylinder, cone, torus, ellipsoid, quadric)" +
                                       did_you_mean(type, {"union", "intersection", "difference", "sphere", "box", "polyhedron", "cylinder", "cone",
