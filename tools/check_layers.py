@@ -11,7 +11,9 @@ that an include that climbs a layer fails the build with the file, the line and 
     apps: everything; fuzz and tests: everything
     within apps: results/ uses neither report/ nor cli/; report/ does not use cli/
 
-Usage: check_layers.py SOURCE_DIR
+Usage: check_layers.py SOURCE_DIR      check every include
+       check_layers.py --cmake          print the table for CMake, one "layer=below,below" a line
+                                        (each layer's include folder: CMakeLists.txt, rb_layer)
 """
 import pathlib
 import re
@@ -39,6 +41,10 @@ SUB_INCLUDE = re.compile(r'^\s*#\s*include\s+"([a-z_]+/[a-z_]+)/')
 
 
 def main() -> int:
+    if sys.argv[1:] == ["--cmake"]:
+        for layer, allowed in BELOW.items():
+            print(f"{layer}={','.join(sorted(allowed))}")
+        return 0
     root = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else ".")
     problems = []
     for layer, allowed in BELOW.items():
