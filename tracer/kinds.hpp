@@ -18,7 +18,8 @@
 // slot) say `custom = true` and bring their own batch and leaf functions (tracer/leaves.hpp
 // calls them). Nothing else in the engine switches on a kind: the tracer, the renderer, the
 // Embree adapter, the lab, the profile and the plan iterate over the list at the bottom of this file.
-// Adding a kind: write its header in tracer/kinds/, include it and add it to RB_KIND_LIST below.
+// Adding a kind: write its header in tracer/kinds/, include it below and add its line to
+// RB_KIND_TABLE (docs/DESIGN.md section 17 lists the other steps; tests/extra_kind/ adds one in a test).
 #pragma once
 
 #include "bvh/bvh.hpp"
@@ -43,9 +44,28 @@ using scene::Scene;
 // once per leaf a ray enters: from 2 MiB on, on huge pages like the batches (core/memory.hpp).
 using SlotIds = big_vector<std::uint32_t>;
 
-enum class Kind : std::uint8_t { triangle = 0, sphere = 1, cylinder = 2, cone = 3, polygon = 4, csg = 5, torus = 6 };
-inline constexpr int kKinds = 7;
-static_assert(kKinds <= bvh::kMaxKinds);
+// The kind table: every kind's enumerator and struct, in Kind order. A new kind is one line here
+// and the include of its header below; the enum, the kind count, AllKinds and every name list
+// derived from them (kind_name, parse_kind, kind_counts, the per-kind figures of trace, render,
+// info and the report) follow from it. RB_KIND_TABLE(X) expands X(enumerator, Struct) per kind.
+#define RB_KIND_TABLE(X)                                                                                         \
+  X(triangle, TriangleKind) X(sphere, SphereKind) X(cylinder, CylinderKind) X(cone, ConeKind) X(polygon, PolygonKind) \
+  X(csg, CsgKind) X(torus, TorusKind)
+// A build may add one kind from outside the engine's folders (a test's: tests/extra_kind/):
+// RB_EXTRA_KIND_LIST names a header that defines RB_EXTRA_KIND(X), its line of the table, and
+// RB_EXTRA_KIND_HEADER the header of its struct (included after the engine's kinds).
+#ifdef RB_EXTRA_KIND_LIST
+#include RB_EXTRA_KIND_LIST
+#else
+#define RB_EXTRA_KIND(X)
+#endif
+#define RB_ALL_KINDS(X) RB_KIND_TABLE(X) RB_EXTRA_KIND(X)
+
+#define RB_KIND_ENUMERATOR(e, K) e,
+#define RB_KIND_ONE(e, K) +1
+enum class Kind : std::uint8_t { RB_ALL_KINDS(RB_KIND_ENUMERATOR) };
+inline constexpr int kKinds = 0 RB_ALL_KINDS(RB_KIND_ONE);
+static_assert(2 * kKinds <= bvh::kMaxKinds, "a leaf tag holds a kind or its primitives stored apart (tracer/leaves.hpp)");
 
 // What the profile reads of one primitive: where it is and how small and large it is. size is
 // the smallest length that matters for it (a sphere's radius, a triangle's shortest edge, a torus'
@@ -179,11 +199,12 @@ inline void frame_box(const Bounds& b, const Vec3d& origin, float lo[3], float h
 #include "tracer/kinds/sphere.hpp"
 #include "tracer/kinds/torus.hpp"
 #include "tracer/kinds/triangle.hpp"
+#ifdef RB_EXTRA_KIND_HEADER
+#include RB_EXTRA_KIND_HEADER
+#endif
 
 namespace rb::kinds {
 
-// Every kind, in Kind order.
-#define RB_KIND_LIST TriangleKind, SphereKind, CylinderKind, ConeKind, PolygonKind, CsgKind, TorusKind
 
 template <class... K>
 struct KindList {
@@ -204,8 +225,14 @@ struct KindList {
     return r;
   }
 };
-using AllKinds = KindList<RB_KIND_LIST>;
-static_assert(AllKinds::size == kKinds && AllKinds::ids_in_order(), "RB_KIND_LIST lists every Kind once, in Kind order");
+// Every kind, in Kind order (the table's structs; the leading void takes the first comma).
+template <class Void, class... K>
+struct KindTable {
+  using type = KindList<K...>;
+};
+#define RB_KIND_STRUCT(e, K) , K
+using AllKinds = KindTable<void RB_ALL_KINDS(RB_KIND_STRUCT)>::type;
+static_assert(AllKinds::size == kKinds && AllKinds::ids_in_order(), "each kind's id is its enumerator in RB_KIND_TABLE");
 
 const char* kind_name(Kind k);
 // The kind of a name ("sphere", ...); false when there is none.
