@@ -2,7 +2,7 @@
 // to a cone generator (also tilted by 10^-k), rays exactly through and near the cone's apex,
 // distant cameras, near-tangent rays. Open surfaces and capped solids each have their reference.
 // The shell cases are the tracer's own cylinder and cone kinds (NFF shells: the unit quadric placed
-// by an affine map, tracer/kinds/cylinder.hpp), at a random place and axis, seen from 10^k of their
+// by an affine map, tracer/kinds/cylinder_kind.hpp), at a random place and axis, seen from 10^k of their
 // radius: the evidence of the plan's choice between float and double (tracer/plan.cpp).
 #include "accuracy/exact.hpp"
 #include "kernels/cylinder_cone.hpp"
@@ -113,7 +113,7 @@ void run_shells(Ctx& x, const CaseInfo& ci) {
       kc.ref.push_back(placed_quadric_ref(Quad::cone, p.inv, r.o, r.d, r.tmin, r.tmax, 0, 0, 0, p.prim.z0, p.prim.z1, 2 * bound));
     }
   }
-  // The tracer's two methods of each kind (tracer/kinds/cylinder.hpp, cone.hpp).
+  // The tracer's two methods of each kind (tracer/kinds/cylinder_kind.hpp, cone_kind.hpp).
   if (cyl) {
     measure(x, cc, "transformed", [](const auto& r, const auto& p, IterCount*) {
       return kinds::CylinderKind::hit<0>(r, {}, p);

@@ -247,10 +247,8 @@ void put_brute(json& j, const tracer::SceneAccel& accel, trace::ThreadScope& ts,
   else nb = std::min<std::size_t>(n, std::size_t(brute_rays));
   nb = nb / 16 * 16;
   if (nb > 0) {
-    std::vector<bvh::HitRec> brute(nb);
-    const auto t0 = std::chrono::steady_clock::now();
-    ts.parallel_for(nb, 16, [&](std::size_t i) { brute[i] = accel.brute_force(rays.get(i), any); });
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::vector<bvh::HitRec> brute;
+    const double s = trace::time_brute_force(ts, accel, rays, nb, any, brute);
     const tracer::Compare c = tracer::compare(ours, brute, nb, any);
     j["brute_rays"] = nb;
     j["brute_mrays_per_s"] = double(nb) / s / 1e6;

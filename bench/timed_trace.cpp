@@ -11,6 +11,13 @@
 
 namespace rb::trace {
 
+double time_brute_force(ThreadScope& ts, const tracer::SceneAccel& a, const RaySoA& rays, std::size_t n, bool any, std::vector<HitRec>& out) {
+  out.resize(n);
+  const auto t0 = std::chrono::steady_clock::now();
+  ts.parallel_for(n, 16, [&](std::size_t i) { out[i] = a.brute_force(rays.get(i), any); });
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
 std::vector<double> time_runs(ThreadScope& ts, const Tracer& t, std::size_t rays, std::vector<HitRec>& out, int reps, std::size_t tile,
                               const std::function<void(int, int)>& progress, const std::function<void()>& before,
                               const std::function<void()>& after) {

@@ -27,6 +27,10 @@ std::vector<double> time_runs(ThreadScope& ts, const Tracer& t, std::size_t rays
                               std::size_t tile, const std::function<void(int, int)>& progress = {},
                               const std::function<void()>& before = {}, const std::function<void()>& after = {});
 
+// The lecture's loop over all objects (SceneAccel::brute_force) on rays [0, n), 16 rays a task on
+// the scope's threads, into out (resized to n); returns its seconds. The oracle and the baseline.
+double time_brute_force(ThreadScope& ts, const tracer::SceneAccel& a, const RaySoA& rays, std::size_t n, bool any, std::vector<HitRec>& out);
+
 // A progress bar on stderr (only when stderr is a terminal).
 struct Progress {
   std::string label;

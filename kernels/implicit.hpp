@@ -157,8 +157,8 @@ RB_INLINE Hit<F> intersect_wavy_sphere_trace(const Ray<F>& r, const Wavy<F>& W, 
   return intersect_implicit_sphere_trace(r, [&W](const Vec3<F>& p) { return wavy_eval(W, p); }, W.c, W.br2, W.inv_L, W.eps, ic);
 }
 // The evaluation lambda is forced inline where kernels are (timed loops): GCC otherwise keeps it out
-// of line at the five call sites of the Illinois loop, which costs the SIMD benchmarks about a
-// quarter of their speed. Sphere tracing gains nothing from it (its scalar loop loses 4-8 %).
+// of line at the five call sites of the Illinois loop, and the SIMD benchmarks lose much of their
+// speed. Sphere tracing gains nothing from it (its scalar loop is a little slower inlined).
 template <class F>
 RB_INLINE Hit<F> intersect_wavy_illinois(const Ray<F>& r, const Wavy<F>& W, IterCount* ic = nullptr) {
   return intersect_implicit_illinois(r, [&W](const Vec3<F>& p) RB_INLINE_LAMBDA { return wavy_eval(W, p); }, W.c, W.br2, W.h, W.eps, ic);

@@ -192,13 +192,13 @@ inline void frame_box(const Bounds& b, const Vec3d& origin, float lo[3], float h
 
 }  // namespace rb::kinds
 
-#include "tracer/kinds/cone.hpp"
-#include "tracer/kinds/csg.hpp"
-#include "tracer/kinds/cylinder.hpp"
-#include "tracer/kinds/polygon.hpp"
-#include "tracer/kinds/sphere.hpp"
-#include "tracer/kinds/torus.hpp"
-#include "tracer/kinds/triangle.hpp"
+#include "tracer/kinds/cone_kind.hpp"
+#include "tracer/kinds/csg_kind.hpp"
+#include "tracer/kinds/cylinder_kind.hpp"
+#include "tracer/kinds/polygon_kind.hpp"
+#include "tracer/kinds/sphere_kind.hpp"
+#include "tracer/kinds/torus_kind.hpp"
+#include "tracer/kinds/triangle_kind.hpp"
 #ifdef RB_EXTRA_KIND_HEADER
 #include RB_EXTRA_KIND_HEADER
 #endif

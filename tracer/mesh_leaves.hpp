@@ -13,9 +13,8 @@ namespace rb::tracer {
 // values (test WoopShearFormsEqualTheKernelsOwn):
 // - Coherent = false, for single rays of any direction: kx and ky are shifted out of one constant,
 //   with no conditional on kz. With one (even a select in the source), GCC cloned the set-up per
-//   axis and those branches mispredicted on random directions: this form traces the bunny's
-//   random single rays 1.11x, diffuse 1.08x, primary 1.01x. (A table load in place of the shift
-//   measured 1.10x, 1.08x, 0.96x: the load lengthens the set-up's chain.)
+//   axis and those branches mispredicted on random directions. (A table load in place of the shift
+//   lengthens the set-up's chain; docs/DESIGN.md section 12 has both measurements.)
 // - Coherent = true, for the rays of a packet (one direction octant, mostly one dominant axis):
 //   conditionals, predicted there. The packet loop keeps the instructions it had with them
 //   (with the table form, primary packets of 64 ran 0.91x).

@@ -2,7 +2,7 @@
 // open: no caps).
 #pragma once
 
-#include "tracer/kinds/cylinder.hpp"
+#include "tracer/kinds/cylinder_kind.hpp"
 
 namespace rb::kinds {
 
