@@ -23,7 +23,7 @@
 #include "core/median.hpp"
 #include "scene/camera.hpp"
 #include "scene/sources.hpp"
-#include "scene/transform.hpp"
+#include "scene/scene_transform.hpp"
 #include "tracer/accel.hpp"
 #include "tracer/profile.hpp"
 

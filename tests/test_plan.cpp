@@ -6,7 +6,7 @@
 #include "render/render.hpp"
 #include "scene/camera.hpp"
 #include "scene/sources.hpp"
-#include "scene/transform.hpp"
+#include "scene/scene_transform.hpp"
 #include "tracer/accel.hpp"
 #include "tracer/plan.hpp"
 #include "tracer/profile.hpp"

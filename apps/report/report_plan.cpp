@@ -13,7 +13,7 @@
 #include "apps/results/stats.hpp"
 #include "render/render.hpp"
 #include "scene/sources.hpp"
-#include "scene/transform.hpp"
+#include "scene/scene_transform.hpp"
 #include "tracer/accel.hpp"
 #include "tracer/plan.hpp"
 

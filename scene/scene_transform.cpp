@@ -1,4 +1,4 @@
-#include "scene/transform.hpp"
+#include "scene/scene_transform.hpp"
 
 #include "kernels/csg_ray.hpp"
 
