@@ -87,8 +87,7 @@ struct DiscKind {
   }
   static Feature feature(const Scene& s, std::uint32_t i) {
     const DiscIn& d = discs_of(s)[i];
-    Feature f{d.c, d.r > 0 ? d.r : 0.0, d.r > 0 ? 2 * d.r : 0.0};
-    return f;
+    return {d.c, d.r > 0 ? d.r : 0.0, d.r > 0 ? 2 * d.r : 0.0};
   }
 
   template <class S>
