@@ -83,16 +83,33 @@ BenchData<Spec> make_bench_data(Case c) {
   return d;
 }
 
+// What a timed loop keeps of its hits: the number of hits, the sum of their distances and the sum
+// of their u + v. Every output of the kernel is used, so that the compiler cannot drop the work of
+// one the loop would otherwise ignore (a method's [u,v] mapping, a triangle's final scaling of its
+// barycentrics): the figures time what the operation counts count.
 struct Acc {
-  double tsum = 0;
+  double tsum = 0, uvsum = 0;
   std::uint64_t hits = 0;
 };
 
 template <class F>
-RB_INLINE void accumulate(Acc& a, const Hit<F>& h, F& tsum, std::uint64_t& hits) {
-  tsum = tsum + vselect(h.mask, h.t, F(0));
+struct Sums {
+  F t = F(0), uv = F(0);
+};
+
+template <class F>
+RB_INLINE void accumulate(const Hit<F>& h, Sums<F>& s, std::uint64_t& hits) {
+  s.t = s.t + vselect(h.mask, h.t, F(0));
+  s.uv = s.uv + vselect(h.mask, h.u + h.v, F(0));
   hits += std::uint64_t(count_true<F>(h.mask));
-  (void)a;
+}
+
+template <class F>
+RB_INLINE Acc finish(const Sums<F>& s, std::uint64_t hits) {
+  Acc a;
+  for (int k = 0; k < lanes_v<F>; ++k) a.tsum += double(lane(s.t, k)), a.uvsum += double(lane(s.uv, k));
+  a.hits = hits;
+  return a;
 }
 
 // The timed loops. `Kernel::run` is the spec's kernel (the default) or, in rb_ops, its Counted
@@ -100,39 +117,27 @@ RB_INLINE void accumulate(Acc& a, const Hit<F>& h, F& tsum, std::uint64_t& hits)
 // Rays in lanes: every primitive broadcast against packets of K rays.
 template <class Spec, class F, class Kernel = Spec>
 RB_INLINE Acc run_rays_in_lanes(const BenchData<Spec>& d) {
-  F tsum = F(0);
+  Sums<F> s;
   std::uint64_t hits = 0;
-  Acc a;
   const std::size_t np = d.prims.size(), nr = d.rays.size();
   for (std::size_t j = 0; j < np; ++j) {
     const auto p = d.prims.template broadcast<F>(j);
-    for (std::size_t i = 0; i < nr; i += lanes_v<F>) {
-      const Hit<F> h = Kernel::run(d.rays.template packet<F>(i), p, d.prims, j);
-      accumulate(a, h, tsum, hits);
-    }
+    for (std::size_t i = 0; i < nr; i += lanes_v<F>) accumulate(Kernel::run(d.rays.template packet<F>(i), p, d.prims, j), s, hits);
   }
-  for (int k = 0; k < lanes_v<F>; ++k) a.tsum += double(lane(tsum, k));
-  a.hits = hits;
-  return a;
+  return finish(s, hits);
 }
 
 // Primitives in lanes: every ray broadcast against groups of M primitives.
 template <class Spec, class F, class Kernel = Spec>
 RB_INLINE Acc run_prims_in_lanes(const BenchData<Spec>& d) {
-  F tsum = F(0);
+  Sums<F> s;
   std::uint64_t hits = 0;
-  Acc a;
   const std::size_t np = d.prims.size(), nr = d.rays.size();
   for (std::size_t i = 0; i < nr; ++i) {
     const Ray<F> r = d.rays.template broadcast<F>(i);
-    for (std::size_t j = 0; j < np; j += lanes_v<F>) {
-      const Hit<F> h = Kernel::run(r, d.prims.template load<F>(j), d.prims, j);
-      accumulate(a, h, tsum, hits);
-    }
+    for (std::size_t j = 0; j < np; j += lanes_v<F>) accumulate(Kernel::run(r, d.prims.template load<F>(j), d.prims, j), s, hits);
   }
-  for (int k = 0; k < lanes_v<F>; ++k) a.tsum += double(lane(tsum, k));
-  a.hits = hits;
-  return a;
+  return finish(s, hits);
 }
 
 // Operations per test of a benchmark (per lane, so masked-off SIMD lanes count as work done):

@@ -39,6 +39,7 @@ void same_as_eight_lanes(int& checked) {
     auto expect_same = [&](const bench::Acc& a16, const bench::Acc& a8, const char* mapping) {
       EXPECT_EQ(a16.hits, a8.hits) << what << " " << mapping;
       EXPECT_NEAR(a16.tsum, a8.tsum, 1e-4 * std::fabs(a8.tsum) + 1e-6) << what << " " << mapping;
+      EXPECT_NEAR(a16.uvsum, a8.uvsum, 1e-4 * std::fabs(a8.uvsum) + 1e-6) << what << " " << mapping;
       ++checked;
     };
     expect_same(bench::run_simd16<Spec>(d, Variant::rays_in_lanes16), bench::run_rays_in_lanes<Spec, f8>(d), "rays in lanes");
