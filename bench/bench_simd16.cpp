@@ -13,17 +13,19 @@ namespace rb::bench {
 
 #ifdef RB_HAVE_SIMD16
 template <class Spec>
-double simd16_ops_per_test(Case c, Variant v) {
+OpMix simd16_op_mix(Case c, Variant v) {
   // Google Benchmark runs a benchmark's function once per round: counted once per case and mapping.
   static std::mutex mu;
-  static std::map<std::pair<int, int>, double> memo;
+  static std::map<std::pair<int, int>, OpMix> memo;
   const std::lock_guard<std::mutex> lock(mu);
   const auto key = std::make_pair(int(c), int(v));
   if (const auto it = memo.find(key); it != memo.end()) return it->second;
   const auto d = std::make_unique<BenchData<Spec>>(make_bench_data<Spec>(c));
   const ops::Scope s;
   run_simd16_counted<Spec>(*d, v);
-  return memo[key] = ops_per_lane_test(s.elapsed(), 16.0, double(d->rays.size()) * double(d->prims.size()));
+  const OpCounts e = s.elapsed();
+  const double tests = double(d->rays.size()) * double(d->prims.size()), per_lane = 16.0 / tests;
+  return memo[key] = {ops_per_lane_test(e, 16.0, tests), double(e.total()) * per_lane, double(e.div) * per_lane, double(e.sqrt) * per_lane};
 }
 
 void register_simd16() {

@@ -49,7 +49,7 @@ struct CountedKernel {
 template <class Spec>
 double counted_ops_per_test(bench::Case c, bench::Variant v) {
   using bench::Variant;
-  if (bench::is_simd16(v)) return std::numeric_limits<double>::quiet_NaN();  // bench::simd16_ops_per_test
+  if (bench::is_simd16(v)) return std::numeric_limits<double>::quiet_NaN();  // bench::simd16_op_mix
   const auto d = std::make_unique<bench::BenchData<Spec>>(bench::make_bench_data<Spec>(c));
   const ops::Scope s;
   if (v == Variant::scalar) (void)bench::run_rays_in_lanes<Spec, cfloat, CountedKernel<Spec>>(*d);

@@ -27,9 +27,9 @@ void register_one() {
     registered_names().push_back(name);
     benchmark::RegisterBenchmark(name.c_str(), [c](benchmark::State& st) {
       const auto d = std::make_unique<BenchData<Spec>>(make_bench_data<Spec>(c));  // set-up, not timed
-      double opt;
-      if constexpr (is_simd16(V)) opt = simd16_ops_per_test<Spec>(c, V);  // bench/bench_simd16.cpp
-      else opt = ops_per_test(Spec::kernel, Spec::method, c, V);
+      OpMix mix;  // the 16-lane rows' (bench/bench_simd16.cpp)
+      if constexpr (is_simd16(V)) mix = simd16_op_mix<Spec>(c, V);
+      const double opt = is_simd16(V) ? mix.ops : ops_per_test(Spec::kernel, Spec::method, c, V);
       Acc a;
       for (auto _ : st) {
         if constexpr (V == Variant::scalar) a = run_rays_in_lanes<Spec, float>(*d);
@@ -42,6 +42,11 @@ void register_one() {
       st.counters["tests_per_s"] = benchmark::Counter(tests, benchmark::Counter::kIsIterationInvariantRate);
       st.counters["ops_per_test"] = opt;
       st.counters["hit_fraction"] = double(a.hits) / tests;
+      if constexpr (is_simd16(V)) {
+        st.counters["instructions_per_test"] = mix.instructions;
+        st.counters["div_per_test"] = mix.div;
+        st.counters["sqrt_per_test"] = mix.sqrt;
+      }
     });
   }
 }
@@ -57,6 +62,7 @@ void register_solver_scalar();
 void register_solver_simd();
 void register_wide_node(bool simd16);  // bench_wide_node.cpp: the 8-wide BVH node's slab test (8 lanes; also 16)
 void register_simd16();                // bench_simd16.cpp: the 16-lane rows (nothing without them)
+void register_instructions(bool simd16);  // bench_instructions.cpp: division, square root and FMA at 8 and 16 lanes (with the 16-lane rows)
 // Every benchmark; the 16-lane rows when `simd16` (bench/simd16.hpp: isa_choice).
 inline void register_all_benchmarks(bool simd16) {
   register_basic_scalar();
@@ -69,6 +75,7 @@ inline void register_all_benchmarks(bool simd16) {
   register_solver_simd();
   if (simd16) register_simd16();
   register_wide_node(simd16);
+  register_instructions(simd16);
 }
 
 }  // namespace rb::bench

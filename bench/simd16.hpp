@@ -9,6 +9,7 @@
 #pragma once
 
 #include "bench/harness.hpp"
+#include "bench/instruction_chains.hpp"
 
 #include <cstddef>
 #include <string>
@@ -27,11 +28,15 @@ Acc run_simd16(const BenchData<Spec>& d, Variant v);
 // The same loop in Counted<f16> numbers: its operations land in this thread's counters (ops::Scope).
 template <class Spec>
 void run_simd16_counted(const BenchData<Spec>& d, Variant v);
-// Operations per test of a 16-lane row (per lane, as the 8-lane rows count them): more than the
-// 8-lane row's where an early exit waits for every lane. Computed once per spec, case and mapping
-// (bench/bench_simd16.cpp, with the 16-lane rows).
+// A 16-lane row's operations per test, per lane: all of them, as the 8-lane rows count them (more
+// than the 8-lane row's where an early exit waits for every lane), the instructions they take (an
+// FMA is one) and the divisions and square roots among those. Counted once per spec, case and
+// mapping (bench/bench_simd16.cpp, with the 16-lane rows).
+struct OpMix {
+  double ops = 0, instructions = 0, div = 0, sqrt = 0;
+};
 template <class Spec>
-double simd16_ops_per_test(Case c, Variant v);
+OpMix simd16_op_mix(Case c, Variant v);
 
 // The BVH's 8-wide node test in 16 lanes (bvh/slab16.hpp; rb_simd16, bench/simd16_node.cpp): every
 // ray against every node, the number of child boxes hit. simd16_node_test: one node test, its hit
@@ -39,6 +44,10 @@ double simd16_ops_per_test(Case c, Variant v);
 template <bool Robust>
 unsigned simd16_node_pass(const bvh::WNode* nodes, std::size_t n_nodes, const Ray<float>* rays, std::size_t n_rays, float tmax);
 unsigned simd16_node_test(const bvh::WNode& node, const Ray<float>& ray, float tmax, bool robust, float (&tn)[8]);
+
+// One instruction's chains in 16 lanes (bench/instruction_chains.hpp; rb_simd16,
+// bench/simd16_instructions.cpp): `steps` rounds of eight, the first lane of their sum.
+float simd16_instruction_pass(Instr k, long steps, float seed);
 
 // The ISA the kernel benchmarks run: "auto" (AVX-512 where the CPU and the build have it, else
 // AVX2), "avx2" or "avx512". `simd16`: the 16-lane rows are registered; `name`: "avx2" or

@@ -119,5 +119,26 @@ TEST(Simd16, NodeTestGivesTheEightLaneHitsAndEntries) {
 #endif
 }
 
+// The instruction rows' 16-lane chains (bench/simd16_instructions.cpp), which price the report's
+// divisions and square roots, compute what they claim: eight chains of one correctly rounded
+// operation from the seed, summed in pairs; the same sum in scalar float, bit for bit.
+TEST(Simd16, InstructionChainsComputeTheirOperation) {
+#ifndef RB_HAVE_SIMD16
+  GTEST_SKIP() << "this build has no AVX-512 code";
+#else
+  if (!bench::simd16_cpu()) GTEST_SKIP() << "this CPU lacks AVX-512 F, CD, DQ, BW or VL";
+  for (const bench::Instr k : bench::kInstrs)
+    for (const long steps : {0L, 1L, 7L, 1000L}) {
+      const float seed = 1.5f, b = 1.0f + 1e-7f * seed;
+      float a[8] = {seed};
+      for (int j = 1; j < 8; ++j) a[j] = a[j - 1] + b;
+      for (long n = 0; n < steps; ++n)
+        for (float& x : a) x = k == bench::Instr::fma ? std::fma(x, b, b) : k == bench::Instr::div ? x / b : std::sqrt(x);
+      const float want = ((a[0] + a[1]) + (a[2] + a[3])) + ((a[4] + a[5]) + (a[6] + a[7]));
+      EXPECT_EQ(bench::simd16_instruction_pass(k, steps, seed), want) << bench::instr_name(k) << " x " << steps;
+    }
+#endif
+}
+
 }  // namespace
 }  // namespace rb::test
