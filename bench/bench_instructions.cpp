@@ -30,7 +30,7 @@ float instruction_pass8(Instr k, long steps, float seed) {
   return _mm256_cvtss_f32(r);
 }
 
-void instruction_rate(benchmark::State& st, Instr k, int lanes) {
+void instruction_rate(benchmark::State& st, Instr k, [[maybe_unused]] int lanes) {
   float seed = 1.5f;
   benchmark::DoNotOptimize(seed);  // not a constant the compiler could fold the chains from
   for (auto _ : st) {

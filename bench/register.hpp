@@ -8,6 +8,9 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -20,12 +23,25 @@ inline std::vector<std::string>& registered_names() {
   return names;
 }
 
+// A kernel benchmark waiting for its place in the run. register_all_benchmarks registers them
+// grouped by kernel, method and case, so that the rows a ratio pairs (the true scalar form, 8 lanes
+// and 16 lanes of one method and case) run back to back in every round, a second apart instead of
+// minutes: the host's speed drifts over minutes, and a ratio of rows measured apart carries that
+// drift.
+struct PendingBenchmark {
+  std::string name, group;  // group: kernel/method/case
+  std::function<void(benchmark::State&)> run;
+};
+inline std::vector<PendingBenchmark>& pending_benchmarks() {
+  static std::vector<PendingBenchmark> p;
+  return p;
+}
+
 template <class Spec, Variant V>
 void register_one() {
   for (Case c : {Case::hit, Case::miss, Case::half}) {
-    const std::string name = BenchName{Spec::kernel, Spec::method, variant_name(V), case_name(c)}.str();
-    registered_names().push_back(name);
-    benchmark::RegisterBenchmark(name.c_str(), [c](benchmark::State& st) {
+    const BenchName bn{Spec::kernel, Spec::method, variant_name(V), case_name(c)};
+    pending_benchmarks().push_back({bn.str(), bn.kernel_method() + "/" + bn.kase, [c](benchmark::State& st) {
       const auto d = std::make_unique<BenchData<Spec>>(make_bench_data<Spec>(c));  // set-up, not timed
       OpMix mix;  // the 16-lane rows' (bench/bench_simd16.cpp)
       if constexpr (is_simd16(V)) mix = simd16_op_mix<Spec>(c, V);
@@ -47,7 +63,7 @@ void register_one() {
         st.counters["div_per_test"] = mix.div;
         st.counters["sqrt_per_test"] = mix.sqrt;
       }
-    });
+    }});
   }
 }
 
@@ -74,6 +90,17 @@ inline void register_all_benchmarks(bool simd16) {
   register_solver_scalar();
   register_solver_simd();
   if (simd16) register_simd16();
+  // Grouped by kernel, method and case, each group where its first row was registered, its rows in
+  // registration order (scalar, 8 lanes, 16 lanes).
+  auto& p = pending_benchmarks();
+  std::map<std::string, std::size_t> first;
+  for (std::size_t i = 0; i < p.size(); ++i) first.emplace(p[i].group, i);
+  std::stable_sort(p.begin(), p.end(), [&](const PendingBenchmark& a, const PendingBenchmark& b) { return first[a.group] < first[b.group]; });
+  for (auto& b : p) {
+    registered_names().push_back(b.name);
+    benchmark::RegisterBenchmark(b.name.c_str(), std::move(b.run));
+  }
+  p.clear();
   register_wide_node(simd16);
   register_instructions(simd16);
 }
