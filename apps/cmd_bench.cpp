@@ -6,6 +6,7 @@
 #include "apps/commands.hpp"
 #include "apps/results/machine.hpp"
 #include "apps/report/report.hpp"
+#include "apps/report/report_simd.hpp"
 #include "apps/results/results.hpp"
 #include "apps/results/stats.hpp"
 
@@ -32,6 +33,25 @@ struct BenchRow {
 std::string g4(double v) {
   if (!std::isfinite(v)) return "-";
   return std::fabs(v) >= 1e4 ? fmt::format("{:.0f}", v) : std::fabs(v) >= 100 ? fmt::format("{:.1f}", v) : fmt::format("{:.2f}", v);
+}
+
+// Per method, 16 lanes over 8 (the report's section 3.3, apps/report/report_simd16.cpp): the lowest
+// case with its interval, the verdict against 1.6x in every case and the reason where it falls
+// short. Empty without 16-lane rows.
+std::string simd16_methods_text(const json& doc) {
+  const auto methods = simd_report::simd16_methods(doc);
+  if (methods.empty()) return "";
+  std::string t = wrap_words("16 lanes over 8, per method (the better mapping's lowest case, 95 % interval; >= 1.6x in every case, or why "
+                             "not):");
+  for (const auto& m : methods) {
+    std::string reason = m.reason;
+    for (std::size_t k; (k = reason.find("**")) != std::string::npos;) reason.erase(k, 2);  // markdown bold
+    const std::string head = fmt::format("  {:<26} {:>22} {:<4}  {}", m.km, stats::interval_text(m.cases.at(m.low_case)), m.low_case,
+                                         doc::goal_word(m.verdict));
+    t += wrap_words(reason.empty() || m.why == simd_report::Simd16Method::Why::undecided ? head : head + ": " + reason, 100,
+                    std::string(8, ' '));
+  }
+  return t;
 }
 
 }  // namespace
@@ -89,6 +109,7 @@ std::string bench_table(const json& doc, double* worst_cv, std::size_t* noisy) {
                                 wide[wide.size() / 2].first.ratio, stats::interval_text(wide.front().first), wide.front().second,
                                 stats::interval_text(wide.back().first), wide.back().second));
   }
+  t += simd16_methods_text(doc);
   t += wrap_words("ISA: " + ctx.value("raybench_isa", std::string("avx2")) + " (" + ctx.value("raybench_isa_why", std::string("-")) + ").");
   if (doc.contains("machine_load")) t += wrap_words("Machine: " + load_text(doc["machine_load"]) + ".");
   if (worst_cv) *worst_cv = worst;

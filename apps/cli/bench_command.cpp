@@ -24,12 +24,13 @@ class BenchCommand final : public Command {
         "Google Benchmark medians, L1-resident, one thread: every kernel x {true scalar,\n"
         "8 rays x 1 primitive, 1 ray x 8 primitives (AVX2), and with AVX-512 16 rays x 1\n"
         "primitive, 1 ray x 16 primitives} x {hit, miss, half}, run in rounds\n"
-        "(each round every benchmark once, so a method's scalar and SIMD forms run\n"
-        "seconds apart in every round). The table shows the median tests per second,\n"
-        "the coefficient of variation over the rounds, operations per test and the SIMD\n"
+        "(each round every benchmark once, a method's scalar, 8-lane and 16-lane forms\n"
+        "of one case back to back). The table shows the median tests per second, the\n"
+        "coefficient of variation over the rounds, operations per test and the SIMD\n"
         "speedup over the scalar form (the median of the rounds' ratios; --json gives\n"
         "its 95 % interval under raybench_simd_vs_scalar; 16 over 8 lanes under\n"
-        "raybench_simd16_vs_simd8; the ISA under raybench_isa). The --json file is what\n"
+        "raybench_simd16_vs_simd8, per method below the table with the reason where\n"
+        "it falls short of 1.6x; the ISA under raybench_isa). The --json file is what\n"
         "Google Benchmark's compare.py and `raybench compare` read.");
   }
   int run(Context& c) override {

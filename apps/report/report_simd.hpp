@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <map>
 #include <string>
 #include <vector>
@@ -21,6 +22,30 @@ std::map<std::string, nlohmann::json> medians(const nlohmann::json& j);
 int all_clear(const std::vector<stats::RatioInterval>& v, double target);
 // Structural reasons a method gains less from more lanes (kernel/method -> reason).
 const std::map<std::string, std::string>& structural_reasons();
+
+// What a method's divisions and square roots allow at 16 lanes (report_simd16.cpp: the divider
+// model). NaN without divisions, square roots or the instruction rows.
+struct DividerModel {
+  double estimate = stats::kNaN, cap = stats::kNaN;  // no overlap with the rest; the divider alone
+  double div = 0, sqrt = 0, instructions = 0;        // per test per lane, counted at 16 lanes
+  bool valid() const { return std::isfinite(estimate) && std::isfinite(cap); }
+};
+
+// One method at 16 lanes against 8: per case the better mapping's ratio with its interval, the
+// verdict against 1.6x in every case, and the reason where it falls short.
+struct Simd16Method {
+  enum class Why { met, undecided, explained, unexplained };
+  std::string km;                                      // kernel/method
+  std::map<std::string, stats::RatioInterval> cases;  // hit, miss, half
+  std::string low_case, mapping;                       // its lowest case, and that case's mapping
+  double ops8 = stats::kNaN, ops16 = stats::kNaN;      // operations per test per lane there
+  DividerModel model;
+  bool model_fits = false;  // the model's range holds the lowest case (within 0.05)
+  int verdict = doc::kGoalUndecided;
+  Why why = Why::undecided;
+  std::string reason;  // empty when met
+};
+std::vector<Simd16Method> simd16_methods(const nlohmann::json& bench);
 
 // The 16-against-8-lane part of the section (empty when the run has no 16-lane rows), its goals
 // added to `goals`.

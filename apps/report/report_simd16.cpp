@@ -23,6 +23,18 @@ using nlohmann::json;
 
 namespace {
 
+// A median counter of one benchmark row; NaN where the row or the counter is missing.
+double row_counter(const std::map<std::string, json>& counters, const std::string& name, const char* key) {
+  const auto it = counters.find(name);
+  return it != counters.end() && it->second.contains(key) && it->second[key].is_number() ? it->second[key].get<double>()
+                                                                                          : stats::kNaN;
+}
+
+// Nanoseconds per instruction of one kind at 8 or 16 lanes, from the run's instruction rows.
+double instruction_ns(const std::map<std::string, json>& counters, const char* kind, int lanes) {
+  return 1e9 / row_counter(counters, fmt::format("instruction/{}{}/reg", kind, lanes), "instructions_per_s");
+}
+
 // What a method's divisions and square roots allow at 16 lanes. On a CPU whose divider is half as
 // wide as an AVX-512 register, a 16-lane division costs two 8-lane ones: the instruction rows
 // (instruction/div8/reg ... sqrt16/reg, bench/bench_instructions.cpp) measure it in the same run.
@@ -31,29 +43,12 @@ namespace {
 // `estimate` prices t8's divider share at the 16-lane rate and halves the rest,
 // t8 / ((t8 - D(8)) / 2 + D(16)) (no overlap of the divider with the rest); `cap` is what the
 // divider alone allows, t8 / D(16) (full overlap). NaN without divisions, square roots or rates.
-struct DividerModel {
-  double estimate = std::numeric_limits<double>::quiet_NaN(), cap = std::numeric_limits<double>::quiet_NaN();
-  double div = 0, sqrt = 0, instructions = 0;
-  bool valid() const { return std::isfinite(estimate) && std::isfinite(cap); }
-};
-
-double counter(const std::map<std::string, json>& counters, const std::string& name, const char* key) {
-  const auto it = counters.find(name);
-  return it != counters.end() && it->second.contains(key) && it->second[key].is_number() ? it->second[key].get<double>()
-                                                                                          : std::numeric_limits<double>::quiet_NaN();
-}
-
-// Nanoseconds per instruction of one kind at 8 or 16 lanes, from the run's instruction rows.
-double instruction_ns(const std::map<std::string, json>& counters, const char* kind, int lanes) {
-  return 1e9 / counter(counters, fmt::format("instruction/{}{}/reg", kind, lanes), "instructions_per_s");
-}
-
 DividerModel divider_model(const std::map<std::string, json>& counters, const std::string& row16, const std::string& row8) {
   DividerModel m;
-  m.div = counter(counters, row16, "div_per_test");
-  m.sqrt = counter(counters, row16, "sqrt_per_test");
-  m.instructions = counter(counters, row16, "instructions_per_test");
-  const double t8 = 1e9 / counter(counters, row8, "tests_per_s");  // ns per test
+  m.div = row_counter(counters, row16, "div_per_test");
+  m.sqrt = row_counter(counters, row16, "sqrt_per_test");
+  m.instructions = row_counter(counters, row16, "instructions_per_test");
+  const double t8 = 1e9 / row_counter(counters, row8, "tests_per_s");  // ns per test
   if (!(m.div + m.sqrt > 0) || !std::isfinite(t8)) return m;
   auto divider = [&](int w) {
     return (m.div * instruction_ns(counters, "div", w) + m.sqrt * instruction_ns(counters, "sqrt", w)) / w;
@@ -119,13 +114,12 @@ std::string sixteen_over_scalar(const json& bench, json& summary, std::vector<do
 
 }  // namespace
 
-// 16 AVX-512 lanes against 8 AVX2 lanes, per method and case: the better mapping's ratio of the
-// rounds (16-lane rate over the 8-lane rate of the same mapping) with its interval; the goal on the
-// median method (each method's figure: the median of its cases). Empty when the run has no
-// 16-lane rows (--isa avx2, or a CPU or build without AVX-512).
-std::string simd16_section(const json& bench, json& summary, std::vector<doc::Goal>& goals) {
+// Per method: each case's better 16-lane mapping over its 8-lane form, the verdict against 1.6x in
+// every case and the reason where it falls short: stated (a loop to the slowest lane), measured (its
+// lowest case runs more operations per lane at 16 lanes than at 8: an early exit that needs every
+// lane comes later) or the divider model's. Empty when the run has no 16-lane rows.
+std::vector<Simd16Method> simd16_methods(const json& bench) {
   const auto ratios = simd16_speedups(bench);
-  if (ratios.empty()) return "";
   // kernel/method -> case -> the better mapping's interval, and that row's name
   std::map<std::string, std::map<std::string, stats::RatioInterval>> best;
   std::map<std::string, std::map<std::string, std::string>> row_of;
@@ -136,85 +130,105 @@ std::string simd16_section(const json& bench, json& summary, std::vector<doc::Go
     if (!std::isfinite(slot.ratio) || r.ratio > slot.ratio) slot = r, row_of[p->kernel_method()][p->kase] = name;
   }
   const auto counters = medians(bench);
-  // A 16-lane row's operations per test (per lane) and its 8-lane row's: more at 16 lanes where an
-  // early exit or a loop waits for every lane of the packet.
-  auto ops_of = [&](const std::string& name) {
-    const auto it = counters.find(name);
-    return it != counters.end() && it->second.contains("ops_per_test") && it->second["ops_per_test"].is_number()
-               ? it->second["ops_per_test"].get<double>()
-               : std::numeric_limits<double>::quiet_NaN();
-  };
   auto eight_lane_name = [](const std::string& name16) {
     auto p = bench::BenchName::parse(name16);
     if (!p || p->variant.size() < 2) return std::string();
     p->variant.resize(p->variant.size() - 2);  // "rays_in_lanes16" -> "rays_in_lanes"
     return p->str();
   };
+  std::vector<Simd16Method> out;
+  for (const auto& [km, cases] : best) {
+    Simd16Method m;
+    m.km = km;
+    m.cases = cases;
+    std::vector<stats::RatioInterval> iv;
+    for (const auto& [c, r] : cases) {
+      iv.push_back(r);
+      if (m.low_case.empty() || r.ratio < cases.at(m.low_case).ratio) m.low_case = c;
+    }
+    m.verdict = all_clear(iv, 1.6);
+    const std::string low16 = row_of[km][m.low_case];  // kernel/method/mapping16/case
+    const auto low_parts = bench::BenchName::parse(low16);
+    m.mapping = low_parts ? low_parts->variant : "";
+    // Operations per test per lane of the lowest case at both widths: more at 16 lanes where an
+    // early exit or a loop waits for every lane of the packet.
+    m.ops16 = row_counter(counters, low16, "ops_per_test");
+    m.ops8 = row_counter(counters, eight_lane_name(low16), "ops_per_test");
+    m.model = divider_model(counters, low16, eight_lane_name(low16));
+    // The model holds a measurement within 0.05 of its range; above its cap, fewer divisions ran than
+    // were counted (the compiler moved some out of the loop) or the divider overlaps more than the
+    // chains show; below its lower figure, something besides the divider costs too.
+    const double low_ratio = cases.at(m.low_case).ratio;
+    m.model_fits = m.model.valid() && low_ratio >= m.model.estimate - 0.05 && low_ratio <= m.model.cap + 0.05;
+    const bool more_ops = m.ops16 > 1.05 * m.ops8;
+    const std::string measured_why =
+        more_ops ? fmt::format("{:.0f} operations per test per lane at 16 lanes against {:.0f} at 8 ({}, {}): lanes wait for each other", m.ops16,
+                               m.ops8, m.low_case, m.mapping)
+                 : "";
+    const auto it = structural_reasons().find(km);
+    const DividerModel& dm = m.model;
+    if (m.verdict == doc::kGoalMet) m.why = Simd16Method::Why::met;
+    else if (m.verdict == doc::kGoalUndecided) m.why = Simd16Method::Why::undecided, m.reason = "undecided: an interval straddles 1.6x";
+    else if (it != structural_reasons().end())
+      m.why = Simd16Method::Why::explained, m.reason = it->second + (more_ops ? "; measured: " + measured_why : "");
+    else if (more_ops) m.why = Simd16Method::Why::explained, m.reason = "early exits need every lane: " + measured_why;
+    else if (m.model_fits && dm.estimate < 1.6)
+      m.why = Simd16Method::Why::explained,
+      m.reason = fmt::format("divisions and square roots ({:.0f} div and {:.0f} sqrt of {:.0f} instructions per test per lane) cost as much "
+                             "per lane at 16 lanes as at 8: the model gives {:.2f}x to {:.2f}x, measured {:.2f}x",
+                             dm.div, dm.sqrt, dm.instructions, dm.estimate, dm.cap, low_ratio);
+    else if (dm.valid())
+      m.why = Simd16Method::Why::unexplained,
+      m.reason = fmt::format("**unexplained**: measured {:.2f}x, outside the divider model's {:.2f}x to {:.2f}x{}", low_ratio, dm.estimate, dm.cap,
+                             low_ratio > dm.cap ? " (above its cap: fewer divisions ran than were counted)" : "");
+    else m.why = Simd16Method::Why::unexplained, m.reason = "**unexplained**";
+    out.push_back(std::move(m));
+  }
+  return out;
+}
+
+// 16 AVX-512 lanes against 8 AVX2 lanes, per method and case: the better mapping's ratio of the
+// rounds (16-lane rate over the 8-lane rate of the same mapping) with its interval; the goal on the
+// median method (each method's figure: the median of its cases). Empty when the run has no
+// 16-lane rows (--isa avx2, or a CPU or build without AVX-512).
+std::string simd16_section(const json& bench, json& summary, std::vector<doc::Goal>& goals) {
+  const auto methods = simd16_methods(bench);
+  if (methods.empty()) return "";
+  const auto counters = medians(bench);
   std::string md =
       "| kernel/method | hit | miss | half | ops/test per lane, 8 -> 16 lanes (lowest case) | divider model | >= 1.6x | why not |\n"
       "|---|---:|---:|---:|---:|---:|---|---|\n";
   std::vector<std::pair<double, std::string>> figure;  // a method's median case, and the method
+  std::map<std::string, std::vector<stats::RatioInterval>> intervals;
   json out = json::array();
   int met = 0, undecided = 0, explained = 0, unexplained = 0, modelled = 0, within = 0;
-  for (const auto& [km, cases] : best) {
-    auto cell = [&](const char* c) { return cases.count(c) ? stats::interval_text(cases.at(c)) : std::string("-"); };
+  for (const Simd16Method& m : methods) {
+    auto cell = [&](const char* c) { return m.cases.count(c) ? stats::interval_text(m.cases.at(c)) : std::string("-"); };
     std::vector<double> v;
-    std::vector<stats::RatioInterval> iv;
-    json row = {{"kernel_method", km}};
-    for (const auto& [c, r] : cases) v.push_back(r.ratio), iv.push_back(r), row[c] = stats::interval_json(r);
-    // A method at 1.6x in every case (each interval clears it), or the reason it is not: stated (a
-    // loop to the slowest lane) or measured (its lowest case runs more operations per lane at 16
-    // lanes than at 8: an early exit that needs every lane comes later).
-    const int verdict = all_clear(iv, 1.6);
-    const auto it = structural_reasons().find(km);
-    std::string low_case;
-    for (const auto& [c, r] : cases)
-      if (low_case.empty() || r.ratio < cases.at(low_case).ratio) low_case = c;
-    const std::string low16 = row_of[km][low_case];  // kernel/method/mapping16/case
-    const auto low_parts = bench::BenchName::parse(low16);
-    const std::string mapping = low_parts ? low_parts->variant : "";
-    const double ops16 = ops_of(low16), ops8 = ops_of(eight_lane_name(low16));
-    const bool more_ops = ops16 > 1.05 * ops8;
-    std::string measured_why;
-    if (more_ops)
-      measured_why = fmt::format("{:.0f} operations per test per lane at 16 lanes against {:.0f} at 8 ({}, {}): lanes wait for each other",
-                                 ops16, ops8, low_case, mapping);
-    const DividerModel dm = divider_model(counters, low16, eight_lane_name(low16));
-    const std::string model_cell = dm.valid() ? fmt::format("{:.2f} - {:.2f}", dm.estimate, dm.cap) : "-";
-    // The model holds a measurement within 0.05 of its range; above its cap, fewer divisions ran than
-    // were counted (the compiler moved some out of the loop) or the divider overlaps more than the
-    // chains show; below its lower figure, something besides the divider costs too.
-    const double low_ratio = cases.at(low_case).ratio;
-    const bool fits = dm.valid() && low_ratio >= dm.estimate - 0.05 && low_ratio <= dm.cap + 0.05;
-    modelled += dm.valid();
-    within += fits;
-    std::string reason;
-    if (verdict == doc::kGoalMet) ++met;
-    else if (verdict == doc::kGoalUndecided) ++undecided, reason = "undecided: an interval straddles 1.6x";
-    else if (it != structural_reasons().end()) ++explained, reason = it->second + (more_ops ? "; measured: " + measured_why : "");
-    else if (more_ops) ++explained, reason = "early exits need every lane: " + measured_why;
-    else if (fits && dm.estimate < 1.6)
-      ++explained, reason = fmt::format("divisions and square roots ({:.0f} div and {:.0f} sqrt of {:.0f} instructions per test per lane) "
-                                        "cost as much per lane at 16 lanes as at 8: the model gives {:.2f}x to {:.2f}x, measured {:.2f}x",
-                                        dm.div, dm.sqrt, dm.instructions, dm.estimate, dm.cap, low_ratio);
-    else if (dm.valid())
-      ++unexplained, reason = fmt::format("**unexplained**: measured {:.2f}x, outside the divider model's {:.2f}x to {:.2f}x{}", low_ratio,
-                                          dm.estimate, dm.cap,
-                                          low_ratio > dm.cap ? " (above its cap: fewer divisions ran than were counted)" : "");
-    else ++unexplained, reason = "**unexplained**";
-    if (std::isfinite(ops16)) row["lowest_case"] = {{"case", low_case}, {"ops_per_test_16", ops16}, {"ops_per_test_8", ops8}};
+    json row = {{"kernel_method", m.km}};
+    for (const auto& [c, r] : m.cases) v.push_back(r.ratio), intervals[m.km].push_back(r), row[c] = stats::interval_json(r);
+    met += m.why == Simd16Method::Why::met;
+    undecided += m.why == Simd16Method::Why::undecided;
+    explained += m.why == Simd16Method::Why::explained;
+    unexplained += m.why == Simd16Method::Why::unexplained;
+    modelled += m.model.valid();
+    within += m.model_fits;
+    const DividerModel& dm = m.model;
+    if (std::isfinite(m.ops16)) row["lowest_case"] = {{"case", m.low_case}, {"ops_per_test_16", m.ops16}, {"ops_per_test_8", m.ops8}};
     if (dm.valid()) row["divider_model"] = {{"estimate", dm.estimate}, {"cap", dm.cap}, {"div_per_test", dm.div}, {"sqrt_per_test", dm.sqrt}};
-    const std::string ops_cell = std::isfinite(ops16) && std::isfinite(ops8) ? fmt::format("{:.0f} -> {:.0f} ({})", ops8, ops16, low_case) : "-";
-    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} |\n", km, cell("hit"), cell("miss"), cell("half"), ops_cell, model_cell,
-                      doc::goal_cell(verdict), reason);
-    row["verdict"] = doc::goal_word(verdict);
-    row["reason"] = reason;
-    figure.push_back({stats::median(v), km});
+    const std::string ops_cell =
+        std::isfinite(m.ops16) && std::isfinite(m.ops8) ? fmt::format("{:.0f} -> {:.0f} ({})", m.ops8, m.ops16, m.low_case) : "-";
+    const std::string model_cell = dm.valid() ? fmt::format("{:.2f} - {:.2f}", dm.estimate, dm.cap) : "-";
+    md += fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} |\n", m.km, cell("hit"), cell("miss"), cell("half"), ops_cell, model_cell,
+                      doc::goal_cell(m.verdict), m.reason);
+    row["verdict"] = doc::goal_word(m.verdict);
+    row["reason"] = m.reason;
+    figure.push_back({stats::median(v), m.km});
     out.push_back(row);
   }
   md += fmt::format("\n{} of {} methods reach 1.6x in every case; {} undecided; {} fall short for the structural reason given; {} "
                     "unexplained.\n",
-                    met, best.size(), undecided, explained, unexplained);
+                    met, methods.size(), undecided, explained, unexplained);
   const std::string rates = instruction_rates_text(counters, summary);
   if (modelled > 0)
     md += fmt::format("The divider model's range holds the measured lowest case (within 0.05) on {} of the {} methods with divisions "
@@ -222,14 +236,12 @@ std::string simd16_section(const json& bench, json& summary, std::vector<doc::Go
   std::sort(figure.begin(), figure.end());
   const auto& [med, med_km] = figure[figure.size() / 2];
   // The median method's verdict: its cases' intervals against 1.6 (every case clears it: met).
-  std::vector<stats::RatioInterval> iv;
-  for (const auto& [c, r] : best[med_km]) iv.push_back(r);
-  const int verdict = all_clear(iv, 1.6);
+  const int verdict = all_clear(intervals[med_km], 1.6);
   summary["simd16_vs_simd8"] = {{"rows", out},
                                 {"median_method", med_km},
                                 {"median", med},
                                 {"verdict", doc::goal_word(verdict)},
-                                {"counts", {{"methods", best.size()}, {"met", met}, {"undecided", undecided}, {"explained", explained},
+                                {"counts", {{"methods", methods.size()}, {"met", met}, {"undecided", undecided}, {"explained", explained},
                                             {"unexplained", unexplained}}},
                                 {"divider_model", {{"methods", modelled}, {"within_range", within}}}};
   const std::string measured = fmt::format("median method {} ({:.2f}x over its cases; lowest of {} methods {:.2f}x ({}), highest {:.2f}x ({}))",
