@@ -7,8 +7,9 @@
 // The protocol: rounds, not repetitions back to back. Each round runs every selected benchmark
 // once (at least --min-time seconds each, Google Benchmark choosing the iterations), in
 // registration order, which puts a method's scalar, 8-lane and 16-lane forms of one case back to
-// back (bench/register.hpp), so that a change of the machine's load falls on all of them; a benchmark's repetitions are its rounds, and
-// a ratio between two benchmarks is taken round by round (stats::paired_ratio).
+// back (bench/register.hpp), so that a change of the machine's load falls on all of them; a
+// benchmark's repetitions are its rounds, and a ratio between two benchmarks is taken round by
+// round (stats::paired_ratio).
 #include "apps/cli.hpp"
 #include "apps/results/machine.hpp"
 #include "apps/progress.hpp"

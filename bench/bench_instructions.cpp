@@ -17,7 +17,7 @@
 namespace rb::bench {
 
 namespace {
-constexpr long kSteps = 1024;  // per pass: 8 x 1024 instructions, a few microseconds
+constexpr long kSteps = 1024;  // per pass: 8 x 1024 instructions (about 26 us of 16-lane divisions)
 
 float instruction_pass8(Instr k, long steps, float seed) {
   const __m256 s = _mm256_set1_ps(seed), b = _mm256_set1_ps(1.0f + 1e-7f * seed);

@@ -85,8 +85,8 @@ BenchData<Spec> make_bench_data(Case c) {
 
 // What a timed loop keeps of its hits: the number of hits, the sum of their distances and the sum
 // of their u + v. Every output of the kernel is used, so that the compiler cannot drop the work of
-// one the loop would otherwise ignore (a method's [u,v] mapping, a triangle's final scaling of its
-// barycentrics): the figures time what the operation counts count.
+// one the loop would otherwise ignore (a method's [u,v] mapping): the figures time what the
+// operation counts count.
 struct Acc {
   double tsum = 0, uvsum = 0;
   std::uint64_t hits = 0;

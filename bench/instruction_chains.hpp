@@ -14,8 +14,8 @@ enum class Instr { fma, div, sqrt };
 inline constexpr Instr kInstrs[] = {Instr::fma, Instr::div, Instr::sqrt};
 inline const char* instr_name(Instr k) { return k == Instr::fma ? "fma" : k == Instr::div ? "div" : "sqrt"; }
 
-// `steps` rounds of `op` on eight chains started at `seed`, with `b` its second operand; the lanes'
-// sum of the first lane of every chain, for DoNotOptimize. V: a register type with operator+.
+// `steps` rounds of `op` on eight chains started at `seed`, with `b` its second operand; the sum of
+// the chains (the caller keeps one lane of it, for DoNotOptimize). V: a register type with +.
 template <class V, class Op>
 [[gnu::always_inline]] inline V instruction_chains(long steps, V seed, V b, Op op) {
   V a0 = seed, a1 = seed + b, a2 = a1 + b, a3 = a2 + b, a4 = a3 + b, a5 = a4 + b, a6 = a5 + b, a7 = a6 + b;

@@ -25,8 +25,8 @@ inline std::vector<std::string>& registered_names() {
 
 // A kernel benchmark waiting for its place in the run. register_all_benchmarks registers them
 // grouped by kernel, method and case, so that the rows a ratio pairs (the true scalar form, 8 lanes
-// and 16 lanes of one method and case) run back to back in every round, a second apart instead of
-// minutes: the host's speed drifts over minutes, and a ratio of rows measured apart carries that
+// and 16 lanes of one method and case) run back to back in every round, within a second instead
+// of minutes apart: the host's speed drifts over minutes, and a ratio of rows measured apart carries that
 // drift.
 struct PendingBenchmark {
   std::string name, group;  // group: kernel/method/case
