@@ -1,13 +1,26 @@
 #!/usr/bin/python3
 """The report's profile-guided optimisation section, from the runs of `./run.sh pgo`.
 
-Usage: /usr/bin/python3 tools/pgo.py RESULTS OUT --honest TEXT --tuned TEXT [--minutes N]
+Usage: /usr/bin/python3 tools/pgo.py RESULTS OUT --honest TEXT [--tuned TEXT] [--minutes N]
+                                     [--builds TEXT] [--binary BUILD=PATH ...] [--perf-rows N]
 
-RESULTS holds one folder per build (normal, pgo, tuned), each with the kernel benchmark JSON of
-every round (bench-N.json, Google Benchmark, every repetition kept; round N of each build ran back
-to back) and one JSON per trace (trace-*.json, `raybench trace --json`), and load.txt (the load
-average after each measured run). Writes OUT/pgo.json, OUT/pgo.md and two charts, and
-replaces the PGO section of OUT/index.md when that file exists.
+RESULTS holds one folder per build (normal, pgo and, when measured, tuned). Each has one kernel
+benchmark JSON per benchmark and round (bench-NAME-rN.json: `raybench bench -r 1 --json`, Google
+Benchmark) and one JSON per trace row and round (trace-TAG-rN.json: `raybench trace --json`); in
+round N the builds ran each benchmark and each trace row back to back, their order alternating.
+load.txt holds the load average after each round.
+
+Every ratio is PGO over normal (above 1: the PGO build is faster): the median over the rounds of
+that round's ratio, with the distribution-free 95 % interval of a median from the sign test (the
+order statistics of the rounds' ratios; the interval `raybench` gives every paired ratio). A
+kernel family's ratio in a round is the geometric mean of its benchmarks' ratios in that round.
+
+With --binary normal=PATH --binary pgo=PATH the section also says what the profile changed in the
+code (per function, from `nm`), and, where `perf` works, where the time of the rows PGO slowed
+went in either build.
+
+Writes OUT/pgo.json, OUT/pgo.md and two charts, and replaces the PGO section of OUT/index.md when
+that file exists.
 """
 import argparse
 import glob
@@ -15,8 +28,11 @@ import json
 import math
 import os
 import re
+import shutil
 import statistics
+import subprocess
 import sys
+import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import atomic_save  # noqa: E402
@@ -26,12 +42,10 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-try:
-    from scipy.stats import mannwhitneyu
-except ImportError:  # the table then has no p-values, and says so
-    mannwhitneyu = None
-
 BUILDS = ("normal", "pgo", "tuned")
+OTHERS = ("pgo", "tuned")
+LEVEL = 0.95
+TARGET_HALF_WIDTH = 0.05  # the protocol's aim for a ratio's interval, half its width over the ratio
 
 
 def load_json(path):
@@ -40,57 +54,61 @@ def load_json(path):
         return json.loads(re.sub(r":\s*-?(NaN|nan|Infinity|inf)\b", ": null", f.read()))
 
 
-def bench_reps(folder):
-    """Benchmark name -> {round file: list of tests/s, one per repetition}."""
-    reps, context = {}, {}
-    for path in sorted(glob.glob(os.path.join(folder, "bench-*.json"))):
-        j = load_json(path)
-        context = j.get("context", context)
-        rnd = os.path.basename(path)
-        for b in j.get("benchmarks", []):
-            if b.get("run_type") != "iteration":
-                continue
-            rate = b.get("tests_per_s")
-            if rate:
-                reps.setdefault(b["run_name"], {}).setdefault(rnd, []).append(rate)
-    return reps, context
+def round_of(path):
+    m = re.search(r"-r?(\d+)\.json$", path)
+    return int(m.group(1)) if m else 0
 
 
-def flat(by_round):
-    return [x for r in sorted(by_round) for x in by_round[r]]
+# ---- intervals ------------------------------------------------------------------------------------
 
-
-def paired_ratio(base, other):
-    """Median over rounds of (other's median / base's median) in that round. The builds of one round
-    ran back to back, so a disturbance that hits one round moves one term, not the result."""
-    per = [statistics.median(other[r]) / statistics.median(base[r]) for r in sorted(base) if r in other]
-    return (statistics.median(per) if per else None), per
-
-
-def traces(folder):
-    """(scene, ray set, packet) -> {round: the trace JSON}. `./run.sh pgo` writes one JSON per round
-    (trace-TAG-rN.json); a file without a round number is round 0."""
-    out = {}
-    for path in sorted(glob.glob(os.path.join(folder, "trace-*.json"))):
-        j = load_json(path)
-        m = re.search(r"-r(\d+)\.json$", path)
-        key = (j.get("scene", "?"), j.get("ray_set", "?"), int(j.get("packet", 1)))
-        out.setdefault(key, {})[int(m.group(1)) if m else 0] = j
+def sign_interval(ratios, level=LEVEL):
+    """The median of per-round ratios and its sign-test interval: sorted ratios q, the largest k with
+    P(Binomial(n, 1/2) < k) <= (1 - level) / 2, the interval [q_k, q_(n+1-k)] (1-based) with coverage
+    1 - 2 P(Binomial(n, 1/2) < k); too few rounds for the level (n <= 5 at 95 %): the whole range and
+    the coverage it has. The same rule as `raybench`'s paired ratios (apps/results/stats.cpp)."""
+    q = sorted(x for x in ratios if x is not None and x > 0 and math.isfinite(x))
+    n = len(q)
+    if n == 0:
+        return None
+    out = {"ratio": statistics.median(q), "lo": None, "hi": None, "coverage": None, "rounds": n}
+    if n < 2:
+        return out
+    alpha2, tail, k = (1 - level) / 2, 0.0, 0
+    for j in range(n // 2):
+        nxt = tail + math.comb(n, j) / 2.0 ** n  # P(X <= j) = P(X < j + 1)
+        if nxt > alpha2:
+            break
+        tail, k = nxt, j + 1
+    if k == 0:
+        out.update(lo=q[0], hi=q[-1], coverage=1 - 2 / 2.0 ** n)
+    else:
+        out.update(lo=q[k - 1], hi=q[n - k], coverage=1 - 2 * tail)
     return out
 
 
-def trace_reps(j):
-    """Mrays/s of every timed run (`raybench trace --json` keeps each run's seconds)."""
-    secs, rays = j.get("seconds"), j.get("rays")
-    if isinstance(secs, list) and rays and all(isinstance(x, (int, float)) and x > 0 for x in secs):
-        return [rays / x / 1e6 for x in secs]
-    return [j["mrays_per_s"]] if j.get("mrays_per_s") else []
+def verdict(iv):
+    """faster (the whole interval above 1), slower (below 1), or within the noise (it holds 1)."""
+    if not iv or iv["lo"] is None:
+        return "not measured"
+    if iv["lo"] > 1:
+        return "faster"
+    if iv["hi"] < 1:
+        return "slower"
+    return "within the noise"
 
 
-def utest(a, b):
-    if mannwhitneyu is None or len(a) < 2 or len(b) < 2:
+def half_width(iv):
+    if not iv or iv["lo"] is None or not iv["ratio"]:
         return None
-    return float(mannwhitneyu(a, b, alternative="two-sided").pvalue)
+    return (iv["hi"] - iv["lo"]) / 2 / iv["ratio"]
+
+
+def interval_text(iv):
+    if not iv:
+        return "-"
+    if iv["lo"] is None:
+        return f"{iv['ratio']:.3f} (1 round)"
+    return f"{iv['ratio']:.3f} [{iv['lo']:.3f}-{iv['hi']:.3f}]"
 
 
 def gmean(xs):
@@ -98,58 +116,98 @@ def gmean(xs):
     return math.exp(sum(math.log(x) for x in xs) / len(xs)) if xs else None
 
 
-def fmt_ratio(r):
-    return "-" if r is None else f"{r:.3f}"
+# ---- the measurements ---------------------------------------------------------------------------
+
+def bench_rounds(folder):
+    """Benchmark name -> {round: tests/s (the median of that round's repetitions)}, and the context of
+    the last file (build flags, revision)."""
+    rates, context = {}, {}
+    for path in sorted(glob.glob(os.path.join(folder, "bench-*.json"))):
+        j = load_json(path)
+        context = j.get("context", context)
+        per = {}
+        for b in j.get("benchmarks", []):
+            if b.get("run_type") == "iteration" and b.get("tests_per_s"):
+                per.setdefault(b["run_name"], []).append(b["tests_per_s"])
+        for name, v in per.items():
+            rates.setdefault(name, {})[round_of(path)] = statistics.median(v)
+    return rates, context
 
 
-def fmt_p(p):
-    return "-" if p is None else (f"{p:.3f}" if p >= 0.001 else "<0.001")
+def trace_rate(j):
+    """Mrays/s of the run (`raybench trace --json`: rays over the median timed pass)."""
+    secs, rays = j.get("seconds"), j.get("rays")
+    if isinstance(secs, list) and rays:
+        ok = [x for x in secs if isinstance(x, (int, float)) and x > 0]
+        if ok:
+            return rays / statistics.median(ok) / 1e6
+    return j.get("mrays_per_s")
+
+
+def trace_rounds(folder):
+    """(scene, ray set, packet) -> {round: Mrays/s}."""
+    out = {}
+    for path in sorted(glob.glob(os.path.join(folder, "trace-*.json"))):
+        j = load_json(path)
+        rate = trace_rate(j)
+        if rate:
+            key = (j.get("scene", "?"), j.get("ray_set", "?"), int(j.get("packet", 1)))
+            out.setdefault(key, {})[round_of(path)] = rate
+    return out
+
+
+def per_round_ratios(base, other):
+    """{round: other / base} over the rounds both builds ran."""
+    return {r: other[r] / base[r] for r in base if r in other and base[r] > 0 and other[r] > 0}
 
 
 def compare(results):
-    bench = {b: bench_reps(os.path.join(results, b)) for b in BUILDS}
+    present = [b for b in BUILDS if os.path.isdir(os.path.join(results, b))]
+    bench = {b: bench_rounds(os.path.join(results, b)) for b in present}
+    tr = {b: trace_rounds(os.path.join(results, b)) for b in present}
+    others = [b for b in OTHERS if b in present]
     rows = []
-    for name in sorted(bench["normal"][0]):
+    for name in sorted(bench.get("normal", ({}, {}))[0]):
         base = bench["normal"][0][name]
-        row = {"benchmark": name, "kernel": name.split("/")[0], "variant": name.split("/")[2] if name.count("/") >= 2 else "",
-               "normal_median": statistics.median(flat(base))}
-        for b in ("pgo", "tuned"):
+        parts = name.split("/")
+        row = {"benchmark": name, "kernel": parts[0], "variant": parts[2] if len(parts) > 2 else "",
+               "normal_median": statistics.median(base.values())}
+        for b in others:
             other = bench[b][0].get(name)
-            if not other:
-                continue
-            ratio, per_round = paired_ratio(base, other)
-            if ratio is None:
-                continue
-            row[f"{b}_median"] = statistics.median(flat(other))
-            row[f"{b}_ratio"] = ratio
-            row[f"{b}_round_ratios"] = per_round
-            row[f"{b}_p"] = utest(flat(base), flat(other))
+            if other:
+                per = per_round_ratios(base, other)
+                row[b] = {"median": statistics.median(other.values()), "round_ratios": per,
+                          **(sign_interval(per.values()) or {})}
         rows.append(row)
-    tr = {b: traces(os.path.join(results, b)) for b in BUILDS}
+    families = {}
+    for b in others:
+        by_fam = {}
+        for r in rows:
+            for rnd, x in r.get(b, {}).get("round_ratios", {}).items():
+                by_fam.setdefault(r["kernel"], {}).setdefault(rnd, []).append(x)
+                by_fam.setdefault("all kernels", {}).setdefault(rnd, []).append(x)
+        for fam, per in by_fam.items():
+            g = [gmean(v) for v in per.values()]
+            families.setdefault(fam, {"kernel": fam, "benchmarks": sum(1 for r in rows if fam in (r["kernel"], "all kernels"))})
+            families[fam][b] = sign_interval(g)
     trows = []
-    for key in sorted(tr["normal"]):
-        base = {r: trace_reps(j) for r, j in tr["normal"][key].items()}
-        base = {r: v for r, v in base.items() if v}
-        if not base:
-            continue
-        row = {"scene": key[0], "ray_set": key[1], "packet": key[2], "normal_mrays_per_s": statistics.median(flat(base))}
-        for b in ("pgo", "tuned"):
-            other = {r: trace_reps(j) for r, j in tr[b].get(key, {}).items()}
-            other = {r: v for r, v in other.items() if v}
-            ratio, per_round = paired_ratio(base, other)
-            if ratio is None:
-                continue
-            row[f"{b}_mrays_per_s"] = statistics.median(flat(other))
-            row[f"{b}_ratio"] = ratio
-            row[f"{b}_round_ratios"] = per_round
-            row[f"{b}_p"] = utest(flat(base), flat(other))
+    for key in sorted(tr.get("normal", {})):
+        base = tr["normal"][key]
+        row = {"scene": key[0], "ray_set": key[1], "packet": key[2], "normal_mrays_per_s": statistics.median(base.values())}
+        for b in others:
+            other = tr[b].get(key)
+            if other:
+                per = per_round_ratios(base, other)
+                row[b] = {"mrays_per_s": statistics.median(other.values()), "round_ratios": per,
+                          **(sign_interval(per.values()) or {})}
         trows.append(row)
-    flags = {b: bench[b][1].get("raybench_build_flags", "?") for b in BUILDS}
-    return rows, trows, flags
+    context = {b: bench[b][1] for b in present}
+    fam_rows = sorted((f for k, f in families.items() if k != "all kernels"), key=lambda f: f["kernel"])
+    return rows, fam_rows, families.get("all kernels"), trows, context, others
 
 
 def machine_load(results):
-    """The 1-minute load averages `./run.sh pgo` recorded after each measured run."""
+    """The 1-minute load averages `./run.sh pgo` recorded after each measured round."""
     try:
         with open(os.path.join(results, "load.txt")) as f:
             return [float(line.split()[1]) for line in f if len(line.split()) > 1]
@@ -157,134 +215,299 @@ def machine_load(results):
         return []
 
 
-def group(rows, key, field):
-    g = {}
-    for r in rows:
-        if field in r:
-            g.setdefault(r[key], []).append(r[field])
-    return g
+# ---- what the profile changed in the code ----------------------------------------------------------
+
+def short_name(sym):
+    """A demangled symbol without its argument list: the template and the clone suffix stay."""
+    clone = " ".join(re.findall(r"\[clone [^\]]*\]", sym))
+    depth, i = 0, 0
+    while i < len(sym):
+        skip = next((w for w in ("operator()", "(anonymous namespace)") if sym.startswith(w, i)), None)
+        if skip:
+            i += len(skip)
+            continue
+        c = sym[i]
+        if c in "<{":
+            depth += 1
+        elif c in ">}":
+            depth -= 1
+        elif c == "(" and depth == 0 and i > 0:  # the argument list
+            return (sym[:i] + " " + clone).strip()
+        i += 1
+    return sym
 
 
-def charts(out, rows, trows):
-    fams = sorted({r["kernel"] for r in rows})
-    if fams:
-        fig, ax = plt.subplots(figsize=(10, 0.8 + 0.32 * len(fams)))
-        for off, b, colour in ((-0.18, "pgo", "tab:blue"), (0.18, "tuned", "tab:orange")):
-            g = group(rows, "kernel", f"{b}_ratio")
-            for i, fam in enumerate(fams):
-                ys = g.get(fam, [])
-                ax.scatter(ys, [i + off] * len(ys), s=10, color=colour, alpha=0.6,
-                           label=("honest profile" if b == "pgo" else "profile of the measured workload") if i == 0 else None)
-                if ys:
-                    ax.plot([statistics.median(ys)] * 2, [i + off - 0.15, i + off + 0.15], color=colour, lw=2.5)
+def demangle(names):
+    """The demangled form of each mangled name (c++filt; the names themselves where it is missing)."""
+    try:
+        out = subprocess.run(["c++filt"], input="\n".join(names), capture_output=True, text=True, check=True).stdout
+        lines = out.split("\n")
+        if len(lines) >= len(names):
+            return lines[:len(names)]
+    except (OSError, subprocess.CalledProcessError):
+        pass
+    return list(names)
+
+
+def engine_functions(binary):
+    """{mangled name: (size in bytes, demangled name)} of the engine's functions (namespace rb) in
+    BINARY's symbol table."""
+    try:
+        text = subprocess.run(["nm", "-S", "--defined-only", binary], capture_output=True, text=True, check=True).stdout
+    except (OSError, subprocess.CalledProcessError):
+        return None
+    sizes = {}
+    for line in text.splitlines():
+        parts = line.split()
+        if len(parts) == 4 and parts[2] in "tTwW":
+            sizes[parts[3]] = sizes.get(parts[3], 0) + int(parts[1], 16)
+    names = list(sizes)
+    return {m: (sizes[m], d) for m, d in zip(names, demangle(names)) if "rb::" in d}
+
+
+def code_changes(normal_bin, pgo_bin, top=10):
+    a, b = engine_functions(normal_bin), engine_functions(pgo_bin)
+    if a is None or b is None:
+        return None
+
+    def total(d, keys=None):
+        return sum(d[k][0] for k in (d if keys is None else keys))
+
+    def cold(d):
+        return [k for k, v in d.items() if "[clone .cold]" in v[1]]
+
+    both = [k for k in set(a) & set(b) if "rb::app::" not in short_name(a[k][1])]  # the engine, not the command line
+    changed = sorted(both, key=lambda k: -abs(b[k][0] - a[k][0]))
+    only_a, only_b = set(a) - set(b), set(b) - set(a)
+    return {
+        "functions": [len(a), len(b)], "bytes": [total(a), total(b)],
+        "cold_parts": [len(cold(a)), len(cold(b))], "cold_bytes": [total(a, cold(a)), total(b, cold(b))],
+        "only_normal": [len(only_a), total(a, only_a)], "only_pgo": [len(only_b), total(b, only_b)],
+        "largest_changes": [{"function": short_name(a[k][1]), "normal": a[k][0], "pgo": b[k][0]}
+                            for k in changed[:top] if a[k][0] != b[k][0]],
+        "sizes": (a, b),
+    }
+
+
+# ---- where the time went where PGO loses ---------------------------------------------------------
+
+def perf_works():
+    if not shutil.which("perf"):
+        return False
+    try:
+        with tempfile.TemporaryDirectory() as d:
+            subprocess.run(["perf", "record", "-q", "-e", "cpu-clock", "-o", os.path.join(d, "p"), "--", "true"],
+                           capture_output=True, check=True, timeout=30)
+        return True
+    except (OSError, subprocess.SubprocessError):
+        return False
+
+
+def perf_shares(binary, args, limit=6):
+    """[(self share %, mangled function)] of the functions that took the most time running BINARY ARGS."""
+    with tempfile.TemporaryDirectory() as d:
+        data = os.path.join(d, "perf.data")
+        try:
+            subprocess.run(["perf", "record", "-q", "-e", "cpu-clock", "-F", "2000", "-o", data, "--", binary, *args,
+                            "--json", os.path.join(d, "out.json")], capture_output=True, check=True, timeout=300)
+            rep = subprocess.run(["perf", "report", "-i", data, "--stdio", "--no-children", "--no-demangle", "-g", "none",
+                                  "--sort", "symbol", "-q", "--percent-limit", "1"],
+                                 capture_output=True, text=True, check=True, timeout=300).stdout
+        except (OSError, subprocess.SubprocessError):
+            return None
+    out = []
+    for line in rep.splitlines():
+        m = re.match(r"\s*([\d.]+)%\s+\[[.k]\]\s+(\S+)", line)
+        if m:
+            out.append((float(m.group(1)), m.group(2)))
+    return out[:limit]
+
+
+def losing_profiles(rows_lost, binaries):
+    """Per row PGO slowed (the worst few): its command and the top functions' time shares in both builds."""
+    out = []
+    for label, args in rows_lost:
+        entry = {"row": label, "command": "raybench " + " ".join(args)}
+        for b in ("normal", "pgo"):
+            entry[b] = perf_shares(binaries[b], args)
+        out.append(entry)
+    return out
+
+
+# ---- charts ----------------------------------------------------------------------------------------
+
+def interval_bars(ax, ys, items, b, colour, label, off):
+    xs = [it.get(b) for it in items]
+    for y, iv in zip(ys, xs):
+        if iv and iv.get("lo") is not None:
+            ax.errorbar([iv["ratio"]], [y + off], xerr=[[iv["ratio"] - iv["lo"]], [iv["hi"] - iv["ratio"]]], fmt="o",
+                        color=colour, ms=4, capsize=2, label=label)
+            label = None
+
+
+def charts(out, fams, trows, others):
+    colours = {"pgo": ("tab:blue", "honest profile (trained apart)"),
+               "tuned": ("tab:orange", "profile of the measured workload")}
+    for items, name, labels, title in (
+            (fams, "pgo_kernels.png", [f["kernel"] for f in fams], "kernel families (geometric mean of the family's rows)"),
+            (trows, "pgo_traces.png", [f"{os.path.basename(r['scene'])} {r['ray_set']} K={r['packet']}" for r in trows],
+             "whole-scene traces, 1 thread")):
+        if not items:
+            continue
+        fig, ax = plt.subplots(figsize=(9, 1.0 + 0.3 * len(items)))
+        ys = list(range(len(items)))
+        for i, b in enumerate(others):
+            interval_bars(ax, ys, items, b, colours[b][0], colours[b][1], 0.15 * (i - (len(others) - 1) / 2))
         ax.axvline(1.0, color="black", lw=0.8)
-        ax.set_yticks(range(len(fams)))
-        ax.set_yticklabels(fams)
-        ax.set_xlabel("PGO tests/s divided by normal tests/s (one dot per benchmark, bar = median)")
-        ax.set_title("Profile-guided optimisation, kernel benchmarks")
-        ax.legend(loc="lower right", fontsize=8)
-        fig.tight_layout()
-        atomic_save.savefig(fig, os.path.join(out, "pgo_kernels.png"), dpi=110)
-        plt.close(fig)
-    if trows:
-        labels = [f"{os.path.basename(r['scene'])} {r['ray_set']} K={r['packet']}" for r in trows]
-        fig, ax = plt.subplots(figsize=(10, 0.8 + 0.28 * len(trows)))
-        y = range(len(trows))
-        ax.barh([i - 0.2 for i in y], [r.get("pgo_ratio", 0) for r in trows], 0.4, label="honest profile")
-        ax.barh([i + 0.2 for i in y], [r.get("tuned_ratio", 0) for r in trows], 0.4, label="profile of the measured workload")
-        ax.axvline(1.0, color="black", lw=0.8)
-        lo = min([r.get(k, 1) for r in trows for k in ("pgo_ratio", "tuned_ratio")] + [0.9])
-        ax.set_xlim(max(0.0, lo - 0.05), None)
-        ax.set_yticks(list(y))
+        ax.set_yticks(ys)
         ax.set_yticklabels(labels, fontsize=7)
-        ax.set_xlabel("PGO Mrays/s divided by normal Mrays/s")
-        ax.set_title("Profile-guided optimisation, whole-scene traces (1 thread)")
+        ax.invert_yaxis()
+        ax.set_xlabel("PGO / normal (above 1: PGO faster); median of paired rounds with its 95 % interval")
+        ax.set_title("Profile-guided optimisation: " + title, fontsize=10)
         ax.legend(loc="lower right", fontsize=8)
         fig.tight_layout()
-        atomic_save.savefig(fig, os.path.join(out, "pgo_traces.png"), dpi=110)
+        atomic_save.savefig(fig, os.path.join(out, name), dpi=110)
         plt.close(fig)
 
 
-def markdown(rows, trows, flags, args, load):
+# ---- the section -----------------------------------------------------------------------------------
+
+def kib(n):
+    return f"{n / 1024:,.1f} KiB"
+
+
+def markdown(data, args, load):
+    rows, fams, allk, trows, context, others = (data[k] for k in ("benchmarks", "families", "all_kernels", "traces",
+                                                                  "context", "others"))
     md = ["## Profile-guided optimisation", ""]
-    md.append(f"Measured by `./run.sh pgo` ({args.minutes} min). Three builds of the same source: **normal** (the release "
-              "preset), **PGO** (trained on a workload apart from the measured one) and **tuned** (trained on the measured "
-              "workload itself: a sensitivity check of how much a profile of the very benchmark flatters). The kernel "
-              "benchmarks ran in three rounds of 2 repetitions per build, the three builds back to back in each round and their "
-              "order rotated from round to round; a benchmark's ratio is the median over the rounds of that round's ratio of "
-              "medians, so a disturbance of one round moves one term, not the result. The traces ran the same way: for each "
-              "scene, ray set and packet size, five rounds of 2 repetitions per build (1 thread), the builds back to back in "
-              "each round and their order rotated, a trace's ratio the median of its per-round ratios. Ratios > 1 "
-              "mean the PGO build is faster; p is the two-sided Mann-Whitney U-test over all repetitions (as Google "
-              "Benchmark's compare.py computes it).")
+    normal_ctx = context.get("normal", {})
+    md.append(f"Measured by `./run.sh pgo`, which `./run.sh report` runs before the report ({args.minutes} min; {args.builds}). "
+              "The **normal** build is the release preset; the **PGO** build is the same source compiled again with a profile "
+              "trained on a workload apart from the measured one" +
+              (" and the **tuned** build with a profile of the measured workload itself (how much a profile of the very "
+               "benchmark flatters)" if "tuned" in others else "") + ". "
+              f"Both builds ran the measured workload in {args.rounds} paired rounds, back to back in each round, their order "
+              "alternating: every kernel benchmark below in a process of its own for at least "
+              f"{args.bench_min_time} s, and every trace row in a process of its own (1 thread, a warm-up, then the median "
+              f"of {args.trace_reps} timed runs of at least {args.trace_min_time} s of passes each). A ratio is PGO over normal (above 1: PGO faster), the median of the rounds' "
+              "ratios with its 95 % interval (sign test, as every paired ratio of this report); a kernel family's ratio in a "
+              "round is the geometric mean of its benchmarks' ratios. **faster** / **slower**: the whole interval lies above / "
+              "below 1; **within the noise**: it holds 1.")
     md.append("")
+    if normal_ctx.get("raybench_git"):
+        md.append(f"- Revision measured: `{normal_ctx['raybench_git']}`; CPU: {normal_ctx.get('raybench_cpu', '?')}; "
+                  f"ISA: {normal_ctx.get('raybench_isa', '?')}.")
     if load:
-        md.append(f"- Machine load (1-minute average, read after each measured run; the runs use one thread): "
-                  f"{min(load):.2f} to {max(load):.2f}." +
-                  (" **The machine was not idle: other work ran during the measurement.**" if max(load) > 1.6 else ""))
-    md.append(f"- Honest training workload: {args.honest}.")
-    md.append(f"- Tuned training workload: {args.tuned}.")
-    for b in BUILDS:
-        md.append(f"- Flags, {b} build: `{flags[b]}`")
+        md.append(f"- Machine load (1-minute average after each round; the runs use one thread): {min(load):.2f} to "
+                  f"{max(load):.2f}." + (" **Other work ran during the measurement.**" if max(load) > 1.6 else ""))
+    md.append(f"- Training workload (the profile): {args.honest}.")
+    if "tuned" in others and args.tuned:
+        md.append(f"- Tuned training workload: {args.tuned}.")
+    md.append(f"- Measured workload: {args.measured}.")
+    for b in ("normal",) + tuple(others):
+        if context.get(b, {}).get("raybench_build_flags"):
+            md.append(f"- Flags, {b} build: `{context[b]['raybench_build_flags']}`")
     md.append("")
-    if rows:
-        md.append("### Median ratio per kernel family")
+    widths = {what: [h for h in (half_width(x.get("pgo")) for x in items) if h is not None]
+              for what, items in (("kernel families", fams), ("trace rows", trows), ("single kernel benchmarks", rows))}
+    if fams:
+        md.append("### Kernel families")
         md.append("")
-        md.append("| kernel | benchmarks | PGO median ratio | PGO min | PGO max | slower (p < 0.05) | tuned median ratio |")
-        md.append("|---|---:|---:|---:|---:|---:|---:|")
-        gp, gt = group(rows, "kernel", "pgo_ratio"), group(rows, "kernel", "tuned_ratio")
-        for fam in sorted(gp):
-            slower = sum(1 for r in rows if r["kernel"] == fam and r.get("pgo_ratio", 1) < 1 and (r.get("pgo_p") or 1) < 0.05)
-            md.append(f"| {fam} | {len(gp[fam])} | {statistics.median(gp[fam]):.3f} | {min(gp[fam]):.3f} | {max(gp[fam]):.3f} "
-                      f"| {slower} | {fmt_ratio(statistics.median(gt[fam]) if gt.get(fam) else None)} |")
+        head = "| family | benchmarks | PGO / normal [95 %] | verdict | rows faster / slower |"
+        sep = "|---|---:|---:|---|---:|"
+        if "tuned" in others:
+            head += " tuned / normal [95 %] |"
+            sep += "---:|"
+        md += [head, sep]
+        for f in fams + ([allk] if allk else []):
+            name = f["kernel"]
+            sub = rows if name == "all kernels" else [r for r in rows if r["kernel"] == name]
+            nf = sum(1 for r in sub if verdict(r.get("pgo")) == "faster")
+            ns = sum(1 for r in sub if verdict(r.get("pgo")) == "slower")
+            line = (f"| {'**all kernels**' if name == 'all kernels' else name} | {len(sub)} | {interval_text(f.get('pgo'))} | "
+                    f"{verdict(f.get('pgo'))} | {nf} / {ns} |")
+            if "tuned" in others:
+                line += f" {interval_text(f.get('tuned'))} |"
+            md.append(line)
         md.append("")
-        gv, gvt = group(rows, "variant", "pgo_ratio"), group(rows, "variant", "tuned_ratio")
-        md.append("| variant | PGO median ratio | tuned median ratio |")
-        md.append("|---|---:|---:|")
-        for v in sorted(gv):
-            md.append(f"| {v} | {statistics.median(gv[v]):.3f} | {fmt_ratio(statistics.median(gvt[v]) if gvt.get(v) else None)} |")
-        allp = [r["pgo_ratio"] for r in rows if "pgo_ratio" in r]
-        allt = [r["tuned_ratio"] for r in rows if "tuned_ratio" in r]
-        sig_slow = [r for r in rows if r.get("pgo_ratio", 1) < 1 and (r.get("pgo_p") or 1) < 0.05]
-        sig_fast = [r for r in rows if r.get("pgo_ratio", 1) > 1 and (r.get("pgo_p") or 1) < 0.05]
-        md.append("")
-        md.append(f"Over all {len(allp)} kernel benchmarks the honest profile's median ratio is {statistics.median(allp):.3f} "
-                  f"(geometric mean {gmean(allp):.3f}); {len(sig_fast)} got faster and {len(sig_slow)} slower with p < 0.05. "
-                  f"The tuned profile's median ratio is {statistics.median(allt):.3f} (geometric mean {gmean(allt):.3f}).")
-        md.append("")
-        md.append("![PGO ratios per kernel family](pgo_kernels.png)")
+        md.append("![PGO / normal per kernel family](pgo_kernels.png)")
         md.append("")
     if trows:
         md.append("### Whole-scene traces")
         md.append("")
-        md.append("| scene | rays | packet | normal Mrays/s | PGO Mrays/s | ratio | p | tuned Mrays/s | tuned ratio |")
-        md.append("|---|---|---:|---:|---:|---:|---:|---:|---:|")
+        head = "| scene | rays | packet | normal Mrays/s | PGO Mrays/s | PGO / normal [95 %] | verdict |"
+        sep = "|---|---|---:|---:|---:|---:|---|"
+        if "tuned" in others:
+            head += " tuned / normal [95 %] |"
+            sep += "---:|"
+        md += [head, sep]
         for r in trows:
-            md.append(f"| {r['scene']} | {r['ray_set']} | {r['packet']} | {r['normal_mrays_per_s']:.2f} | "
-                      f"{r.get('pgo_mrays_per_s', float('nan')):.2f} | {fmt_ratio(r.get('pgo_ratio'))} | {fmt_p(r.get('pgo_p'))} | "
-                      f"{r.get('tuned_mrays_per_s', float('nan')):.2f} | {fmt_ratio(r.get('tuned_ratio'))} |")
-        gs = group(trows, "scene", "pgo_ratio")
+            p = r.get("pgo") or {}
+            line = (f"| {r['scene']} | {r['ray_set']} | {r['packet']} | {r['normal_mrays_per_s']:.2f} | "
+                    f"{p.get('mrays_per_s', float('nan')):.2f} | {interval_text(p)} | {verdict(p)} |")
+            if "tuned" in others:
+                line += f" {interval_text(r.get('tuned'))} |"
+            md.append(line)
         md.append("")
-        md.append("Median trace ratio per scene (honest profile): " +
-                  ", ".join(f"{s} {statistics.median(v):.3f}" for s, v in sorted(gs.items())) + ".")
+        md.append("![PGO / normal per trace](pgo_traces.png)")
         md.append("")
-        md.append("![PGO ratios per scene](pgo_traces.png)")
+    if any(widths.values()):
+        md.append("Intervals, half their width over the ratio (median; within "
+                  f"{100 * TARGET_HALF_WIDTH:.0f} %): " +
+                  "; ".join(f"{what} {100 * statistics.median(h):.1f} % ({sum(1 for x in h if x <= TARGET_HALF_WIDTH)} of {len(h)})"
+                            for what, h in widths.items() if h) +
+                  ". Every benchmark's own row: [pgo.json](pgo.json).")
         md.append("")
-        if "hot-bb-count-fraction" in flags.get("pgo", ""):
-            md.append("Why the traces once lost 5-10 % with PGO: GCC calls a block hot when its training count is at least the "
-                      "largest counter of the whole training divided by 10,000. The kernel benchmarks set that counter (about 1e9), "
-                      "so every call site of the BVH traversal (under 1e5 runs in training) was cold, and GCC stopped inlining its "
-                      "small lambdas (\"call is unlikely and code size would grow\"): a mesh leaf's vertex load became a call "
-                      "returning 8-lane vectors through memory, three per ray and leaf, and 8-ray packets ran 33 % more instructions "
-                      "than the normal build (callgrind, bunny, primary rays). The PGO builds here pass "
-                      "`--param=hot-bb-count-fraction=1000000`, so any block that ran in training may be hot, and the traversal is inlined as in the "
-                      "normal build (instruction counts with and without it: docs/DESIGN.md, section 11).")
+    cc = data.get("code")
+    if cc:
+        md.append("### What the profile changed in the code")
+        md.append("")
+        md.append("The engine's functions (namespace `rb`) in the two binaries, from their symbol tables (`nm`): a function "
+                  "missing from the PGO build was inlined at every call or not emitted; a `.cold` part is a function's "
+                  "rarely run blocks moved out of its body (GCC splits them by the profile's counts).")
+        md.append("")
+        md.append("| | normal | PGO |")
+        md.append("|---|---:|---:|")
+        md.append(f"| functions | {cc['functions'][0]:,} | {cc['functions'][1]:,} |")
+        md.append(f"| their code | {kib(cc['bytes'][0])} | {kib(cc['bytes'][1])} |")
+        md.append(f"| `.cold` parts | {cc['cold_parts'][0]:,} ({kib(cc['cold_bytes'][0])}) | {cc['cold_parts'][1]:,} "
+                  f"({kib(cc['cold_bytes'][1])}) |")
+        md.append(f"| functions in one build only | {cc['only_normal'][0]:,} ({kib(cc['only_normal'][1])}) | "
+                  f"{cc['only_pgo'][0]:,} ({kib(cc['only_pgo'][1])}) |")
+        md.append("")
+        if cc["largest_changes"]:
+            md.append("The largest changes of an engine function's size (bytes; the command line's plumbing left out):")
             md.append("")
-    if not rows and not trows:
-        md.append("_No results were found: the PGO runs failed; see the output of `./run.sh pgo`._")
+            md.append("| function | normal | PGO |")
+            md.append("|---|---:|---:|")
+            for c in cc["largest_changes"]:
+                md.append(f"| `{c['function'][:140]}` | {c['normal']:,} | {c['pgo']:,} |")
+            md.append("")
+    lost = data.get("losses") or []
+    slower = [r for r in trows if verdict(r.get("pgo")) == "slower"] + [f for f in fams if verdict(f.get("pgo")) == "slower"]
+    md.append("### Where PGO loses")
+    md.append("")
+    if not slower:
+        md.append("No kernel family and no trace row is slower with the profile (no interval lies below 1).")
         md.append("")
-    if mannwhitneyu is None:
-        md.append("_p-values are missing: scipy is not installed (Debian package python3-scipy)._")
+    elif not lost:
+        md.append(f"{len(slower)} rows are slower with the profile; no per-function profile of them was taken "
+                  f"({data.get('perf_why', 'perf did not run')}).")
+        md.append("")
+    for e in lost:
+        md.append(f"**{e['row']}** (`{e['command']}`): the functions that took the most time (`perf record -e cpu-clock`, "
+                  "self time), with their size in each build.")
+        md.append("")
+        md.append("| build | share | function | size normal | size PGO |")
+        md.append("|---|---:|---|---:|---:|")
+        sizes = cc["sizes"] if cc else ({}, {})
+        for b in ("normal", "pgo"):
+            shares = e.get(b) or []
+            names = demangle([fn for _, fn in shares])
+            for (share, fn), name in zip(shares, names):
+                sn, sp = sizes[0].get(fn, (None,))[0], sizes[1].get(fn, (None,))[0]
+                md.append(f"| {b} | {share:.1f} % | `{short_name(name)[:140]}` | {'-' if sn is None else f'{sn:,}'} | "
+                          f"{'-' if sp is None else f'{sp:,}'} |")
         md.append("")
     md.append("Raw rows: [pgo.json](pgo.json). The PGO build passes the same tests: `./run.sh pgo-test`.")
     md.append("")
@@ -295,17 +518,41 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("results")
     ap.add_argument("out")
-    ap.add_argument("--honest", required=True, help="words naming the honest training workload")
-    ap.add_argument("--tuned", required=True, help="words naming the tuned training workload")
+    ap.add_argument("--honest", required=True, help="words naming the training workload")
+    ap.add_argument("--tuned", default="", help="words naming the tuned build's training workload")
+    ap.add_argument("--measured", default="?", help="words naming the measured workload")
+    ap.add_argument("--builds", default="", help="words saying which builds were compiled and which were up to date")
     ap.add_argument("--minutes", default="?")
+    ap.add_argument("--rounds", default="?")
+    ap.add_argument("--bench-min-time", default="?")
+    ap.add_argument("--trace-min-time", default="?")
+    ap.add_argument("--trace-reps", default="?")
+    ap.add_argument("--binary", action="append", default=[], help="BUILD=PATH of a measured binary (normal, pgo)")
+    ap.add_argument("--perf-rows", type=int, default=3, help="rows PGO slowed to profile with perf (the worst first)")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
-    rows, trows, flags = compare(args.results)
-    atomic_save.write_text(os.path.join(args.out, "pgo.json"),
-                           json.dumps({"benchmarks": rows, "traces": trows, "flags": flags, "honest_training": args.honest,
-                                       "tuned_training": args.tuned}, indent=2))
-    charts(args.out, rows, trows)
-    md = markdown(rows, trows, flags, args, machine_load(args.results))
+    rows, fams, allk, trows, context, others = compare(args.results)
+    binaries = dict(x.split("=", 1) for x in args.binary if "=" in x)
+    data = {"benchmarks": rows, "families": fams, "all_kernels": allk, "traces": trows, "context": context, "others": others}
+    if "normal" in binaries and "pgo" in binaries:
+        data["code"] = code_changes(binaries["normal"], binaries["pgo"])
+        lost = sorted((r for r in trows if verdict(r.get("pgo")) == "slower"), key=lambda r: r["pgo"]["ratio"])
+        jobs = [(f"{r['scene']} {r['ray_set']} K={r['packet']}",
+                 ["trace", r["scene"], "--rays", r["ray_set"], "--packet", str(r["packet"]), "--threads", "1", "-r", "3",
+                  "--min-time", "0.5", "--brute", "0", "--no-embree"]) for r in lost[:args.perf_rows]]
+        for f in sorted((f for f in fams if verdict(f.get("pgo")) == "slower"), key=lambda f: f["pgo"]["ratio"])[:args.perf_rows]:
+            jobs.append((f"kernel family {f['kernel']}", ["bench", "--filter", f"^{f['kernel']}/", "-r", "1", "--min-time", "0.1"]))
+        if jobs and perf_works():
+            data["losses"] = losing_profiles(jobs, binaries)
+        elif jobs:
+            data["perf_why"] = "perf is missing or not permitted here (Debian package linux-perf)"
+    md = markdown(data, args, machine_load(args.results))
+    if data.get("code"):
+        data["code"] = {k: v for k, v in data["code"].items() if k != "sizes"}
+    data.update(training=args.honest, tuned_training=args.tuned, measured=args.measured, minutes=args.minutes,
+                interval="median of per-round ratios, sign-test 95 % interval (order statistics)")
+    atomic_save.write_text(os.path.join(args.out, "pgo.json"), json.dumps(data, indent=2, default=str))
+    charts(args.out, fams, trows, others)
     atomic_save.write_text(os.path.join(args.out, "pgo.md"), md)
     index = os.path.join(args.out, "index.md")
     if os.path.exists(index):
