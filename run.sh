@@ -1,14 +1,15 @@
 #!/usr/bin/env bash
 # raybench's two commands (see README.md):
-#   ./run.sh report   install what is missing, build the release preset, run `raybench report`
+#   ./run.sh report   install what is missing, build the release preset, measure profile-guided
+#                     optimisation (./run.sh pgo; not with --quick or --no-pgo), run `raybench report`
 #   ./run.sh test     install what is missing, build and run the tests whose subject is optimised
 #                     code in the `exact` preset (target rb_tests_optimised, label `optimised`), then
 #                     build and run the whole test suite in the `debug` preset (ASan+UBSan)
 # Other targets: ./run.sh setup (packages only), ./run.sh build PRESET,
 #               ./run.sh install-check (cmake --install into a scratch prefix, then the installed
 #               `raybench report` run from another folder, its history and a comparison),
-#               ./run.sh pgo (profile-guided optimisation: train, rebuild, compare; fills the report's
-#               PGO section), ./run.sh pgo-test (the test suite built with the PGO profile),
+#               ./run.sh pgo [--tuned] (profile-guided optimisation alone: train, rebuild, compare;
+#               fills the PGO section of report/), ./run.sh pgo-test (the test suite built with the PGO profile),
 #               ./run.sh tsan (the threaded tests, label `threads`, under ThreadSanitizer),
 #               ./run.sh fuzz [RUNS [SEED]] (seeded mutations of every scene format through info, trace
 #               and render under ASan+UBSan; fuzz/scene_fuzz.cpp).
@@ -55,107 +56,168 @@ build() {
 
 
 # ---- profile-guided optimisation ---------------------------------------------------------------
-# The measured workload is the report's: every kernel benchmark on the default data, and traces of
-# the bunny, the dragon and SPD balls. The honest profile is trained on other data (benchmark seed
-# 7, shorter runs) and other scenes (SPD tetra, mount, teapot, lecture glass balls) with another
-# ray seed and count; the tuned profile is trained on the measured workload itself, to show how
-# much a profile of the very benchmark flatters. Tetra at level 7 (65,536 triangles) has leaves
-# with fewer than 8 triangles, so the mesh packet path that handles them runs in training too.
+# `./run.sh pgo [--tuned]`, run by `./run.sh report` before the report: an instrumented build
+# (pgo-gen) is trained on a workload apart from the measured one, the PGO build (pgo-use) is compiled
+# with that profile, and both builds run the measured workload in paired rounds; tools/pgo.py turns
+# the rounds into the report's PGO section (ratios with intervals, what the profile changed, where
+# PGO loses). Builds are incremental: the training runs again only when the instrumented binary or
+# the training workload changed, and the PGO build recompiles everything only when the training
+# workload changed (otherwise just the files whose sources changed: the others keep a profile of the
+# same code). --tuned adds a build trained on the measured workload itself (how much a profile of
+# the very benchmark flatters). Training: other benchmark data (seed 7) and other scenes (SPD tetra,
+# mount, teapot, the lecture's glass balls) with another ray seed; tetra at level 7 (65,536
+# triangles) has leaves with fewer than 8 triangles, so the mesh packet path that handles them runs
+# in training too.
 PGO_OUT=build/pgo-results
+PGO_PROFILES=build/pgo-profiles
 PGO_TRACE_SCENES=(data/meshes/stanford-bunny.obj data/meshes/dragon_vrip_res3_bin.ply spd:balls:3)
 PGO_TRAIN_SCENES=(spd:tetra:7 spd:mount:4 spd:teapot:4 lecture:five_glass_balls)
 PGO_RAY_SETS=(primary shadow diffuse random)
 PGO_PACKETS=(1 8)
+PGO_ROUNDS=12
+PGO_BENCH_FILTER='/(scalar|rays_in_lanes|rays_in_lanes16)/half$|^wide_node_slab/(fast|robust)/'
+PGO_BENCH_MIN_TIME=0.04
+PGO_TRACE_MIN_TIME=0.05
+PGO_TRACE_REPS=3
+PGO_TRACE_COUNT=131072
+PGO_HONEST="raybench bench --seed 7 (other rays and primitives; every benchmark once for 0.01 s); traces of ${PGO_TRAIN_SCENES[*]} (${PGO_RAY_SETS[*]} rays, packets of ${PGO_PACKETS[*]}) with ray seed 7, 131072 rays"
+PGO_TUNED="the measured workload itself: raybench bench on the default data (every benchmark once for 0.05 s); traces of ${PGO_TRACE_SCENES[*]} with ray seed 1, ${PGO_TRACE_COUNT} rays"
+PGO_MEASURED="raybench bench --filter '${PGO_BENCH_FILTER}' (every kernel's scalar, 8-lane and 16-lane rays-in-lanes forms on rays that half hit, and the 8-wide node test) on the default data; traces of ${PGO_TRACE_SCENES[*]}: ${PGO_RAY_SETS[*]} rays, packets of ${PGO_PACKETS[*]}, ray seed 1, ${PGO_TRACE_COUNT} rays, 1 thread"
 
 pgo_tag() {  # scene, ray set, packet -> a file name part
   echo "$1-$2-$3" | tr '/:.' '___'
 }
 
-pgo_trace() {  # binary, JSON file, seed, count, repetitions, scene, ray set, packet
-  "$1" trace "$6" --rays "$7" --packet "$8" --threads 1 --seed "$3" --count "$4" \
-    -r "$5" --brute 0 --no-embree --json "$2" >/dev/null 2>&1 ||
-    echo "[pgo] warning: trace $6 $7 K=$8 failed with $1" >&2
+pgo_trace() {  # binary, JSON file, seed, count, min time, repetitions, scene, ray set, packet
+  "$1" trace "$7" --rays "$8" --packet "$9" --threads 1 --seed "$3" --count "$4" --min-time "$5" \
+    -r "$6" --brute 0 --no-embree --json "$2" >/dev/null 2>&1 ||
+    echo "[pgo] warning: trace $7 $8 K=$9 failed with $1" >&2
 }
 
-pgo_traces() {  # binary, out dir, seed, count, repetitions, scenes...
-  local bin=$1 dir=$2 seed=$3 count=$4 reps=$5
-  shift 5
-  mkdir -p "$dir"
-  for scene in "$@"; do
+pgo_train() {  # profile name (honest | tuned); trains only when the instrumented binary or the workload changed
+  local name=$1 gen=build/pgo-gen/apps/raybench words
+  [ -x "$gen" ] || { echo "error: no instrumented binary ($gen)" >&2; return 1; }
+  [ "$name" = honest ] && words=$PGO_HONEST || words=$PGO_TUNED
+  local want_bin want_work have=""
+  want_bin=$(sha256sum "$gen" | cut -c1-16)
+  want_work=$(echo "$words" | sha256sum | cut -c1-16)
+  [ -f "$PGO_PROFILES/$name.stamp" ] && have=$(cat "$PGO_PROFILES/$name.stamp")
+  if [ -d "$PGO_PROFILES/$name" ] && [ "$have" = "$want_bin $want_work" ]; then
+    echo "[pgo] the $name profile is up to date (same instrumented binary, same training)"
+    return
+  fi
+  # A new training workload invalidates every object compiled with the old profile.
+  if [ "${have#* }" != "$want_work" ]; then
+    local dir=build/pgo-use
+    [ "$name" = tuned ] && dir=build/pgo-tuned
+    [ -d "$dir" ] && cmake --build "$dir" --target clean >/dev/null 2>&1 || true
+  fi
+  rm -rf "$PGO_PROFILES/raw" "$PGO_PROFILES/$name"
+  mkdir -p "$PGO_PROFILES"
+  echo "[pgo] training the $name profile"
+  local t0=$SECONDS
+  local scenes=("${PGO_TRAIN_SCENES[@]}") seed=7 count=131072 min=0.01 scene rays k
+  if [ "$name" = tuned ]; then
+    scenes=("${PGO_TRACE_SCENES[@]}") seed=1 count=$PGO_TRACE_COUNT min=0.05
+    "$gen" bench --repetitions 1 --min-time "$min" --json "$PGO_PROFILES/train-bench.json" >/dev/null 2>&1
+  else
+    "$gen" bench --seed 7 --repetitions 1 --min-time "$min" --json "$PGO_PROFILES/train-bench.json" >/dev/null 2>&1
+  fi
+  for scene in "${scenes[@]}"; do
     for rays in "${PGO_RAY_SETS[@]}"; do
       for k in "${PGO_PACKETS[@]}"; do
-        pgo_trace "$bin" "$dir/trace-$(pgo_tag "$scene" "$rays" "$k").json" "$seed" "$count" "$reps" "$scene" "$rays" "$k"
+        pgo_trace "$gen" "$PGO_PROFILES/train-trace.json" "$seed" "$count" 0 1 "$scene" "$rays" "$k"
       done
     done
   done
+  mv "$PGO_PROFILES/raw" "$PGO_PROFILES/$name"
+  echo "$want_bin $want_work" >"$PGO_PROFILES/$name.stamp"
+  echo "[pgo] $name profile: $(find "$PGO_PROFILES/$name" -name '*.gcda' | wc -l) .gcda files, trained in $((SECONDS - t0)) s"
 }
 
-pgo_train() {  # name of the profile: honest | tuned
-  local name=$1 gen=build/pgo-gen/apps/raybench prof=build/pgo-profiles
-  rm -rf "$prof/raw" "$prof/$name"
-  mkdir -p "$prof"
-  echo "[pgo] training the $name profile"
-  if [ "$name" = honest ]; then
-    "$gen" bench --seed 7 --repetitions 1 --min-time 0.01 --json "$prof/train-bench.json" >/dev/null
-    pgo_traces "$gen" "$prof/train-trace" 7 131072 1 "${PGO_TRAIN_SCENES[@]}"
-  else
-    "$gen" bench --repetitions 1 --min-time 0.05 --json "$prof/train-bench.json" >/dev/null
-    pgo_traces "$gen" "$prof/train-trace" 1 524288 1 "${PGO_TRACE_SCENES[@]}"
+pgo_build() {  # preset: builds raybench, and says how many files it compiled in how long
+  local n log t0=$SECONDS
+  echo "[pgo] building raybench in $1"
+  cmake --preset "$1" >/dev/null
+  log=$(mktemp /tmp/raybench-pgo-build.XXXXXX)
+  if ! cmake --build --preset "$1" --target raybench >"$log" 2>&1; then
+    tail -40 "$log" >&2
+    rm -f "$log"
+    echo "error: the $1 build failed (above)" >&2
+    return 1
   fi
-  mv "$prof/raw" "$prof/$name"
-  echo "[pgo] $name profile: $(find "$prof/$name" -name '*.gcda' | wc -l) .gcda files"
+  n=$(grep -c 'Building CXX' "$log" || true)
+  PGO_BUILT+=("$1 $n")
+  echo "[pgo] $1: $n files compiled in $((SECONDS - t0)) s"
+  n=$(grep -c 'Wmissing-profile' "$log" || true)
+  [ "$n" -gt 0 ] && echo "[pgo] $1: $n functions compiled without a profile (never run in training)"
+  rm -f "$log"
 }
 
 pgo() {
   setup
-  local t0=$SECONDS
-  build release --target raybench
-  build pgo-gen --target raybench
-  pgo_train honest
-  pgo_train tuned
-  build pgo-use --target raybench 2>&1 | grep -E 'missing-profile|error' || true
-  build pgo-tuned --target raybench 2>&1 | grep -E 'missing-profile|error' || true
-  rm -rf "$PGO_OUT"
+  local t0=$SECONDS tuned=0
+  [ "${1:-}" = --tuned ] && tuned=1
+  PGO_BUILT=()
+  build release --target raybench || return 1
+  pgo_build pgo-gen || return 1
+  pgo_train honest || return 1
+  pgo_build pgo-use || return 1
+  local builds=(normal pgo)
   declare -A bins=([normal]=build/release/apps/raybench [pgo]=build/pgo-use/apps/raybench [tuned]=build/pgo-tuned/apps/raybench)
-  # Back to back: three rounds of 2 repetitions per build, the build order rotated each round, then
-  # the traces in rounds the same way (below).
-  # The 1-minute load average after each run goes to load.txt: the report says whether the machine
-  # was idle while it ran (read before a run, it would still show the build that preceded it).
-  local order=(normal pgo tuned) i
-  mkdir -p "$PGO_OUT"
-  for round in 1 2 3; do
-    for i in 0 1 2; do
-      local b=${order[$(( (i + round - 1) % 3 ))]}
-      echo "[pgo] kernel benchmarks, round $round of 3: $b build"
-      mkdir -p "$PGO_OUT/$b"
-      "${bins[$b]}" bench --repetitions 2 --min-time 0.05 --json "$PGO_OUT/$b/bench-$round.json" >/dev/null
-      echo "bench-$round-$b $(cut -d' ' -f1 /proc/loadavg)" >>"$PGO_OUT/load.txt"
+  if [ $tuned = 1 ]; then
+    pgo_train tuned || return 1
+    pgo_build pgo-tuned || return 1
+    builds+=(tuned)
+  fi
+  # Paired rounds: in each, every build runs the workload once, back to back, the builds' order
+  # rotated from round to round; the 1-minute load average after each round goes to load.txt.
+  local n=${#builds[@]} round i b
+  rm -rf "$PGO_OUT"
+  for b in "${builds[@]}"; do mkdir -p "$PGO_OUT/$b"; done
+  # The kernel benchmarks one at a time, one process each (a process starts in about 15 ms), so that
+  # the two builds' runs of a benchmark lie a tenth of a second apart: this machine's speed moves by
+  # up to a third over seconds, which pairs a family or a whole selection apart did not cancel.
+  local names name r=0 t1=$SECONDS
+  names=$("${bins[normal]}" bench --list --filter "$PGO_BENCH_FILTER")
+  for round in $(seq 1 $PGO_ROUNDS); do
+    echo "[pgo] kernel benchmarks, round $round of $PGO_ROUNDS"
+    for name in $names; do
+      r=$((r + 1))
+      for i in $(seq 0 $((n - 1))); do
+        b=${builds[$(( (i + round + r) % n ))]}
+        "${bins[$b]}" bench --filter "^$name\$" -r 1 --min-time $PGO_BENCH_MIN_TIME \
+          --json "$PGO_OUT/$b/bench-$(echo "$name" | tr '/' '_')-r$round.json" >/dev/null 2>&1 ||
+          echo "[pgo] warning: bench $name failed with ${bins[$b]}" >&2
+      done
     done
+    echo "bench-$round $(cut -d' ' -f1 /proc/loadavg)" >>"$PGO_OUT/load.txt"
   done
-  # The traces: for each scene, ray set and packet size, five rounds of 2 repetitions per build, the
-  # three builds back to back in each round and their order rotated (a trace's ratio is the median
-  # of its per-round ratios, as for the kernels: a load change between builds moves one round).
-  local s=0 scene rays k round tag
+  local rows=$(( ${#PGO_TRACE_SCENES[@]} * ${#PGO_RAY_SETS[@]} * ${#PGO_PACKETS[@]} )) row=0 scene rays k tag
   for scene in "${PGO_TRACE_SCENES[@]}"; do
-    echo "[pgo] traces: $scene"
     for rays in "${PGO_RAY_SETS[@]}"; do
       for k in "${PGO_PACKETS[@]}"; do
+        row=$((row + 1))
+        echo "[pgo] traces $row of $rows: $scene, $rays rays, packets of $k ($PGO_ROUNDS rounds)"
         tag=$(pgo_tag "$scene" "$rays" "$k")
-        for round in 1 2 3 4 5; do
-          for i in 0 1 2; do
-            local b=${order[$(( (i + s + round) % 3 ))]}
-            mkdir -p "$PGO_OUT/$b"
-            pgo_trace "${bins[$b]}" "$PGO_OUT/$b/trace-$tag-r$round.json" 1 524288 2 "$scene" "$rays" "$k"
+        for round in $(seq 1 $PGO_ROUNDS); do
+          for i in $(seq 0 $((n - 1))); do
+            b=${builds[$(( (i + round + row) % n ))]}
+            pgo_trace "${bins[$b]}" "$PGO_OUT/$b/trace-$tag-r$round.json" 1 $PGO_TRACE_COUNT $PGO_TRACE_MIN_TIME \
+              $PGO_TRACE_REPS "$scene" "$rays" "$k"
           done
         done
-        s=$((s + 1))
       done
     done
     echo "trace-$scene $(cut -d' ' -f1 /proc/loadavg)" >>"$PGO_OUT/load.txt"
   done
-  /usr/bin/python3 tools/pgo.py "$PGO_OUT" report \
-    --honest "bench --seed 7 (other rays and primitives, 1 repetition of 0.01 s); traces of ${PGO_TRAIN_SCENES[*]} with ray seed 7, 131072 rays" \
-    --tuned "the measured workload itself: bench on the default data; traces of ${PGO_TRACE_SCENES[*]} with ray seed 1, 524288 rays" \
+  echo "[pgo] measured in $((SECONDS - t1)) s"
+  local extra=()
+  [ $tuned = 1 ] && extra=(--tuned "$PGO_TUNED")
+  /usr/bin/python3 tools/pgo.py "$PGO_OUT" "${PGO_REPORT_DIR:-report}" --honest "$PGO_HONEST" "${extra[@]}" \
+    --measured "$PGO_MEASURED" --builds "files compiled: $(printf '%s, ' "${PGO_BUILT[@]}" | sed 's/, $//')" \
+    --rounds $PGO_ROUNDS --bench-min-time $PGO_BENCH_MIN_TIME --trace-min-time $PGO_TRACE_MIN_TIME --trace-reps $PGO_TRACE_REPS \
+    --binary normal=build/release/apps/raybench --binary pgo=build/pgo-use/apps/raybench \
     --minutes $(( (SECONDS - t0 + 59) / 60 ))
 }
 
@@ -248,7 +310,25 @@ case "${1:-}" in
     shift
     setup
     build release --target raybench
-    ./build/release/apps/raybench report --out report "$@"
+    # Profile-guided optimisation first (its own builds and paired rounds; section "Profile-guided
+    # optimisation"), unless --no-pgo or a --quick report; the report folder may be named by --out.
+    out=report pgo_on=1 args=() prev=""
+    for a in "$@"; do
+      case "$a" in
+        --no-pgo) pgo_on=0; continue ;;
+        --quick) pgo_on=0 ;;
+        --out=*) out=${a#--out=} ;;
+      esac
+      case "$prev" in -o | --out) out=$a ;; esac
+      prev=$a
+      args+=("$a")
+    done
+    if [ $pgo_on = 1 ]; then
+      mkdir -p "$out"
+      rm -f "$out/pgo.md"
+      PGO_REPORT_DIR=$out pgo || echo "[pgo] failed (above): the report's PGO section says it was not measured" >&2
+    fi
+    ./build/release/apps/raybench report --out report "${args[@]}"
     ;;
   test)
     setup
@@ -259,7 +339,7 @@ case "${1:-}" in
     build debug --target rb_tests
     ctest --preset debug
     ;;
-  pgo) pgo ;;
+  pgo) shift; pgo "$@" ;;
   tsan)
     setup
     # The threaded tests (parallel build, tracer and renderer tiles at 1..256 threads, FTZ/DAZ of
@@ -283,7 +363,7 @@ case "${1:-}" in
     ctest --preset pgo-use
     ;;
   *)
-    echo "usage: $0 report [raybench report options] | test | setup | build PRESET | pgo | pgo-test | install-check | report-check [DIR] | tsan | fuzz [RUNS [SEED]]" >&2
+    echo "usage: $0 report [--no-pgo] [raybench report options] | test | setup | build PRESET | pgo [--tuned] | pgo-test | install-check | report-check [DIR] | tsan | fuzz [RUNS [SEED]]" >&2
     exit 2
     ;;
 esac

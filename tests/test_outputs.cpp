@@ -402,6 +402,17 @@ TEST(Outputs, AReportFollowsTheRuleForEveryFileItWrites) {
   second.erase(second.find(added), added.size());
   EXPECT_EQ(second, first);
   EXPECT_FALSE(has(again.err, "  load ")) << "nothing measured again (no scene loaded): " << again.err;
+
+  // A PGO section left in the folder by `./run.sh pgo` is carried; measured on another revision, it says so.
+  std::ofstream(s / "rep/pgo.md") << "## Profile-guided optimisation\n\nPGO / normal 1.01x.\n";
+  std::ofstream(s / "rep/pgo.json") << R"({"context": {"normal": {"raybench_git": "0000000"}}})";
+  auto html3 = read_fifo(s / "rep/index.html");
+  const Outcome pgo = run_in(s.dir, "report --from rep --no-charts");
+  EXPECT_TRUE(has(html3.get(), "</html>"));
+  EXPECT_EQ(pgo.status, 0) << pgo.err;
+  const std::string third = slurp(s / "kept.md");
+  EXPECT_TRUE(has(third, "Profile-guided optimisation\n\n**Measured on revision `0000000`, not on this report's")) << "the stale section";
+  EXPECT_TRUE(has(third, "PGO / normal 1.01x.\n\n<!-- /pgo-section -->")) << "the section's own text";
 }
 
 // A folder the user may not write to, for every command's outputs (the history file itself is

@@ -30,11 +30,13 @@ class ReportCommand final : public Command {
     sub_->footer(
         "Runs the ops table, the scalar-vs-SIMD kernel benchmarks, scene loading, tracing\n"
         "beside Embree, the recursive renderer, the accuracy lab and CSG on the embedded\n"
-        "scenes, and writes OUT/index.md with JSON and PNG charts beside it (a few\n"
-        "minutes on a 2-core machine). Two report folders compare with\n"
+        "scenes, and writes OUT/index.md with JSON and PNG charts beside it (about 20\n"
+        "minutes on a 2-core machine; --quick: a few). Two report folders compare with\n"
         "`raybench compare A B`; each run is kept in results/history.sqlite.\n"
         "Everything measured is kept in OUT/measured.json: `raybench report --from OUT`\n"
-        "writes the page again from it in seconds.");
+        "writes the page again from it in seconds. The profile-guided optimisation\n"
+        "section is OUT/pgo.md, which `./run.sh pgo` writes (its own builds, the PGO and\n"
+        "the normal binary in paired rounds); `./run.sh report` runs it first.");
   }
   int run(Context& c) override {
     if (!ro.from.empty()) {

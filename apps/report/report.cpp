@@ -4,6 +4,7 @@
 
 #include "apps/cli.hpp"
 #include "apps/results/machine.hpp"
+#include "apps/build_info.hpp"
 #include "apps/paths.hpp"
 #include "apps/progress.hpp"
 #include "apps/report/report_doc.hpp"
@@ -115,9 +116,11 @@ std::vector<doc::Goal> report_goals(const std::vector<doc::Goal>& simd, const js
   return g;
 }
 
-// The profile-guided optimisation section is measured by `./run.sh pgo` (four builds and three
-// benchmark runs: too long for the default report), which writes OUT/pgo.md; the report carries
-// the latest one between markers so that `./run.sh pgo` can also refresh an existing index.md.
+// The profile-guided optimisation section is measured by `./run.sh pgo` (its own builds and paired
+// rounds of the normal and PGO binaries), which `./run.sh report` runs before the report: it writes
+// OUT/pgo.md and OUT/pgo.json, and the report carries that section between markers (so that
+// `./run.sh pgo` alone can also refresh an existing index.md). A section measured on another
+// revision than this binary's says so.
 std::string pgo_section(const fs::path& out) {
   std::string body;
   std::ifstream f;
@@ -126,10 +129,25 @@ std::string pgo_section(const fs::path& out) {
     std::stringstream ss;
     ss << f.rdbuf();
     body = ss.str();
+    std::string measured;
+    try {
+      std::ifstream j;
+      if (readable_back((out / "pgo.json").string())) j.open(out / "pgo.json");
+      if (j.is_open()) measured = json::parse(j).at("context").at("normal").value("raybench_git", "");
+    } catch (const std::exception&) {
+      measured = "";  // an unreadable record: the section stands as written
+    }
+    const std::string here = build_info().git();
+    if (!measured.empty() && measured != here) {
+      const auto eol = body.find('\n');
+      body.insert(eol == std::string::npos ? body.size() : eol + 1,
+                  fmt::format("\n**Measured on revision `{}`, not on this report's `{}`**: run `./run.sh pgo` again.\n", measured, here));
+    }
   } else {
-    body = "## Profile-guided optimisation\n\nNot measured for this report: `./run.sh pgo` builds an instrumented binary, "
-           "trains it on a workload apart from the measured one, rebuilds with the profile and compares every benchmark and "
-           "trace with the normal build back to back (25 min on this project's 2-core machine); it then fills this section.\n\n";
+    body = "## Profile-guided optimisation\n\nNot measured for this report: `./run.sh report` measures it first unless it is "
+           "given `--no-pgo` or `--quick`; `./run.sh pgo` alone builds an instrumented binary, trains it on a workload apart "
+           "from the measured one, rebuilds with the profile and runs both builds in paired rounds of kernel benchmarks and "
+           "traces, then fills this section (docs/BUILD.md gives its time).\n\n";
   }
   return "<!-- pgo-section -->\n" + body + "<!-- /pgo-section -->\n\n";
 }
