@@ -4,6 +4,7 @@ means and the section it writes. Run by ctest (test `pgo_tool`); exits non-zero 
 import json
 import os
 import random
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -76,6 +77,14 @@ with tempfile.TemporaryDirectory() as d:
     check("| s | diffuse | 8 |" in md and "| faster |" in md, "the trace's row in the section")
     check("Revision measured: `abc1234`" in md, "the revision in the section")
     check(os.path.exists(os.path.join(out, "pgo_kernels.png")) and os.path.exists(os.path.join(out, "pgo_traces.png")), "charts")
+    check("tuned" not in md, "no tuned column without a tuned build")
+    # A tuned build (here the PGO build's rounds again) gets a column of its own in both tables.
+    shutil.copytree(os.path.join(res, "pgo"), os.path.join(res, "tuned"))
+    r = subprocess.run([sys.executable, TOOL, res, out, "--honest", "made-up training", "--tuned", "itself"],
+                       capture_output=True, text=True)
+    md = open(os.path.join(out, "pgo.md")).read()
+    check(r.returncode == 0 and md.count("tuned / normal [95 %] |") == 2, f"the tuned columns: {r.stderr}")
+    check("- Tuned training workload: itself." in md, "the tuned training named")
 
 print(f"pgo_tool: {len(failures)} failures")
 sys.exit(1 if failures else 0)

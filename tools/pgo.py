@@ -376,6 +376,14 @@ def kib(n):
     return f"{n / 1024:,.1f} KiB"
 
 
+def table_start(md, title, head, sep, others):
+    """A subsection's title and its table's head, with a column for the tuned build when it ran."""
+    if "tuned" in others:
+        head += " tuned / normal [95 %] |"
+        sep += "---:|"
+    md += [f"### {title}", "", head, sep]
+
+
 def markdown(data, args, load):
     rows, fams, allk, trows, context, others = (data[k] for k in ("benchmarks", "families", "all_kernels", "traces",
                                                                   "context", "others"))
@@ -411,14 +419,8 @@ def markdown(data, args, load):
     widths = {what: [h for h in (half_width(x.get("pgo")) for x in items) if h is not None]
               for what, items in (("kernel families", fams), ("trace rows", trows), ("single kernel benchmarks", rows))}
     if fams:
-        md.append("### Kernel families")
-        md.append("")
-        head = "| family | benchmarks | PGO / normal [95 %] | verdict | rows faster / slower |"
-        sep = "|---|---:|---:|---|---:|"
-        if "tuned" in others:
-            head += " tuned / normal [95 %] |"
-            sep += "---:|"
-        md += [head, sep]
+        table_start(md, "Kernel families", "| family | benchmarks | PGO / normal [95 %] | verdict | rows faster / slower |",
+                    "|---|---:|---:|---|---:|", others)
         for f in fams + ([allk] if allk else []):
             name = f["kernel"]
             sub = rows if name == "all kernels" else [r for r in rows if r["kernel"] == name]
@@ -433,14 +435,8 @@ def markdown(data, args, load):
         md.append("![PGO / normal per kernel family](pgo_kernels.png)")
         md.append("")
     if trows:
-        md.append("### Whole-scene traces")
-        md.append("")
-        head = "| scene | rays | packet | normal Mrays/s | PGO Mrays/s | PGO / normal [95 %] | verdict |"
-        sep = "|---|---|---:|---:|---:|---:|---|"
-        if "tuned" in others:
-            head += " tuned / normal [95 %] |"
-            sep += "---:|"
-        md += [head, sep]
+        table_start(md, "Whole-scene traces", "| scene | rays | packet | normal Mrays/s | PGO Mrays/s | PGO / normal [95 %] | verdict |",
+                    "|---|---|---:|---:|---:|---:|---|", others)
         for r in trows:
             p = r.get("pgo") or {}
             line = (f"| {r['scene']} | {r['ray_set']} | {r['packet']} | {r['normal_mrays_per_s']:.2f} | "
