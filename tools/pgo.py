@@ -536,8 +536,11 @@ def main():
         jobs = [(f"{r['scene']} {r['ray_set']} K={r['packet']}",
                  ["trace", r["scene"], "--rays", r["ray_set"], "--packet", str(r["packet"]), "--threads", "1", "-r", "3",
                   "--min-time", "0.5", "--brute", "0", "--no-embree"]) for r in lost[:args.perf_rows]]
+        # A slower family is profiled on its slowest benchmark, the one that pulled it down.
         for f in sorted((f for f in fams if verdict(f.get("pgo")) == "slower"), key=lambda f: f["pgo"]["ratio"])[:args.perf_rows]:
-            jobs.append((f"kernel family {f['kernel']}", ["bench", "--filter", f"^{f['kernel']}/", "-r", "1", "--min-time", "0.1"]))
+            worst = min((r for r in rows if r["kernel"] == f["kernel"] and r.get("pgo")), key=lambda r: r["pgo"]["ratio"])
+            jobs.append((f"kernel family {f['kernel']}, its slowest benchmark {worst['benchmark']} ({interval_text(worst['pgo'])})",
+                         ["bench", "--filter", f"^{worst['benchmark']}$", "-r", "3", "--min-time", "0.3"]))
         if jobs and perf_works():
             data["losses"] = losing_profiles(jobs, binaries)
         elif jobs:
