@@ -169,9 +169,7 @@ def compare(results):
     rows = []
     for name in sorted(bench.get("normal", ({}, {}))[0]):
         base = bench["normal"][0][name]
-        parts = name.split("/")
-        row = {"benchmark": name, "kernel": parts[0], "variant": parts[2] if len(parts) > 2 else "",
-               "normal_median": statistics.median(base.values())}
+        row = {"benchmark": name, "kernel": name.split("/")[0], "normal_median": statistics.median(base.values())}
         for b in others:
             other = bench[b][0].get(name)
             if other:
@@ -179,6 +177,9 @@ def compare(results):
                 row[b] = {"median": statistics.median(other.values()), "round_ratios": per,
                           **(sign_interval(per.values()) or {})}
         rows.append(row)
+    sizes = {"all kernels": len(rows)}
+    for r in rows:
+        sizes[r["kernel"]] = sizes.get(r["kernel"], 0) + 1
     families = {}
     for b in others:
         by_fam = {}
@@ -188,7 +189,7 @@ def compare(results):
                 by_fam.setdefault("all kernels", {}).setdefault(rnd, []).append(x)
         for fam, per in by_fam.items():
             g = [gmean(v) for v in per.values()]
-            families.setdefault(fam, {"kernel": fam, "benchmarks": sum(1 for r in rows if fam in (r["kernel"], "all kernels"))})
+            families.setdefault(fam, {"kernel": fam, "benchmarks": sizes[fam]})
             families[fam][b] = sign_interval(g)
     trows = []
     for key in sorted(tr.get("normal", {})):
