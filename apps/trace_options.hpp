@@ -32,6 +32,10 @@ struct TraceRunOptions {
   // groups (tracer/ray_order.hpp) and puts the hits back in the given order, both inside the timed
   // pass; Embree then traces both orders, each mode sorting in its own pass.
   std::string order = "given";
+  // The width of a packet's groups of rays (packets of 16 or more rays of triangle meshes): "auto"
+  // (16 AVX-512 lanes where the binary and the CPU have them), "avx2" (8 lanes), "avx512" (16; an
+  // error where they cannot run) or "both" (auto, with the 8-lane walk timed beside it).
+  std::string isa = "auto";
 };
 
 }  // namespace rb::app

@@ -6,8 +6,8 @@
 
 namespace rb::app {
 
-Timings time_engines(trace::ThreadScope& ts, std::size_t n, const Engine& ours, const Engine* sah, const std::vector<Engine>& modes,
-                     const TraceRunOptions& o, ProgressBar& bar) {
+Timings time_engines(trace::ThreadScope& ts, std::size_t n, const Engine& ours, const std::vector<const Engine*>& beside,
+                     const std::vector<Engine>& modes, const TraceRunOptions& o, ProgressBar& bar) {
   const std::size_t tile = 256;  // a multiple of every packet and stream size
   // Seconds per pass over the ray set, of `passes` passes in a row.
   auto per_pass = [&](const Engine& e, int passes) {
@@ -18,6 +18,7 @@ Timings time_engines(trace::ThreadScope& ts, std::size_t n, const Engine& ours, 
   Timings t;
   t.warm_modes.resize(modes.size());
   t.modes.resize(modes.size());
+  t.beside.resize(beside.size());
   // 1. Warm-up until stable (caches, page faults, the thread pool's start, the clock's boost): the
   // engines alternate run by run, for at least --warmup rounds and on while ours or Embree's fastest
   // mode still moved by more than kSettled from its previous run (at most kMaxWarmup rounds).
@@ -26,7 +27,7 @@ Timings time_engines(trace::ThreadScope& ts, std::size_t n, const Engine& ours, 
   auto moved = [&](const std::vector<double>& v) { return v.size() < 2 || std::fabs(v.back() / v[v.size() - 2] - 1) > kSettled; };
   for (int w = 0; w < std::max(kMaxWarmup, o.warmup); ++w) {
     t.warm_ours.push_back(per_pass(ours, 1));
-    if (sah) per_pass(*sah, 1);
+    for (const Engine* e : beside) per_pass(*e, 1);
     std::size_t fastest = 0;
     for (std::size_t m = 0; m < modes.size(); ++m) {
       t.warm_modes[m].push_back(per_pass(modes[m], 1));
@@ -47,12 +48,12 @@ Timings time_engines(trace::ThreadScope& ts, std::size_t n, const Engine& ours, 
   for (std::size_t m = 0; m < modes.size(); ++m) best[modes[m].group] = std::min(best[modes[m].group], t.warm_modes[m].back());
   for (std::size_t m = 0; m < modes.size(); ++m)
     if (t.warm_modes[m].back() <= kModeSpread * best[modes[m].group]) timed.push_back(m);
-  // 4. The timed rounds: the engines alternate repetition by repetition (raybench, the SAH tree when
-  // another builder's tree is traced, then each timed Embree mode), so that a change in the
-  // machine's load falls on all alike.
+  // 4. The timed rounds: the engines alternate repetition by repetition (raybench, its engines
+  // beside it, then each timed Embree mode), so that a change in the machine's load falls on all
+  // alike.
   for (int r = 0; r < o.repetitions; ++r) {
     t.ours.push_back(per_pass(ours, t.passes));
-    if (sah) t.sah.push_back(per_pass(*sah, t.passes));
+    for (std::size_t k = 0; k < beside.size(); ++k) t.beside[k].push_back(per_pass(*beside[k], t.passes));
     for (const std::size_t m : timed) t.modes[m].push_back(per_pass(modes[m], t.passes));
     bar.update(0.1 + 0.85 * double(r + 1) / o.repetitions);
   }

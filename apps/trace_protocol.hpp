@@ -25,14 +25,16 @@ struct Timings {
   std::vector<double> warm_ours;                // the warm-up runs of raybench
   std::vector<std::vector<double>> warm_modes;  // and of each Embree mode
   int passes = 1;                               // passes per timed repetition
-  std::vector<double> ours, sah;                // raybench, and the SAH tree beside another builder's
+  std::vector<double> ours;                     // raybench
+  std::vector<std::vector<double>> beside;      // raybench's other engines timed beside it, in their order
   std::vector<std::vector<double>> modes;       // each Embree mode (empty: left out of the rounds)
 };
 
 // The timing protocol of `raybench trace` (docs/DESIGN.md, command-line conventions): warm-up until
 // stable, passes for --min-time, Embree's clearly slower modes left out, then the engines alternating
-// repetition by repetition.
-Timings time_engines(trace::ThreadScope& ts, std::size_t n, const Engine& ours, const Engine* sah, const std::vector<Engine>& modes,
-                     const TraceRunOptions& o, ProgressBar& bar);
+// repetition by repetition. `beside`: raybench in other configurations, timed in the same rounds
+// (the SAH tree beside another builder's; packets in the other lane width).
+Timings time_engines(trace::ThreadScope& ts, std::size_t n, const Engine& ours, const std::vector<const Engine*>& beside,
+                     const std::vector<Engine>& modes, const TraceRunOptions& o, ProgressBar& bar);
 
 }  // namespace rb::app

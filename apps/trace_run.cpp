@@ -10,6 +10,7 @@
 #include "bench/embree_build.hpp"
 #include "scene/sources.hpp"
 #include "tracer/ray_order.hpp"
+#include "tracer/simd16.hpp"
 
 #include <fmt/format.h>
 
@@ -285,6 +286,17 @@ void put_sah_tree(json& t, const tracer::SceneAccel& sah, trace::ThreadScope& ts
   t["mismatches_vs_builder_tree"] = tracer::compare(ours, sah_out, n, any).mismatches;
 }
 
+// --isa: the lanes per group of a packet's rays asked for (tracer::TraceOptions::lanes).
+int trace_lanes(const std::string& isa) {
+  const bool can = tracer::simd16_traversal_built() && tracer::simd16_cpu();
+  if (isa == "avx2") return 8;
+  if (isa == "avx512" && !can)
+    throw std::invalid_argument(tracer::simd16_traversal_built() ? "--isa avx512: this CPU lacks AVX-512 F, CD, DQ, BW or VL"
+                                                                 : "--isa avx512: this build has no 16-lane traversal (the debug preset, or a "
+                                                                   "compiler that cannot target AVX-512)");
+  return can ? 16 : 8;
+}
+
 }  // namespace
 
 json TraceSession::run(const TraceRunOptions& o, bool progress) {
@@ -296,6 +308,7 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   tracer::TraceOptions to;
   to.packet = o.packet;
   to.any = any;
+  to.lanes = trace_lanes(o.isa);
   if (o.slab != "plan") {
     to.slab_given = true;
     to.slab = o.slab == "conservative" ? bvh::Slab::conservative : o.slab == "fast" ? bvh::Slab::fast : bvh::Slab::robust;
@@ -340,12 +353,22 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
                               [&, m] { order.unsort(sh.data(), theirs_sorted[m].data(), ts); }, 1});
   }
   const Engine sah_engine{[&](std::size_t b, std::size_t e, bvh::HitRec* out) { sah_->trace(rays, b, e, out, to); }, &sah_out};
+  // --isa both: the 8-lane walk timed beside the 16-lane one, when this run's packets walk in 16.
+  tracer::TraceOptions to8 = to;
+  to8.lanes = 8;
+  const bool widths = o.isa == "both" && accel_.group_lanes(to) == 16;
+  if (widths && sorted) throw std::invalid_argument("--isa both times the given order: leave --order at given");
+  std::vector<bvh::HitRec> out8;
+  const Engine width_engine{[&](std::size_t b, std::size_t e, bvh::HitRec* out) { accel_.trace(rays, b, e, out, to8); }, &out8};
+  std::vector<const Engine*> beside;
+  if (sah_) beside.push_back(&sah_engine);
+  if (widths) beside.push_back(&width_engine);
   // The machine around the runs: its load average before and after, and the CPU time the
   // hypervisor took from this guest while they ran.
   const LoadWatch watch;
-  const Timings tm = time_engines(ts, n, mine, sah_ ? &sah_engine : nullptr, embree_engines, o, bar);
+  const Timings tm = time_engines(ts, n, mine, beside, embree_engines, o, bar);
   const std::vector<double>& secs = tm.ours;
-  const std::vector<double>& sah_secs = tm.sah;
+  const std::vector<double>& sah_secs = sah_ ? tm.beside[0] : secs;
   const int passes = tm.passes;
   const json machine_load = watch.json();
   const double mrays = double(n) / rb::median(secs) / 1e6;
@@ -367,6 +390,9 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   j["seed"] = o.seed;
   j["threads"] = o.threads;
   j["packet"] = o.packet;
+  // The lanes per group the packets walked in (1: single rays) and the ISA of that walk.
+  j["group_lanes"] = accel_.group_lanes(to);
+  j["isa"] = j["group_lanes"] == 16 ? "avx512" : "avx2";
   j["slab"] = bvh::slab_name(slab);
   j["repetitions"] = o.repetitions;
   j["warmup"] = o.warmup;
@@ -390,6 +416,17 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   for (auto it = b.begin(); it != b.end(); ++it) j[it.key()] = it.value();
 
   if (sah_) put_sah_tree(j["sah_tree"], *sah_, ts, rays, to, sah_secs, ours, sah_out, any);
+  if (widths) {
+    // The same packets in 8 lanes, timed in the same rounds: its rate and the 16-lane walk's
+    // speed over it (median of the rounds' ratios, 95 % interval), and the rays whose hits differ.
+    json& w = j["lanes8"];
+    const std::vector<double>& s8 = tm.beside.back();
+    w["mrays_per_s"] = double(n) / rb::median(s8) / 1e6;
+    w["seconds"] = s8;
+    put_spread(w, "", s8, n);
+    w["speedup_16_over_8"] = stats::interval_json(stats::paired_ratio(s8, secs));
+    w["mismatches"] = tracer::compare(ours, out8, n, any).mismatches;
+  }
 
   put_embree(j, embree_, modes, tm, ours, theirs, n, any);
   j["order"] = o.order;

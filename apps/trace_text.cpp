@@ -61,15 +61,24 @@ std::string trace_text(const json& j) {
                        j[p + "cv"].is_null() ? "" : fmt::format(", CV {:.1f} %", 100 * j[p + "cv"].get<double>()));
   };
   if (j.contains("machine_load")) o += wrap_words("machine    " + load_text(j["machine_load"]), 80, "           ");
-  o += fmt::format("trace      raybench packet {}, {} thread(s), {} slab test, {} warm-up run(s) until the times settled;\n"
+  const int lanes = j.value("group_lanes", 0);
+  const std::string groups = lanes > 1 ? fmt::format(" in groups of {} lanes ({})", lanes, lanes == 16 ? "AVX-512" : "AVX2") : "";
+  o += fmt::format("trace      raybench packet {}{}, {} thread(s), {} slab test, {} warm-up run(s) until the times settled;\n"
                    "           {} pass(es) over the rays per repetition ({:.2f} s, at least {} s):\n",
-                   j["packet"].get<int>(), j["threads"].get<int>(), j["slab"].get<std::string>(), j["warmup_seconds"].size(),
+                   j["packet"].get<int>(), groups, j["threads"].get<int>(), j["slab"].get<std::string>(), j["warmup_seconds"].size(),
                    j["passes"].get<int>(), j["repetition_seconds"].get<double>(), j["min_time"].get<double>());
   o += "           " + timing("") + "\n";
   if (!j["outliers"].empty())
     o += fmt::format("           {} repetition(s) far above the others (Tukey's fence), kept in every figure\n", j["outliers"].size());
   o += fmt::format("           {:.2f} nodes, {:.2f} box tests, {:.2f} primitive tests per ray\n", j["nodes_per_ray"].get<double>(),
                    j["box_tests_per_ray"].get<double>(), j["prim_tests_per_ray"].get<double>());
+  if (j.contains("lanes8")) {
+    const json& w = j["lanes8"];
+    o += fmt::format("           in groups of 8 lanes (AVX2), same rounds: {:.2f} Mrays/s;\n"
+                     "           16 lanes over 8: {}; {} ray(s) with other hits\n",
+                     w["mrays_per_s"].get<double>(), stats::interval_text(stats::interval_from_json(w["speedup_16_over_8"])),
+                     w["mismatches"].get<std::size_t>());
+  }
   if (j.contains("sah_tree") && j["sah_tree"].contains("mrays_per_s")) {
     const json& t = j["sah_tree"];
     o += fmt::format("tree       the tree above is Embree's builder's ({}); raybench's SAH tree through the same traversal:\n",

@@ -1,6 +1,7 @@
 // Which SIMD width the kernel benchmarks run (bench/simd16.hpp): compiled for AVX2, so that it runs
 // on every CPU the binary runs on.
 #include "bench/simd16.hpp"
+#include "tracer/simd16.hpp"
 
 #include <stdexcept>
 
@@ -14,11 +15,7 @@ bool simd16_built() {
 #endif
 }
 
-bool simd16_cpu() {
-  // libgcc sets the AVX-512 features only when the OS saves their registers (XGETBV).
-  return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512cd") && __builtin_cpu_supports("avx512dq") &&
-         __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512vl");
-}
+bool simd16_cpu() { return tracer::simd16_cpu(); }  // the tracer's 16-lane walk asks the same
 
 IsaChoice isa_choice(const std::string& asked) {
   IsaChoice c;

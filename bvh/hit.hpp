@@ -59,39 +59,47 @@ RB_INLINE bool take_nearest(const f8& t8, HitRec& h, CodeOf&& code_of) {
   return true;
 }
 
-// ---- packets: G groups of 8 rays in lanes ---------------------------------------------------------
-inline constexpr int kMaxGroups = 32;  // 256 rays
+// ---- packets: G groups of 8 (or 16) rays in lanes --------------------------------------------------
+inline constexpr int kMaxRays = 256;
+inline constexpr int kMaxGroups = kMaxRays / 8;
 
 // What a leaf source sees of a packet: the groups with rays to test at this leaf (list[0..n)),
 // each group's rays, current closest distance (tbest, lowered by hits) and the rays to test
-// (active: a leaf clears, with Any, the rays that hit), and the primitive hit per ray.
-struct PacketRays {
+// (active: a leaf clears, with Any, the rays that hit), and the primitive hit per ray (ray l of
+// group k at prim[N k + l]). V: the group's register (f8; f16 in the 16-lane walk).
+template <class V>
+struct PacketRaysT {
+  static constexpr int N = lanes::Group<V>::N;
+  using mask = typename lanes::Group<V>::mask;
   int n = 0;
-  std::uint8_t list[kMaxGroups];
-  Ray<f8>* r = nullptr;
-  f8* tbest = nullptr;
-  f8_mask* active = nullptr;
+  std::uint8_t list[kMaxRays / N];
+  Ray<V>* r = nullptr;
+  V* tbest = nullptr;
+  mask* active = nullptr;
   std::uint32_t* prim = nullptr;
   bool improved = false;  // set by packet_update when a ray's tbest fell
 };
+using PacketRays = PacketRaysT<f8>;
 
-// Records a leaf's hits for the 8 rays of group k: lanes of `hit` that are active take t (at most
+// Records a leaf's hits for the rays of group k: lanes of `hit` that are active take t (at most
 // their tbest: the kernel ran with tmax = tbest; at an equal t only a lesser code, as `nearer`) and
 // the primitive `code`; with Any, the rays that hit leave the packet.
-template <bool Any>
-RB_INLINE void packet_update(PacketRays& p, int k, const f8_mask& hit, const f8& t, std::uint32_t code) {
-  f8_mask m = hit & p.active[k];
-  unsigned bits = lanes::bits(m);
+template <bool Any, class V>
+RB_INLINE void packet_update(PacketRaysT<V>& p, int k, const typename PacketRaysT<V>::mask& hit, const V& t, std::uint32_t code) {
+  using G = lanes::Group<V>;
+  constexpr int N = G::N;
+  auto m = hit & p.active[k];
+  unsigned bits = G::bits(m);
   if (!bits) return;
   if constexpr (!Any) {
     // A hit at a ray's closest t so far replaces it only with a lesser code (`nearer`).
-    if (unsigned ties = bits & lanes::bits(t == p.tbest[k])) {
+    if (unsigned ties = bits & G::bits(t == p.tbest[k])) {
       for (; ties; ties &= ties - 1) {
         const int l = __builtin_ctz(ties);
-        if (code >= p.prim[8 * k + l]) bits &= ~(1u << l);
+        if (code >= p.prim[N * k + l]) bits &= ~(1u << l);
       }
       if (!bits) return;
-      m = m & lanes::of(bits);
+      m = m & G::of(bits);
     }
   }
   p.tbest[k] = xsimd::select(m, t, p.tbest[k]);
@@ -99,7 +107,7 @@ RB_INLINE void packet_update(PacketRays& p, int k, const f8_mask& hit, const f8&
   while (bits) {
     const int l = __builtin_ctz(bits);
     bits &= bits - 1;
-    p.prim[8 * k + l] = code;
+    p.prim[N * k + l] = code;
   }
   if constexpr (Any) p.active[k] = p.active[k] & ~m;
 }

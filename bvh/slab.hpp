@@ -35,19 +35,22 @@ inline constexpr float kRobustScale = 1 + 2 * kGamma3;
 inline constexpr float kMinDir = 1e-18f;
 inline float safe_rcp(float d) { return 1.0f / (std::fabs(d) < kMinDir ? std::copysign(kMinDir, d) : d); }
 inline float safe_rcp(float d, float rd) { return std::fabs(d) < kMinDir ? std::copysign(1.0f / kMinDir, d) : rd; }
-inline f8 safe_rcp8(const f8& d, const f8& rd) {
-  return xsimd::select(xsimd::abs(d) < f8(kMinDir), xsimd::copysign(f8(1.0f / kMinDir), d), rd);
+template <class V>
+RB_INLINE V safe_rcp8(const V& d, const V& rd) {
+  return xsimd::select(xsimd::abs(d) < V(kMinDir), xsimd::copysign(V(1.0f / kMinDir), d), rd);
 }
 
 // What the test needs of a ray for one kind of plane (near or far), per axis: 1/d, o and o * (1/d),
-// each in 8 lanes (one ray broadcast, or 8 rays).
-struct SlabSide {
-  f8 rd[3], o[3], o_rd[3];
+// each in 8 lanes (one ray broadcast, or 8 rays), or in 16 (16 rays, core/lanes16.hpp).
+template <class V>
+struct SlabSideT {
+  V rd[3], o[3], o_rd[3];
 };
+using SlabSide = SlabSideT<f8>;
 
 // The distance to the plane at `plane` along axis a.
-template <bool Robust>
-RB_INLINE f8 plane_distance(const f8& plane, const SlabSide& s, int a) {
+template <bool Robust, class V>
+RB_INLINE V plane_distance(const V& plane, const SlabSideT<V>& s, int a) {
   if constexpr (Robust) return (plane - s.o[a]) * s.rd[a];
   else return xsimd::fms(plane, s.rd[a], s.o_rd[a]);
 }
@@ -55,19 +58,19 @@ RB_INLINE f8 plane_distance(const f8& plane, const SlabSide& s, int a) {
 // Bit l set when lane l's interval [max(near x, y, z, tmin), min(far x, y, z, tmax)] is not empty;
 // tn receives the entry distances (the fast form's are exact as floats: integer maxima of floats
 // of which one is >= 0).
-template <bool Robust>
-RB_INLINE unsigned slab_interval(const f8& nx, const f8& ny, const f8& nz, const f8& fx, const f8& fy, const f8& fz, const f8& tmin, const f8& tmax,
-                                 f8& tn) {
+template <bool Robust, class V>
+RB_INLINE unsigned slab_interval(const V& nx, const V& ny, const V& nz, const V& fx, const V& fy, const V& fz, const V& tmin, const V& tmax,
+                                 V& tn) {
+  using G = lanes::Group<V>;
   if constexpr (!Robust) {
-    using namespace lanes;
-    const __m256i n = int_max(int_max(as_int(nx), as_int(ny)), int_max(as_int(nz), as_int(tmin)));
-    const __m256i f = int_min(int_min(as_int(fx), as_int(fy)), int_min(as_int(fz), as_int(tmax)));
-    tn = as_float(n);
-    return int_le_bits(n, f);
+    const auto n = G::int_max(G::int_max(G::as_int(nx), G::as_int(ny)), G::int_max(G::as_int(nz), G::as_int(tmin)));
+    const auto f = G::int_min(G::int_min(G::as_int(fx), G::as_int(fy)), G::int_min(G::as_int(fz), G::as_int(tmax)));
+    tn = G::as_float(n);
+    return G::int_le_bits(n, f);
   } else {
     tn = xsimd::max(xsimd::max(nx, ny), xsimd::max(nz, tmin));
-    const f8 tf = xsimd::min(xsimd::min(xsimd::min(fx, fy), fz) * f8(kRobustScale), tmax);
-    return lanes::le_bits(tn, tf);
+    const V tf = xsimd::min(xsimd::min(xsimd::min(fx, fy), fz) * V(kRobustScale), tmax);
+    return G::le_bits(tn, tf);
   }
 }
 
@@ -116,12 +119,12 @@ RB_INLINE unsigned slab8(const WNode& nd, const SlabFrustum& f, float tmax, f8& 
 }
 
 // One box, given by its near and far planes per axis (the packet's octant chooses them), against
-// 8 rays in lanes: bit l set when ray l's interval meets it.
-template <bool Robust>
-RB_INLINE unsigned slab_rays(const float (&near)[3], const float (&far)[3], const SlabSide& rays, const f8& tmin, const f8& tmax) {
-  auto n = [&](int a) RB_INLINE_LAMBDA { return plane_distance<Robust>(f8(near[a]), rays, a); };
-  auto f = [&](int a) RB_INLINE_LAMBDA { return plane_distance<Robust>(f8(far[a]), rays, a); };
-  f8 tn;
+// 8 (or 16) rays in lanes: bit l set when ray l's interval meets it.
+template <bool Robust, class V>
+RB_INLINE unsigned slab_rays(const float (&near)[3], const float (&far)[3], const SlabSideT<V>& rays, const V& tmin, const V& tmax) {
+  auto n = [&](int a) RB_INLINE_LAMBDA { return plane_distance<Robust>(V(near[a]), rays, a); };
+  auto f = [&](int a) RB_INLINE_LAMBDA { return plane_distance<Robust>(V(far[a]), rays, a); };
+  V tn;
   return slab_interval<Robust>(n(0), n(1), n(2), f(0), f(1), f(2), tmin, tmax, tn);
 }
 

@@ -23,7 +23,9 @@
 #include "bvh/walk_packet.hpp"
 #include "bvh/walk_single.hpp"
 
+#include <cstddef>
 #include <stdexcept>
+#include <type_traits>
 
 namespace rb::bvh {
 
@@ -48,7 +50,9 @@ inline float largest_side(const Bvh8& t) {
 // not goes on in packets of 8, and an incoherent packet of 8 as single rays (its rays would part
 // ways at the first nodes): one at a time when they start near each other, two at a time when
 // they start apart (trace_pairs). A packet takes the robust slab test when one of its rays needs
-// it (trace_single's rule).
+// it (trace_single's rule). `wide`, when given, takes the coherent packets of 16 or more rays in
+// place of the 8-lane walk: wide(robust, i, P) traces rays [i, i + P) as one packet (the 16-lane
+// walk of tracer/traverse_mesh16.cpp).
 inline bool valid_packet_size(int packet) { return packet == 1 || packet == 8 || packet == 16 || packet == 64 || packet == 256; }
 
 // Whether the valid rays of [i, i + n) share a direction octant (8 rays per step, from the SoA).
@@ -96,9 +100,9 @@ inline bool starts_apart(const RaySoA& rays, std::size_t k, float near_side) {
   return side > near_side;
 }
 
-template <Slab S, bool Any, bool Count, class L>
+template <Slab S, bool Any, bool Count, class L, class Wide = std::nullptr_t>
 void trace_range(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_t begin, std::size_t end, HitRec* out, int packet,
-                 TraceCounters& c) {
+                 TraceCounters& c, Wide wide = nullptr) {
   if (!valid_packet_size(packet)) throw std::invalid_argument("packet size must be 1, 8, 16, 64 or 256");
   if (packet == 1) {
     trace_singles<S, Any, Count>(t, leaves, rays, begin, end, out, c);
@@ -125,6 +129,7 @@ void trace_range(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_t
   std::size_t i = begin;
   for (; i + P <= end; i += P) {
     if (P == 8 || !shared_octant(rays, i, P)) eights(i, i + P);
+    else if constexpr (!std::is_null_pointer_v<Wide>) wide(needs_robust<S>(t, rays, i, P), i, P);
     else if (P == 16) run.template operator()<2>(i);
     else if (P == 64) run.template operator()<8>(i);
     else run.template operator()<32>(i);

@@ -1,5 +1,7 @@
 // The walk of a coherent packet (every ray in one direction octant: camera tiles, rays towards one
-// light) of 8, 16, 64 or 256 rays in G groups of 8 lanes, as one. Per node:
+// light) of 8, 16, 64 or 256 rays in G groups of N lanes, as one: N = 8 (f8, AVX2) everywhere, or
+// N = 16 (f16, in the AVX-512 translation unit tracer/traverse_mesh16.cpp) for packets of 16 or more
+// rays. Per node:
 //   - one 8-lane test of the 8 children against the packet's frustum (SlabFrustum: per axis the
 //     ray whose origin and reciprocal direction bound every ray's entry distance from below and
 //     exit distance from above; the same slab test on those extremes, so it is conservative exactly
@@ -8,7 +10,9 @@
 //     an internal child that ray hits is taken with the parent's ray mask unchanged (no per-ray
 //     test), as the rays of a coherent packet mostly share their boxes;
 //   - every other child the frustum accepts (leaves always, so that a leaf sees exact ray masks)
-//     gets the exact test of each active group of 8 rays; the rays that hit it form its mask.
+//     gets the exact test of each active group of N rays; the rays that hit it form its mask.
+// The node tests of the frustum and of one ray stay 8-lane (8 children); only the groups' tests,
+// the leaves' rays-in-lanes loops and the packet's bookkeeping take the group's width.
 // Closest hit visits children near to far by the frustum's entry distance (bvh/stack.hpp's
 // order); any hit in slot order. The stack holds (child, entry distance, ray mask). At a leaf, the
 // leaf source tests the masked rays. Any hit: rays that hit leave the packet; it ends when none
@@ -24,27 +28,29 @@ namespace rb::bvh {
 // An any-hit packet with at most this many active rays at a node goes on ray by ray from there.
 inline constexpr int kAnySingleRays = 3;
 
-// A ray mask of G groups: 8 bits per group.
-template <int G>
+// A ray mask of G groups of N rays: N bits per group (ray f = N g + l at bit f).
+template <int G, int N = 8>
 struct RayMask {
-  static constexpr int W = (G + 7) / 8;
+  static constexpr int W = (G * N + 63) / 64;
+  static constexpr std::uint64_t kGroup = (std::uint64_t(1) << N) - 1;
   std::uint64_t w[W];
   static RayMask none() {
     RayMask m;
     for (auto& x : m.w) x = 0;
     return m;
   }
-  unsigned group(int g) const { return unsigned(w[g >> 3] >> (8 * (g & 7))) & 0xFFu; }
+  unsigned group(int g) const { return unsigned(w[(N * g) >> 6] >> ((N * g) & 63) & kGroup); }
   void set(int g, unsigned bits) {
-    const int s = 8 * (g & 7);
-    w[g >> 3] = (w[g >> 3] & ~(std::uint64_t(0xFF) << s)) | (std::uint64_t(bits) << s);
+    const int s = (N * g) & 63;
+    std::uint64_t& x = w[(N * g) >> 6];
+    x = (x & ~(kGroup << s)) | (std::uint64_t(bits) << s);
   }
   bool empty() const {
     std::uint64_t o = 0;
     for (auto x : w) o |= x;
     return o == 0;
   }
-  int first() const {  // the lowest ray (g * 8 + lane); the mask is not empty
+  int first() const {  // the lowest ray (N g + lane); the mask is not empty
     for (int k = 0; k < W; ++k)
       if (w[k]) return 64 * k + __builtin_ctzll(w[k]);
     return -1;
@@ -64,56 +70,59 @@ struct RayMask {
 // The packet's rays as the walk tests them: per group the rays, their slab terms, closest distance
 // so far, the rays a leaf is to test, and the hit primitive per ray; the slab terms also per ray
 // as scalars (the first active ray's own test); the rays still looking for a hit.
-template <int G>
+template <class V, int G>
 struct Packet {
-  Ray<f8> r[G];
-  SlabSide side[G];
-  f8 tbest[G];
-  f8_mask act[G];
-  std::uint32_t prim[8 * G];
-  alignas(32) float rd_s[3][8 * G], ord_s[3][8 * G], o_s[3][8 * G], tmin_s[8 * G];
-  RayMask<G> alive;
+  using Lanes = lanes::Group<V>;
+  static constexpr int N = Lanes::N;
+  using Mask = RayMask<G, N>;
+  Ray<V> r[G];
+  SlabSideT<V> side[G];
+  V tbest[G];
+  typename Lanes::mask act[G];
+  std::uint32_t prim[N * G];
+  alignas(64) float rd_s[3][N * G], ord_s[3][N * G], o_s[3][N * G], tmin_s[N * G];
+  Mask alive;
 
-  // Rays [i, i + 8 G) of the SoA; a ray with an empty interval is not alive (a miss).
+  // Rays [i, i + N G) of the SoA; a ray with an empty interval is not alive (a miss).
   void load(const RaySoA& rays, std::size_t i) {
-    alive = RayMask<G>::none();
+    alive = Mask::none();
     for (int g = 0; g < G; ++g) {
-      r[g] = rays.packet<f8>(i + 8 * std::size_t(g));
-      const Vec3<f8>& d = r[g].d;
-      const f8 inv[3] = {safe_rcp8(d.x, r[g].rd.x), safe_rcp8(d.y, r[g].rd.y), safe_rcp8(d.z, r[g].rd.z)};
-      const f8 oo[3] = {r[g].o.x, r[g].o.y, r[g].o.z};
+      r[g] = rays.packet<V>(i + N * std::size_t(g));
+      const Vec3<V>& d = r[g].d;
+      const V inv[3] = {safe_rcp8(d.x, r[g].rd.x), safe_rcp8(d.y, r[g].rd.y), safe_rcp8(d.z, r[g].rd.z)};
+      const V oo[3] = {r[g].o.x, r[g].o.y, r[g].o.z};
       for (int a = 0; a < 3; ++a) {
         side[g].rd[a] = inv[a];
         side[g].o[a] = oo[a];
         side[g].o_rd[a] = oo[a] * inv[a];
-        inv[a].store_aligned(&rd_s[a][8 * g]);
-        side[g].o_rd[a].store_aligned(&ord_s[a][8 * g]);
-        oo[a].store_aligned(&o_s[a][8 * g]);
+        inv[a].store_aligned(&rd_s[a][N * g]);
+        side[g].o_rd[a].store_aligned(&ord_s[a][N * g]);
+        oo[a].store_aligned(&o_s[a][N * g]);
       }
-      r[g].tmin.store_aligned(&tmin_s[8 * g]);
+      r[g].tmin.store_aligned(&tmin_s[N * g]);
       tbest[g] = r[g].tmax;
-      alive.set(g, lanes::bits(r[g].tmin <= r[g].tmax));
+      alive.set(g, Lanes::bits(r[g].tmin <= r[g].tmax));
     }
     for (auto& q : prim) q = kNoPrim;
   }
   // The frustum of the alive rays: per axis their extreme origins and reciprocal directions.
   SlabFrustum frustum() const {
-    f8 lrd[3], hrd[3], lo[3], ho[3], tm(kInfF);
-    for (int a = 0; a < 3; ++a) lrd[a] = lo[a] = f8(kInfF), hrd[a] = ho[a] = f8(-kInfF);
+    V lrd[3], hrd[3], lo[3], ho[3], tm(kInfF);
+    for (int a = 0; a < 3; ++a) lrd[a] = lo[a] = V(kInfF), hrd[a] = ho[a] = V(-kInfF);
     for (int g = 0; g < G; ++g) {
-      const f8_mask v = lanes::of(alive.group(g));
+      const auto v = Lanes::of(alive.group(g));
       for (int a = 0; a < 3; ++a) {
-        lrd[a] = xsimd::min(lrd[a], xsimd::select(v, side[g].rd[a], f8(kInfF)));
-        hrd[a] = xsimd::max(hrd[a], xsimd::select(v, side[g].rd[a], f8(-kInfF)));
-        lo[a] = xsimd::min(lo[a], xsimd::select(v, side[g].o[a], f8(kInfF)));
-        ho[a] = xsimd::max(ho[a], xsimd::select(v, side[g].o[a], f8(-kInfF)));
+        lrd[a] = xsimd::min(lrd[a], xsimd::select(v, side[g].rd[a], V(kInfF)));
+        hrd[a] = xsimd::max(hrd[a], xsimd::select(v, side[g].rd[a], V(-kInfF)));
+        lo[a] = xsimd::min(lo[a], xsimd::select(v, side[g].o[a], V(kInfF)));
+        ho[a] = xsimd::max(ho[a], xsimd::select(v, side[g].o[a], V(-kInfF)));
       }
-      tm = xsimd::min(tm, xsimd::select(v, r[g].tmin, f8(kInfF)));
+      tm = xsimd::min(tm, xsimd::select(v, r[g].tmin, V(kInfF)));
     }
     SlabFrustum fr;
     const int f0 = alive.first();
     for (int a = 0; a < 3; ++a) {
-      const float lo_rd = lanes::hmin(lrd[a]), hi_rd = lanes::hmax(hrd[a]), lo_o = lanes::hmin(lo[a]), hi_o = lanes::hmax(ho[a]);
+      const float lo_rd = Lanes::hmin(lrd[a]), hi_rd = Lanes::hmax(hrd[a]), lo_o = Lanes::hmin(lo[a]), hi_o = Lanes::hmax(ho[a]);
       const bool neg = std::signbit(rd_s[a][f0]);
       fr.n[a] = neg;
       // positive axis: entry bounded by (lo plane, largest origin, smallest 1/d), exit by (hi plane,
@@ -123,10 +132,10 @@ struct Packet {
       fr.near.rd[a] = f8(rn); fr.near.o[a] = f8(on); fr.near.o_rd[a] = f8(on * rn);
       fr.far.rd[a] = f8(rf); fr.far.o[a] = f8(of); fr.far.o_rd[a] = f8(of * rf);
     }
-    fr.tmin = f8(lanes::hmin(tm));
+    fr.tmin = f8(Lanes::hmin(tm));
     return fr;
   }
-  // Ray f (g * 8 + lane) alone, broadcast, for the test against a node's children.
+  // Ray f (N g + lane) alone, broadcast, for the test against a node's children.
   RB_INLINE SlabRay one(int f, const int (&n)[3]) const {
     SlabRay s;
     for (int a = 0; a < 3; ++a) {
@@ -139,20 +148,20 @@ struct Packet {
     return s;
   }
   // The largest closest distance among the rays of m (the frustum's tmax).
-  RB_INLINE float tmax_of(const RayMask<G>& m) const {
-    f8 x(-kInfF);
+  RB_INLINE float tmax_of(const Mask& m) const {
+    V x(-kInfF);
     for (int g = 0; g < G; ++g)
-      if (const unsigned b = m.group(g)) x = xsimd::max(x, xsimd::select(lanes::of(b), tbest[g], f8(-kInfF)));
-    return lanes::hmax(x);
+      if (const unsigned b = m.group(g)) x = xsimd::max(x, xsimd::select(Lanes::of(b), tbest[g], V(-kInfF)));
+    return Lanes::hmax(x);
   }
-  // The rays' hits into out[i, i + 8 G).
+  // The rays' hits into out[i, i + N G).
   void finish(std::size_t i, HitRec* out) const {
     for (int g = 0; g < G; ++g) {
-      alignas(32) float tt[8];
+      alignas(64) float tt[N];
       tbest[g].store_aligned(tt);
-      for (int l = 0; l < 8; ++l) {
-        const std::uint32_t pr = prim[8 * g + l];
-        out[i + 8 * std::size_t(g) + std::size_t(l)] = {pr == kNoPrim ? kInfF : tt[l], pr};
+      for (int l = 0; l < N; ++l) {
+        const std::uint32_t pr = prim[N * g + l];
+        out[i + N * std::size_t(g) + std::size_t(l)] = {pr == kNoPrim ? kInfF : tt[l], pr};
       }
     }
   }
@@ -163,42 +172,44 @@ struct Packet {
 // of the few remaining rays meets, and each such child costs an 8-lane test with most lanes idle;
 // alone, a ray tests a node's 8 children in one. Out of line (inlined, it changed the packet loop's
 // register allocation and slowed shadow packets).
-template <bool Robust, bool Count, int G, class L>
+template <bool Robust, bool Count, class V, int G, class L>
 [[gnu::noinline]] void any_hits_alone(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_t i, std::uint32_t ref,
-                                      RayMask<G> left, Packet<G>& p, TraceCounters& c) {
+                                      typename Packet<V, G>::Mask left, Packet<V, G>& p, TraceCounters& c) {
+  constexpr int N = Packet<V, G>::N;
   Stack st(t);
   while (!left.empty()) {
-    const int f = left.first(), g = f >> 3, l = f & 7;
+    const int f = left.first(), g = f / N, l = f % N;
     left.set(g, left.group(g) & ~(1u << l));
     const HitRec h = single_loop<Robust, true, Count>(t, leaves, rays.get(i + std::size_t(f)), st, c, ref);
     if (h.prim == kNoPrim) continue;
     p.prim[f] = h.prim;
-    p.tbest[g] = xsimd::select(lanes::of(1u << l), f8(h.t), p.tbest[g]);
+    p.tbest[g] = xsimd::select(Packet<V, G>::Lanes::of(1u << l), V(h.t), p.tbest[g]);
     p.alive.set(g, p.alive.group(g) & ~(1u << l));
   }
 }
 
 // The rays of `mask` against node n's children the frustum accepts (`bits`): each child's ray
 // mask into cm, children no ray meets cleared from bits.
-template <bool Robust, bool Count, int G>
-RB_INLINE void child_masks(const WNode& n, const SlabFrustum& fr, const Packet<G>& p, const RayMask<G>& mask, unsigned& bits,
-                           RayMask<G> (&cm)[8], [[maybe_unused]] std::uint64_t real, TraceCounters& c) {
+template <bool Robust, bool Count, class V, int G, class Mask>
+RB_INLINE void child_masks(const WNode& n, const SlabFrustum& fr, const Packet<V, G>& p, const Mask& mask, unsigned& bits, Mask (&cm)[8],
+                           [[maybe_unused]] std::uint64_t real, TraceCounters& c) {
+  constexpr int N = Packet<V, G>::N;
   unsigned inherit = 0;
-  if constexpr (G > 1) {
+  if constexpr (G * N > 8) {
     // The first active ray against the 8 children: the internal children it meets keep the mask.
     const int f = mask.first();
-    alignas(32) float tb[8];
-    p.tbest[f >> 3].store_aligned(tb);
+    alignas(64) float tb[N];
+    p.tbest[f / N].store_aligned(tb);
     f8 tn1;
     if constexpr (Count) c.boxes += real;
     const unsigned leaf_children = lanes::top_bits(n.child);  // kLeafBit is the top bit
-    inherit = slab8<Robust>(n, p.one(f, fr.n), tb[f & 7], tn1) & bits & ~leaf_children;
+    inherit = slab8<Robust>(n, p.one(f, fr.n), tb[f % N], tn1) & bits & ~leaf_children;
   }
   for (unsigned e = bits & ~inherit; e; e &= e - 1) {
     const int k = __builtin_ctz(e);
     const float near[3] = {n.b[0 + fr.n[0]][k], n.b[2 + fr.n[1]][k], n.b[4 + fr.n[2]][k]};
     const float far[3] = {n.b[1 - fr.n[0]][k], n.b[3 - fr.n[1]][k], n.b[5 - fr.n[2]][k]};
-    RayMask<G> m = RayMask<G>::none();
+    Mask m = Mask::none();
     for (int g = 0; g < G; ++g) {
       const unsigned gb = mask.group(g);
       if (!gb) continue;
@@ -214,9 +225,9 @@ RB_INLINE void child_masks(const WNode& n, const SlabFrustum& fr, const Packet<G
 // Where the packet goes from a node: the hit children (bits, at least one) near to far (closest
 // hit) or in slot order (any hit: sorting does not pay; docs/DESIGN.md section 12), the
 // nearest next (ref, mask), the others pushed with their distance and mask.
-template <bool Robust, bool Any, int G>
-RB_INLINE void push_children(const WNode& n, const f8& tn, unsigned bits, const RayMask<G> (&cm)[8], std::uint32_t& ref, RayMask<G>& mask,
-                             Stack& st, RayMask<G>* smask, std::size_t& sp) {
+template <bool Robust, bool Any, class Mask>
+RB_INLINE void push_children(const WNode& n, const f8& tn, unsigned bits, const Mask (&cm)[8], std::uint32_t& ref, Mask& mask, Stack& st,
+                             Mask* smask, std::size_t& sp) {
   if ((bits & (bits - 1)) == 0) {
     const int k = __builtin_ctz(bits);
     ref = n.child[k];
@@ -246,13 +257,14 @@ RB_INLINE void push_children(const WNode& n, const f8& tn, unsigned bits, const 
 
 // The rays of `mask` against leaf `ref` (the leaf source's packet function); any hit: the rays
 // that hit leave `alive`; closest hit: tmax_all follows the rays' closest distances.
-template <bool Any, bool Count, int G, class L>
-RB_INLINE void visit_packet_leaf(const L& leaves, std::uint32_t ref, const RayMask<G>& mask, Packet<G>& p, PacketRays& view,
-                                 typename L::PacketCache& cache, float& tmax_all, TraceCounters& c) {
+template <bool Any, bool Count, class V, int G, class L, class Mask, class Cache>
+RB_INLINE void visit_packet_leaf(const L& leaves, std::uint32_t ref, const Mask& mask, Packet<V, G>& p, PacketRaysT<V>& view, Cache& cache,
+                                 float& tmax_all, TraceCounters& c) {
+  using Lanes = lanes::Group<V>;
   view.n = 0;
   for (int g = 0; g < G; ++g) {
     const unsigned gb = mask.group(g);
-    p.act[g] = lanes::of(gb);
+    p.act[g] = Lanes::of(gb);
     if (gb) view.list[view.n++] = std::uint8_t(g);
   }
   if constexpr (Count) {
@@ -265,7 +277,7 @@ RB_INLINE void visit_packet_leaf(const L& leaves, std::uint32_t ref, const RayMa
   if constexpr (Any) {
     for (int k = 0; k < view.n; ++k) {
       const int g = view.list[k];
-      const unsigned hit = mask.group(g) & ~lanes::bits(p.act[g]);  // the leaf cleared the rays that hit
+      const unsigned hit = mask.group(g) & ~Lanes::bits(p.act[g]);  // the leaf cleared the rays that hit
       p.alive.set(g, p.alive.group(g) & ~hit);
     }
   } else if (view.improved) {
@@ -273,10 +285,12 @@ RB_INLINE void visit_packet_leaf(const L& leaves, std::uint32_t ref, const RayMa
   }
 }
 
-template <bool Robust, bool Any, bool Count, int G, class L>
+// Rays [i, i + N G) as one packet of G groups of V (N lanes each), into out. The leaf source gives
+// its packet function for groups of V and its cache for them (L::PacketCacheFor<V>).
+template <bool Robust, bool Any, bool Count, int G, class L, class V = f8>
 void trace_packet(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_t i, HitRec* out, TraceCounters& c) {
-  using Mask = RayMask<G>;
-  Packet<G> p;
+  using Mask = typename Packet<V, G>::Mask;
+  Packet<V, G> p;
   p.load(rays, i);
   if (p.alive.empty() || t.nodes.empty()) {
     p.finish(i, out);
@@ -284,12 +298,12 @@ void trace_packet(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_
   }
   const SlabFrustum fr = p.frustum();
   float tmax_all = p.tmax_of(p.alive);
-  PacketRays view;
+  PacketRaysT<V> view;
   view.r = p.r;
   view.tbest = p.tbest;
   view.active = p.act;
   view.prim = p.prim;
-  typename L::PacketCache cache;
+  typename L::template PacketCacheFor<V> cache;
   Stack st(t);
   MaskStack<Mask> ms(t);
   std::size_t sp = 0;
@@ -299,7 +313,7 @@ void trace_packet(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_
     while (!is_leaf(ref)) {
       if constexpr (Any) {
         if (mask.count() <= kAnySingleRays) [[unlikely]] {
-          any_hits_alone<Robust, Count>(t, leaves, rays, i, ref, mask, p, c);
+          any_hits_alone<Robust, Count, V, G>(t, leaves, rays, i, ref, mask, p, c);
           if (p.alive.empty()) goto done;
           goto pop;
         }

@@ -167,6 +167,29 @@ RB_INLINE __m256i load8_aligned(const std::uint32_t* p) { return _mm256_load_si2
 RB_INLINE void store8(std::uint32_t* p, __m256i v) { _mm256_storeu_si256(reinterpret_cast<__m256i*>(p), v); }
 RB_INLINE void store8_aligned(std::uint32_t* p, __m256i v) { _mm256_store_si256(reinterpret_cast<__m256i*>(p), v); }
 
+// ---- a group of rays in one register, at either width ----------------------------------------------
+// What the packet walk (bvh/walk_packet.hpp) does with a group of rays in lanes, for each width it
+// runs at: 8 lanes here, 16 in core/lanes16.hpp (translation units compiled for AVX-512 only). The
+// maxima and minima on floats' bits as integers are those of the fast slab test (bvh/slab.hpp).
+template <class V>
+struct Group;
+template <>
+struct Group<f8> {
+  using mask = f8_mask;
+  using ivec = __m256i;
+  static constexpr int N = 8;
+  static RB_INLINE unsigned bits(const mask& m) { return lanes::bits(m); }
+  static RB_INLINE mask of(unsigned b) { return lanes::of(b); }
+  static RB_INLINE float hmin(const f8& x) { return lanes::hmin(x); }
+  static RB_INLINE float hmax(const f8& x) { return lanes::hmax(x); }
+  static RB_INLINE ivec as_int(const f8& x) { return lanes::as_int(x); }
+  static RB_INLINE f8 as_float(ivec x) { return lanes::as_float(x); }
+  static RB_INLINE ivec int_max(ivec a, ivec b) { return lanes::int_max(a, b); }
+  static RB_INLINE ivec int_min(ivec a, ivec b) { return lanes::int_min(a, b); }
+  static RB_INLINE unsigned int_le_bits(ivec a, ivec b) { return lanes::int_le_bits(a, b); }
+  static RB_INLINE unsigned le_bits(const f8& a, const f8& b) { return lanes::le_bits(a, b); }
+};
+
 // ---- 8 floats <-> two halves of 4 doubles --------------------------------------------------------
 RB_INLINE d4 lo_d4(const f8& x) { return d4(_mm256_cvtps_pd(_mm256_castps256_ps128(x))); }
 RB_INLINE d4 hi_d4(const f8& x) { return d4(_mm256_cvtps_pd(_mm256_extractf128_ps(x, 1))); }

@@ -62,6 +62,47 @@ TEST(Cli, TraceGivesMedianRangeAndCvAfterWarmupBesideEmbree) {
   EXPECT_TRUE(has(r.out, "machine    load average ")) << r.out;
 }
 
+// The lanes a packet's groups walked in and their ISA, in the JSON and the text: 16 (AVX-512) for
+// packets of 16 or more of a mesh where this binary and CPU have the 16-lane walk (not in the
+// sanitizer build), 8 (AVX2) otherwise, 1 for single rays; --isa avx512 fails clearly where 16
+// lanes cannot run; --isa both times the 8-lane walk beside the 16-lane one, with the same hits.
+TEST(Cli, TraceNamesTheLanesItsPacketsWalkedIn) {
+  Scratch s("trace_isa");
+  std::ofstream(s / "oct.obj") << kOctahedron;
+  auto trace = [&](const std::string& opts) {
+    const Outcome r = run_in(s.dir, "trace oct.obj --count 512 -r 2 --warmup 1 --no-embree --json t.json " + opts);
+    return std::pair{r, r.status == 0 ? nlohmann::json::parse(slurp(s / "t.json")) : nlohmann::json()};
+  };
+  const auto [r16, j16] = trace("--packet 16");
+  ASSERT_EQ(r16.status, 0) << r16.err;
+  const int lanes = j16["group_lanes"].get<int>();
+  ASSERT_TRUE(lanes == 8 || lanes == 16) << j16["group_lanes"];
+  const bool can16 = lanes == 16;
+  EXPECT_EQ(j16["isa"], can16 ? "avx512" : "avx2");
+  EXPECT_TRUE(has(r16.out, can16 ? "in groups of 16 lanes (AVX-512)" : "in groups of 8 lanes (AVX2)")) << r16.out;
+  const auto [r1, j1] = trace("--packet 1 --isa avx512");
+  if (can16) {
+    EXPECT_EQ(r1.status, 0) << r1.err;
+    EXPECT_EQ(j1["group_lanes"], 1);
+  } else {
+    EXPECT_NE(r1.status, 0);
+    EXPECT_TRUE(has(r1.err, "--isa avx512: this")) << r1.err;
+  }
+  const auto [r8, j8] = trace("--packet 64 --isa avx2");
+  ASSERT_EQ(r8.status, 0) << r8.err;
+  EXPECT_EQ(j8["group_lanes"], 8);
+  EXPECT_EQ(j8["hits_fnv1a"], trace("--packet 64").second["hits_fnv1a"]) << "the same hits at either width";
+  const auto [rb, jb] = trace("--packet 16 --isa both");
+  ASSERT_EQ(rb.status, 0) << rb.err;
+  EXPECT_EQ(jb.contains("lanes8"), can16);
+  if (can16) {
+    EXPECT_EQ(jb["lanes8"]["seconds"].size(), 2u);
+    EXPECT_EQ(jb["lanes8"]["mismatches"], 0);
+    EXPECT_EQ(jb["lanes8"]["speedup_16_over_8"]["rounds"], 2);
+    EXPECT_TRUE(has(rb.out, "16 lanes over 8: ")) << rb.out;
+  }
+}
+
 TEST(Cli, TraceTimesManyBuildsAsTheReportDoes) {
   Scratch s("trace-builds");
   std::ofstream(s / "oct.obj") << kOctahedron;

@@ -3,7 +3,7 @@
 #include "tracer/accel.hpp"
 
 #include "core/spawn.hpp"
-#include "tracer/traversal.hpp"
+#include "tracer/simd16.hpp"
 
 #include "core/par.hpp"
 
@@ -417,21 +417,10 @@ Vec3f SceneAccel::spawn_point(const SpawnBase& b, const Vec3f& dir) const {
 
 Vec3f SceneAccel::spawn_point(const kinds::Surface& sf, const Vec3f& dir) const { return spawn_point(spawn_base(sf), dir); }
 
-template <bool Count>
-void SceneAccel::dispatch(const RaySoA& rays, std::size_t begin, std::size_t end, HitRec* out, const TraceOptions& o,
-                          bvh::TraceCounters& c) const {
-  const bvh::Slab slab = o.slab_given ? o.slab : plan_.slab;
-  if (mesh_only_) run_traversal<Count>(wide, mesh_, rays, begin, end, out, o.packet, o.any, slab, c);
-  else run_traversal<Count>(wide, table_, rays, begin, end, out, o.packet, o.any, slab, c);
-}
-
-void SceneAccel::trace(const RaySoA& rays, std::size_t begin, std::size_t end, HitRec* out, const TraceOptions& o) const {
-  bvh::TraceCounters c;
-  dispatch<false>(rays, begin, end, out, o, c);
-}
-void SceneAccel::trace_counted(const RaySoA& rays, std::size_t begin, std::size_t end, HitRec* out, const TraceOptions& o,
-                               bvh::TraceCounters& c) const {
-  dispatch<true>(rays, begin, end, out, o, c);
+int SceneAccel::group_lanes(const TraceOptions& o) const {
+  static const bool simd16 = simd16_traversal_built() && simd16_cpu();
+  if (o.packet == 1) return 1;
+  return o.lanes == 16 && simd16 && mesh_only_ && o.packet >= 16 ? 16 : 8;
 }
 
 HitRec SceneAccel::brute_force(const Ray<float>& r, bool any) const {

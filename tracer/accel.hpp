@@ -21,8 +21,12 @@
 namespace rb::tracer {
 
 struct TraceOptions {
-  int packet = 1;    // 1: single rays; 8: packets of 8 rays; 16: packets of 16 (two 8-lane halves)
+  int packet = 1;    // 1: single rays; 8, 16, 64, 256: packets of that many rays (bvh/traverse.hpp)
   bool any = false;  // any hit (shadow rays): stop at the first hit
+  // The width of a packet's groups of rays: 8 (AVX2), or 16 (AVX-512) for packets of 16 or more rays
+  // of a triangle-only scene where the binary and the CPU have the 16-lane walk (otherwise 8:
+  // SceneAccel::group_lanes says which ran). Counted traces walk in 8 lanes.
+  int lanes = 8;
   // The plan's slab test unless set (the lab compares the three).
   bool slab_given = false;
   bvh::Slab slab = bvh::Slab::conservative;
@@ -83,6 +87,9 @@ class SceneAccel {
 
   // Traces rays [begin, end) (frame coordinates; begin a multiple of 8) into out[begin, end).
   void trace(const RaySoA& rays, std::size_t begin, std::size_t end, HitRec* out, const TraceOptions& o) const;
+  // The lanes per group of rays a trace with these options walks in (TraceOptions::lanes): 1 for
+  // single rays, else 8 or 16.
+  int group_lanes(const TraceOptions& o) const;
   // The same, counting traversal cost (slower: for the per-ray figures, not for timing).
   void trace_counted(const RaySoA& rays, std::size_t begin, std::size_t end, HitRec* out, const TraceOptions& o,
                      bvh::TraceCounters& c) const;
@@ -106,6 +113,9 @@ class SceneAccel {
   std::uint32_t slot_id(int tag, std::size_t slot) const;
   // Whether primitive `index` of kind k is stored apart, in double.
   bool stored_apart(Kind k, std::uint32_t index) const;
+  // The leaf source of a triangle-only scene traced with Woop in float (tracer/mesh_leaves.hpp), for
+  // a walk of the caller's choice over `wide`; null for every other scene.
+  const MeshLeaves* mesh_leaves() const { return mesh_only_ ? &mesh_ : nullptr; }
 
   bvh::Bvh2 bin;
   bvh::Bvh8 wide;

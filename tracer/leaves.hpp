@@ -452,6 +452,8 @@ struct TableLeaves {
   std::uint32_t (*slots_fn[kLeafKinds])(const void*, std::size_t) = {};
   using RayCache = tracer::RayCache;
   using PacketCache = tracer::PacketCache;
+  template <class V>  // groups of 8 lanes only: every kind's leaf functions are 8-lane
+  using PacketCacheFor = PacketCache;
   RB_INLINE bool single(std::uint32_t ref, const Ray<float>& r, RayCache& c, HitRec& h) const {
     const int k = bvh::leaf_kind(ref);
     return fns[k].single(batch[k], std::size_t(bvh::leaf_group(ref)) * 8, r, c, h);

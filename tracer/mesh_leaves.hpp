@@ -73,27 +73,29 @@ struct MeshRayCache {
     rb.tmin = f8(r.tmin);
   }
 };
-// Per group of a packet: the shear (made at the group's first leaf) and, for a group whose rays
-// share the permutation, the origin's coordinates in that order.
+// Per group of a packet (groups of V: 8 or 16 rays): the shear (made at the group's first leaf)
+// and, for a group whose rays share the permutation, the origin's coordinates in that order.
 // Per ray of a packet, for the leaves it meets with few rays: the scalar shear and the origin in its
 // order (made at the ray's first such leaf).
+template <class V>
 struct MeshPacketCache {
+  static constexpr int N = lanes::Group<V>::N, kGroups = bvh::kMaxRays / N;
   std::uint32_t ready = 0;  // bit g: group g's entry is made
-  WoopRay<f8> w[bvh::kMaxGroups];
-  f8 o[bvh::kMaxGroups][3];
-  std::uint32_t ray_ready[bvh::kMaxGroups] = {};  // bit l of [g]: ray g * 8 + l's entry is made
+  WoopRay<V> w[kGroups];
+  V o[kGroups][3];
+  std::uint32_t ray_ready[kGroups] = {};  // bit l of [g]: ray N g + l's entry is made
   struct One {
     float S[3], o[3];
     int k[3];
-    RB_INLINE void make(const Ray<f8>& r, int l) {  // lane l of r
-      alignas(32) float v[6][8];
+    RB_INLINE void make(const Ray<V>& r, int l) {  // lane l of r
+      alignas(64) float v[6][N];
       r.o.x.store_aligned(v[0]); r.o.y.store_aligned(v[1]); r.o.z.store_aligned(v[2]);
       r.d.x.store_aligned(v[3]); r.d.y.store_aligned(v[4]); r.d.z.store_aligned(v[5]);
       const Vec3f org{v[0][l], v[1][l], v[2][l]};
       const WoopShear w = woop_shear<true>(Vec3f{v[3][l], v[4][l], v[5][l]});
       for (int a = 0; a < 3; ++a) S[a] = w.S[a], k[a] = w.k[a], o[a] = org[k[a]];
     }
-  } one[8 * bvh::kMaxGroups];
+  } one[bvh::kMaxRays];
   MeshPacketCache() {}
 };
 struct MeshLeaves {
@@ -101,7 +103,8 @@ struct MeshLeaves {
   const StdBatch<Tri>* tri = nullptr;
   const StdBatch<Tri>* apart = nullptr;  // the triangles stored apart (tag apart_tag)
   using RayCache = MeshRayCache;
-  using PacketCache = MeshPacketCache;
+  template <class V>
+  using PacketCacheFor = MeshPacketCache<V>;
   static bool is_apart(std::uint32_t ref) { return bvh::leaf_kind(ref) != int(Tri::id); }
   RB_INLINE bool single(std::uint32_t ref, const Ray<float>& r, RayCache& c, HitRec& h) const {
     const std::size_t base = std::size_t(bvh::leaf_group(ref)) * 8;
@@ -118,20 +121,22 @@ struct MeshLeaves {
     if (none_of<f8>(hit.mask)) return false;
     return bvh::take_nearest(hit.t, h, [&](int lane) { return kinds::code(kinds::TriangleKind::id, tri->id[base + std::size_t(lane)]); });
   }
-  // Whichever needs fewer 8-lane kernel calls: fewer rays than triangle x group pairs, one ray at
-  // a time against the 8 triangles in lanes (the single-ray kernel); otherwise rays in lanes, one
-  // triangle at a time: a group sharing the shear's permutation loads the triangle's coordinates
-  // in that order (scalars, then broadcast); another permutes per lane. The same arithmetic either
-  // way: the same t for each ray and triangle.
-  template <bool Any>
-  RB_INLINE void packet(std::uint32_t ref, bvh::PacketRays& p, PacketCache& c) const {
+  // Whichever needs fewer kernel calls: fewer rays than triangle x group pairs, one ray at a time
+  // against the 8 triangles in lanes (the single-ray kernel); otherwise rays in lanes (8 or 16, V),
+  // one triangle at a time: a group sharing the shear's permutation loads the triangle's
+  // coordinates in that order (scalars, then broadcast); another permutes per lane. The same
+  // arithmetic either way: the same t for each ray and triangle. Triangles stored apart run their
+  // 8-lane leaf function (a 16-ray group as its two halves).
+  template <bool Any, class V>
+  RB_INLINE void packet(std::uint32_t ref, bvh::PacketRaysT<V>& p, MeshPacketCache<V>& c) const {
     const std::size_t base = std::size_t(bvh::leaf_group(ref)) * 8;
     if (is_apart(ref)) [[unlikely]] {
-      apart_packet<Tri, 0, Any>(*apart, base, p);
+      if constexpr (std::is_same_v<V, f8>) apart_packet<Tri, 0, Any>(*apart, base, p);
+      else apart_in_halves<Any>(base, p);
       return;
     }
     int rays = 0;
-    for (int q = 0; q < p.n; ++q) rays += count_true<f8>(p.active[p.list[q]]);
+    for (int q = 0; q < p.n; ++q) rays += count_true<V>(p.active[p.list[q]]);
     const int tris = int(real_slots(*tri, base));
     if (rays < tris * p.n) {
       packet_by_ray<Any>(base, p, c);
@@ -154,40 +159,42 @@ struct MeshLeaves {
       const std::uint32_t code = kinds::code(kinds::TriangleKind::id, sid);
       for (int q = 0; q < p.n; ++q) {
         const int k = p.list[q];
-        if (none_of<f8>(p.active[k])) continue;
-        const WoopRay<f8>& w = c.w[k];
-        Ray<f8> rr = p.r[k];
+        if (none_of<V>(p.active[k])) continue;
+        const WoopRay<V>& w = c.w[k];
+        Ray<V> rr = p.r[k];
         rr.tmax = p.tbest[k];
-        Vec3<f8> v[3];
+        Vec3<V> v[3];
         if (w.uniform) {
           for (int i = 0; i < 3; ++i)
-            v[i] = {f8(g[8 * (3 * i + w.kx)]) - c.o[k][0], f8(g[8 * (3 * i + w.ky)]) - c.o[k][1], f8(g[8 * (3 * i + w.kz)]) - c.o[k][2]};
+            v[i] = {V(g[8 * (3 * i + w.kx)]) - c.o[k][0], V(g[8 * (3 * i + w.ky)]) - c.o[k][1], V(g[8 * (3 * i + w.kz)]) - c.o[k][2]};
         } else {
           for (int i = 0; i < 3; ++i)
-            v[i] = woop_permute(w, Vec3<f8>{f8(g[8 * (3 * i)]), f8(g[8 * (3 * i + 1)]), f8(g[8 * (3 * i + 2)])} - rr.o);
+            v[i] = woop_permute(w, Vec3<V>{V(g[8 * (3 * i)]), V(g[8 * (3 * i + 1)]), V(g[8 * (3 * i + 2)])} - rr.o);
         }
-        const Hit<f8> hit = intersect_triangle_woop_permuted(w, rr, v[0], v[1], v[2]);
+        const Hit<V> hit = intersect_triangle_woop_permuted(w, rr, v[0], v[1], v[2]);
         bvh::packet_update<Any>(p, k, hit.mask, hit.t, code);
       }
     }
   }
   std::uint32_t slots(std::uint32_t ref) const { return real_slots(is_apart(ref) ? *apart : *tri, std::size_t(bvh::leaf_group(ref)) * 8); }
 
-  template <bool Any>
-  RB_INLINE void packet_by_ray(std::size_t base, bvh::PacketRays& p, PacketCache& c) const {
+  template <bool Any, class V>
+  RB_INLINE void packet_by_ray(std::size_t base, bvh::PacketRaysT<V>& p, MeshPacketCache<V>& c) const {
+    using Lanes = lanes::Group<V>;
+    constexpr int N = Lanes::N;
     const float* gr = tri->f32.field(0, base);  // the group: field i at gr + 8 i
     prefetch_ids(*tri, base);
     for (int q = 0; q < p.n; ++q) {
       const int g = p.list[q];
-      unsigned bits = lanes::bits(p.active[g]);
+      unsigned bits = Lanes::bits(p.active[g]);
       if (!bits) continue;
-      alignas(32) float tb[8], tm[8];
+      alignas(64) float tb[N], tm[N];
       p.tbest[g].store_aligned(tb);
       p.r[g].tmin.store_aligned(tm);
       while (bits) {
         const int l = __builtin_ctz(bits);
         bits &= bits - 1;
-        MeshPacketCache::One& one = c.one[8 * g + l];
+        typename MeshPacketCache<V>::One& one = c.one[N * g + l];
         if (!(c.ray_ready[g] >> l & 1u)) {
           one.make(p.r[g], l);
           c.ray_ready[g] |= 1u << l;
@@ -204,17 +211,55 @@ struct MeshLeaves {
         };
         const Hit<f8> hit = intersect_triangle_woop_permuted(w, rr, vertex(0), vertex(1), vertex(2));
         if (none_of<f8>(hit.mask)) continue;
-        bvh::HitRec h{tb[l], p.prim[8 * g + l]};
+        bvh::HitRec h{tb[l], p.prim[N * g + l]};
         if (!bvh::take_nearest(hit.t, h, [&](int lane) { return kinds::code(kinds::TriangleKind::id, tri->id[base + std::size_t(lane)]); }))
           continue;
-        const f8_mask one_lane = lanes::of(1u << l);
         tb[l] = h.t;
-        p.prim[8 * g + l] = h.prim;
+        p.prim[N * g + l] = h.prim;
         p.improved = true;
-        if constexpr (Any) p.active[g] = p.active[g] & ~one_lane;
+        if constexpr (Any) p.active[g] = p.active[g] & ~Lanes::of(1u << l);
       }
-      p.tbest[g] = f8::load_aligned(tb);
+      p.tbest[g] = V::load_aligned(tb);
     }
+  }
+
+  // The 8-lane leaf function of the triangles stored apart on a packet of 16-lane groups: each
+  // group as its two halves (8-lane groups 2 k and 2 k + 1 share its rays' slots in prim).
+  template <bool Any, class V>
+  void apart_in_halves(std::size_t base, bvh::PacketRaysT<V>& p) const {
+    using Lanes = lanes::Group<V>;
+    static_assert(Lanes::N == 16);
+    Ray<f8> r8[bvh::kMaxGroups];
+    f8 tb8[bvh::kMaxGroups];
+    f8_mask act8[bvh::kMaxGroups];
+    bvh::PacketRays v;
+    v.r = r8;
+    v.tbest = tb8;
+    v.active = act8;
+    v.prim = p.prim;
+    for (int q = 0; q < p.n; ++q) {
+      const int k = p.list[q];
+      const Ray<V>& r = p.r[k];
+      for (int h = 0; h < 2; ++h) {
+        auto half = [&](const V& x) { return Lanes::half(x, h); };
+        const int s = 2 * k + h;
+        r8[s].o = {half(r.o.x), half(r.o.y), half(r.o.z)};
+        r8[s].d = {half(r.d.x), half(r.d.y), half(r.d.z)};
+        r8[s].rd = {half(r.rd.x), half(r.rd.y), half(r.rd.z)};
+        r8[s].tmin = half(r.tmin);
+        r8[s].tmax = half(r.tmax);
+        tb8[s] = half(p.tbest[k]);
+        act8[s] = lanes::of(Lanes::bits(p.active[k]) >> (8 * h) & 0xFFu);
+        v.list[v.n++] = std::uint8_t(s);
+      }
+    }
+    apart_packet<Tri, 0, Any>(*apart, base, v);
+    for (int q = 0; q < p.n; ++q) {
+      const int k = p.list[q];
+      p.tbest[k] = Lanes::join(tb8[2 * k], tb8[2 * k + 1]);
+      p.active[k] = Lanes::of(lanes::bits(act8[2 * k]) | lanes::bits(act8[2 * k + 1]) << 8);
+    }
+    p.improved = p.improved || v.improved;
   }
 };
 

@@ -43,6 +43,11 @@ class TraceCommand final : public Command {
                      "origin, direction) and puts the hits back, both\ntimed; Embree then traces both orders")
         ->check(one_of({"given", "sorted"}))
         ->capture_default_str();
+    sub_->add_option("--isa", to.isa,
+                     "Lanes per group of a packet's rays (packets of\n16 or more, triangle meshes): auto: 16 AVX-512\n"
+                     "lanes where the CPU and the build have them;\navx2: 8 lanes; avx512: fail where 16 cannot run;\n"
+                     "both: auto, and where that is 16 lanes the\n8-lane walk timed beside it in the same rounds")
+        ->check(one_of({"auto", "avx2", "avx512", "both"}))->capture_default_str();
     sub_->add_option("--model", to.model, "How the scene is modelled: auto (what it\nneeds: `raybench plan`), fast or exact")
         ->check(one_of({"auto", "fast", "exact"}))->capture_default_str();
     sub_->add_option("--slab", to.slab, "Slab test: plan (the model's), conservative,\nfast or robust")

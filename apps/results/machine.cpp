@@ -3,6 +3,7 @@
 #include "apps/build_info.hpp"
 #include "apps/cli.hpp"
 #include "bench/simd16.hpp"
+#include "tracer/simd16.hpp"
 
 #include <fmt/format.h>
 
@@ -28,13 +29,15 @@ std::string run_capture(const std::string& cmd) {
 
 namespace {
 // The SIMD the binary runs: the AVX2 kernels everywhere, and the kernel benchmarks' 16-lane AVX-512
-// loops where this build has them (bench/simd16.hpp) and the host supports them (`raybench bench
-// --isa` chooses; its results name the choice).
+// loops and the tracer's 16-lane packet walk where this build has them (bench/simd16.hpp,
+// tracer/simd16.hpp) and the host supports them (`raybench bench --isa` and `raybench trace --isa`
+// choose; their results name the choice).
 std::string simd_text() {
   std::string s = "xsimd 8.1 fma3<avx2>, 8 x float";
   if (!bench::simd16_built()) return s + "; this build has no AVX-512 code";
-  return s + (bench::simd16_cpu() ? "; kernel benchmarks also avx512dq, 16 x float"
-                                  : "; kernel benchmarks' avx512dq 16 x float built, not run (host lacks it)");
+  const std::string what = tracer::simd16_traversal_built() ? "kernel benchmarks and mesh packets of 16+ rays" : "kernel benchmarks";
+  return s + (bench::simd16_cpu() ? "; " + what + " also avx512dq, 16 x float"
+                                  : "; " + what + ": avx512dq 16 x float built, not run (host lacks it)");
 }
 }  // namespace
 
