@@ -285,6 +285,9 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
          {"tests_counted", ro.count_tests},
          {"secondary_packet", ro.secondary_packet},
          {"eye_packet", ro.eye_packet},
+         // The lanes per group the eye packets walked in: 16 (AVX-512) for a triangle mesh where the
+         // binary and CPU have them; counted renders walk in 8.
+         {"eye_group_lanes", ro.count_tests ? 8 : accel.group_lanes({.packet = ro.eye_packet, .lanes = 16})},
          {"packet_choice", {{"eye", o.eye_packet == 0 ? "fastest in the trial renders" : "given"},
                             {"secondary", o.secondary_packet == 0 ? "fastest in the trial renders" : "given"},
                             {"trials", rt.trial_rows}}},
