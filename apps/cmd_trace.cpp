@@ -20,7 +20,7 @@ int run_trace_file_command(const TraceRunOptions& o, const std::string& model, c
   if (!warn.empty()) std::cerr << wrap_words(warn);
   nlohmann::json j;
   try {
-    j = run_trace_file(o.scene, o.ray_set, model, o.threads, o.repetitions, o.min_time, true);
+    j = run_trace_file(o.scene, o.ray_set, model, o.threads, o.repetitions, o.min_time, trace_lanes(o.isa), true);
   } catch (const std::exception& e) {
     std::cerr << error_line("trace", o.scene, e.what()) << "\n";
     return kExitError;

@@ -16,7 +16,7 @@ namespace rb::app {
 using nlohmann::json;
 
 json trace_rays_alone(const tracer::SceneAccel& accel, const tracer::RayFile& f, int threads, int repetitions, double min_time,
-                      const std::function<void(double)>& progress) {
+                      int lanes, const std::function<void(double)>& progress) {
   constexpr std::size_t kChunk = 256;  // a multiple of every packet size
   const std::size_t k_sections = f.sections.size();
   std::vector<RaySoA> soa(k_sections);
@@ -34,6 +34,7 @@ json trace_rays_alone(const tracer::SceneAccel& accel, const tracer::RayFile& f,
       tracer::TraceOptions to;
       to.packet = f.sections[k].packet;
       to.any = f.sections[k].any;
+      to.lanes = lanes;
       const trace::Tracer t = [&](std::size_t b, std::size_t e, bvh::HitRec* o) { accel.trace(soa[k], b, e, o, to); };
       const double s = trace::time_runs(ts, t, soa[k].count, out[k], 1, kChunk)[0];
       if (count) section_s[k] += s;
@@ -65,8 +66,11 @@ json trace_rays_alone(const tracer::SceneAccel& accel, const tracer::RayFile& f,
     std::size_t hits = 0;
     for (std::size_t i = 0; i < s.rays.size(); ++i) hits += out[k][i].prim != bvh::kNoPrim;
     const double ms = 1e3 * section_s[k] / std::max(1, timed_passes);
+    tracer::TraceOptions to;
+    to.packet = s.packet;
+    to.lanes = lanes;
     secs.push_back({{"kind", s.kind}, {"generation", s.generation}, {"query", s.any ? "any" : "closest"}, {"packet", s.packet},
-                    {"rays", s.rays.size()}, {"hits", hits}, {"ms", ms},
+                    {"lanes", accel.group_lanes(to)}, {"rays", s.rays.size()}, {"hits", hits}, {"ms", ms},
                     {"mrays_per_s", ms > 0 ? double(s.rays.size()) / (ms * 1e3) : 0.0}});
   }
   return {{"rays", n},
@@ -81,7 +85,7 @@ json trace_rays_alone(const tracer::SceneAccel& accel, const tracer::RayFile& f,
 }
 
 json run_trace_file(const std::string& scene, const std::string& file, const std::string& model, int threads, int repetitions,
-                    double min_time, bool progress) {
+                    double min_time, int lanes, bool progress) {
   tracer::RayFile f = tracer::read_ray_file(file);
   const std::string m = model.empty() ? f.model : model;
   const scene::Scene s = scene::load_scene(scene);
@@ -94,7 +98,7 @@ json run_trace_file(const std::string& scene, const std::string& file, const std
   const bool moved = !(f.origin.x == plan.origin.x && f.origin.y == plan.origin.y && f.origin.z == plan.origin.z);
   tracer::move_frame(f, plan.origin);
   ProgressBar bar(fmt::format("trace {} {}", scene, file), progress ? ProgressBar::Mode::automatic : ProgressBar::Mode::off);
-  json j = trace_rays_alone(accel, f, threads, repetitions, min_time, [&](double x) { bar.update(x); });
+  json j = trace_rays_alone(accel, f, threads, repetitions, min_time, lanes, [&](double x) { bar.update(x); });
   bar.done();
   j["scene"] = scene;
   j["rays_file"] = file;

@@ -186,7 +186,9 @@ RenderTimes time_renders(const RenderRunOptions& o, const scene::Scene& s, const
     if (!o.rays_out.empty()) tracer::write_ray_file(o.rays_out, f);
     ++run;
     if (o.trace_alone) {
-      out.alone = trace_rays_alone(accel, f, o.threads, o.repetitions, o.min_time, [&](double x) { progress(std::size_t(1e3 * x), 1000); });
+      // The render's own width (its eye packets ask for 16 lanes: render/render.cpp).
+      out.alone = trace_rays_alone(accel, f, o.threads, o.repetitions, o.min_time, 16,
+                                   [&](double x) { progress(std::size_t(1e3 * x), 1000); });
       // The render's rate over the rate of the same rays traced alone, counted as the render counts
       // them: the traced-alone seconds over the render's, a ratio of medians with its interval.
       out.alone["render_over_alone"] = stats::interval_json(stats::unpaired_ratio(out.alone["seconds"].get<std::vector<double>>(), out.trace_seconds));

@@ -286,6 +286,8 @@ void put_sah_tree(json& t, const tracer::SceneAccel& sah, trace::ThreadScope& ts
   t["mismatches_vs_builder_tree"] = tracer::compare(ours, sah_out, n, any).mismatches;
 }
 
+}  // namespace
+
 // --isa: the lanes per group of a packet's rays asked for (tracer::TraceOptions::lanes).
 int trace_lanes(const std::string& isa) {
   const bool can = tracer::simd16_traversal_built() && tracer::simd16_cpu();
@@ -297,7 +299,6 @@ int trace_lanes(const std::string& isa) {
   return can ? 16 : 8;
 }
 
-}  // namespace
 
 json TraceSession::run(const TraceRunOptions& o, bool progress) {
   const tracer::RaySet set = tracer::parse_ray_set(o.ray_set);

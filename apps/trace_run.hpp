@@ -52,6 +52,10 @@ nlohmann::json time_builds(const rb::scene::Scene& s, const std::string& source,
                            const std::function<void(double)>& done = {});
 
 nlohmann::json run_trace(const TraceRunOptions& o, bool progress);
+// The lanes per group of a packet's rays that `--isa` asks for (tracer::TraceOptions::lanes): 8 for
+// avx2, 16 for auto and both where the binary and the CPU have the 16-lane walk; avx512 where they
+// do not throws std::invalid_argument.
+int trace_lanes(const std::string& isa);
 std::string trace_text(const nlohmann::json& j);
 
 }  // namespace rb::app

@@ -190,6 +190,9 @@ TEST(Cli, RenderRaysTracedAloneByTrace) {
   for (std::size_t i = 0; i < tj["sections"].size(); ++i) {
     const auto& sec = tj["sections"][i];
     EXPECT_EQ(sec["hits"], alone["sections"][i]["hits"]);
+    // Spheres: every packet walks in 8 lanes, at either width asked for.
+    EXPECT_EQ(sec["lanes"], 8) << sec;
+    EXPECT_EQ(alone["sections"][i]["lanes"], 8) << alone["sections"][i];
     const auto& g = gens.at(sec["generation"].get<std::size_t>() - 1);
     if (sec["kind"] == "shadow") {
       EXPECT_EQ(sec["query"], "any") << "nine red balls are opaque";
