@@ -299,7 +299,6 @@ int trace_lanes(const std::string& isa) {
   return can ? 16 : 8;
 }
 
-
 json TraceSession::run(const TraceRunOptions& o, bool progress) {
   const tracer::RaySet set = tracer::parse_ray_set(o.ray_set);
   tracer::RaySetInfo info;
