@@ -290,7 +290,7 @@ void put_sah_tree(json& t, const tracer::SceneAccel& sah, trace::ThreadScope& ts
 
 // --isa: the lanes per group of a packet's rays asked for (tracer::TraceOptions::lanes).
 int trace_lanes(const std::string& isa) {
-  const bool can = tracer::simd16_traversal_built() && tracer::simd16_cpu();
+  const bool can = tracer::simd16_traversal_runs();
   if (isa == "avx2") return 8;
   if (isa == "avx512" && !can)
     throw std::invalid_argument(tracer::simd16_traversal_built() ? "--isa avx512: this CPU lacks AVX-512 F, CD, DQ, BW or VL"

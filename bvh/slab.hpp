@@ -36,7 +36,7 @@ inline constexpr float kMinDir = 1e-18f;
 inline float safe_rcp(float d) { return 1.0f / (std::fabs(d) < kMinDir ? std::copysign(kMinDir, d) : d); }
 inline float safe_rcp(float d, float rd) { return std::fabs(d) < kMinDir ? std::copysign(1.0f / kMinDir, d) : rd; }
 template <class V>
-RB_INLINE V safe_rcp8(const V& d, const V& rd) {
+RB_INLINE V safe_rcp_lanes(const V& d, const V& rd) {
   return xsimd::select(xsimd::abs(d) < V(kMinDir), xsimd::copysign(V(1.0f / kMinDir), d), rd);
 }
 

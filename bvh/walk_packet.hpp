@@ -91,7 +91,7 @@ struct Packet {
     for (int g = 0; g < G; ++g) {
       r[g] = rays.packet<V>(i + N * std::size_t(g));
       const Vec3<V>& d = r[g].d;
-      const V inv[3] = {safe_rcp8(d.x, r[g].rd.x), safe_rcp8(d.y, r[g].rd.y), safe_rcp8(d.z, r[g].rd.z)};
+      const V inv[3] = {safe_rcp_lanes(d.x, r[g].rd.x), safe_rcp_lanes(d.y, r[g].rd.y), safe_rcp_lanes(d.z, r[g].rd.z)};
       const V oo[3] = {r[g].o.x, r[g].o.y, r[g].o.z};
       for (int a = 0; a < 3; ++a) {
         side[g].rd[a] = inv[a];

@@ -177,7 +177,7 @@ TEST(Bvh, SlabReciprocalFromTheRayEqualsTheDividedOne) {
     if (!(r.tmin <= r.tmax)) continue;
     for (int a = 0; a < 3; ++a) ASSERT_TRUE(same(bvh::safe_rcp(r.d[a], r.rd[a]), bvh::safe_rcp(r.d[a]))) << r.d[a];
     const f8 d8(r.d.x), rd8(r.rd.x);
-    ASSERT_TRUE(same(bvh::safe_rcp8(d8, rd8).get(3), bvh::safe_rcp(r.d.x))) << r.d.x;
+    ASSERT_TRUE(same(bvh::safe_rcp_lanes(d8, rd8).get(3), bvh::safe_rcp(r.d.x))) << r.d.x;
   }
   std::uniform_int_distribution<std::uint32_t> bits;
   const std::uint32_t m = std::bit_cast<std::uint32_t>(bvh::kMinDir);

@@ -137,7 +137,7 @@ void same_hits_in_16_lanes(const std::string& what, const scene::Scene& s, const
   }
 }
 
-bool can_run() { return tracer::simd16_traversal_built() && tracer::simd16_cpu(); }
+bool can_run() { return tracer::simd16_traversal_runs(); }
 
 TEST(Trace16, PacketsGiveTheSingleRayHitsOnAScannedMeshAndASphere) {
   if (!can_run()) GTEST_SKIP() << "this build or CPU has no 16-lane traversal";

@@ -418,9 +418,8 @@ Vec3f SceneAccel::spawn_point(const SpawnBase& b, const Vec3f& dir) const {
 Vec3f SceneAccel::spawn_point(const kinds::Surface& sf, const Vec3f& dir) const { return spawn_point(spawn_base(sf), dir); }
 
 int SceneAccel::group_lanes(const TraceOptions& o) const {
-  static const bool simd16 = simd16_traversal_built() && simd16_cpu();
   if (o.packet == 1) return 1;
-  return o.lanes == 16 && simd16 && mesh_only_ && o.packet >= 16 ? 16 : 8;
+  return o.lanes == 16 && simd16_traversal_runs() && mesh_only_ && o.packet >= 16 ? 16 : 8;
 }
 
 HitRec SceneAccel::brute_force(const Ray<float>& r, bool any) const {

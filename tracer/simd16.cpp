@@ -20,6 +20,11 @@ bool simd16_cpu() {
          __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512vl");
 }
 
+bool simd16_traversal_runs() {
+  static const bool runs = simd16_traversal_built() && simd16_cpu();
+  return runs;
+}
+
 #ifndef RB_HAVE_SIMD16
 void trace_packet_simd16(const bvh::Bvh8&, const MeshLeaves&, const RaySoA&, std::size_t, int, bool, bool, bvh::HitRec*) {
   throw std::logic_error("this build has no 16-lane traversal (compiled without AVX-512 support)");

@@ -22,6 +22,8 @@ struct MeshLeaves;
 // the OS).
 bool simd16_traversal_built();
 bool simd16_cpu();
+// Both: packets can walk in 16 lanes here.
+bool simd16_traversal_runs();
 // Rays [i, i + packet) (packet 16, 64 or 256; one direction octant) as one packet of 16-lane groups
 // over a triangle mesh, closest or any hit, the robust slab test or the fast one; hits into out.
 // Only where simd16_traversal_built() and simd16_cpu() (throws std::logic_error in a build without it).
