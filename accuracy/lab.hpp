@@ -22,6 +22,9 @@
 namespace rb::scene {
 struct Scene;
 }
+namespace rb::kinds {
+enum class Kind : std::uint8_t;
+}
 
 namespace rb::acc {
 
@@ -96,4 +99,14 @@ inline constexpr const char* kApartInDouble = "auto_apart_double";
 inline constexpr double kWholeSceneTurn = 0.015;
 std::vector<Row> whole_scene_rows(const scene::Scene& s, const std::string& case_name, const std::string& what, std::size_t rays,
                                   int timed_rounds, std::uint64_t seed);
+// (rb_accuracy_tracer) What storing a kind apart costs (the rows of family "storage"; the evidence
+// behind each kind's kinds::StorageCost): the scene under the auto plan with every primitive of kind
+// `k` in its batch (method kStorageFloat), then stored apart in local frames (kStorageLocal) and in
+// double (kStorageDouble), checked and timed as whole_scene_rows does. The kind's share of a ray's
+// time is what changes, so a scene of that kind alone (a mesh, a field of spheres) shows it best.
+inline constexpr const char* kStorageFloat = "in_frame";
+inline constexpr const char* kStorageLocal = "local_frames";
+inline constexpr const char* kStorageDouble = "double";
+std::vector<Row> storage_rows(const scene::Scene& s, kinds::Kind k, const std::string& case_name, const std::string& what,
+                              std::size_t rays, int timed_rounds, std::uint64_t seed);
 }  // namespace rb::acc

@@ -227,34 +227,47 @@ void time_rows(std::vector<Row>& rows, const std::vector<tracer::SceneAccel>& ac
 
 }  // namespace
 
+// A kind's primitives, to time their storage (family "storage"): an embedded mesh under
+// Options::data_dir, or an SPD scene at its default size.
+struct StorageCase {
+  const char* name;
+  const char* what;
+  kinds::Kind kind;
+  const char* mesh = nullptr;
+  const char* spd = nullptr;
+};
+
+const std::vector<StorageCase>& storage_case_table() {
+  static const std::vector<StorageCase> t = {
+      {"triangle", "the Stanford bunny's 69,451 triangles in the frame, in local frames, in double", kinds::Kind::triangle,
+       "stanford-bunny.obj"},
+      {"sphere", "spd:balls' 7,381 spheres in the frame, in local frames, in double", kinds::Kind::sphere, nullptr, "balls"},
+  };
+  return t;
+}
+
 std::vector<CaseInfo> scene_cases() {
   std::vector<CaseInfo> v;
   for (const SceneCase& c : scene_case_table()) v.push_back({"scene", c.name, c.what});
+  for (const StorageCase& c : storage_case_table()) v.push_back({"storage", c.name, c.what});
   return v;
 }
 
-std::vector<Row> whole_scene_rows(const scene::Scene& s, const std::string& case_name, const std::string& what, std::size_t nrays,
-                                  int timed_rounds, std::uint64_t seed) {
+namespace {
+
+using LabelledPlans = std::vector<std::pair<std::string, tracer::Plan>>;
+
+// A scene traced under each of `plans` (rows in their order, method = the plan's label) against the
+// exact reference, then timed in rounds in which the plans take turns.
+std::vector<Row> plan_rows(const scene::Scene& s, const tracer::Profile& prof, const char* family, const std::string& case_name,
+                           const std::string& what, const LabelledPlans& plans, std::size_t nrays, int timed_rounds, std::uint64_t seed) {
   std::vector<Row> rows;
-  const tracer::Profile prof = tracer::make_profile(s);
   const Reference ref{s};
   const scene::View view = scene::view_of(s);
   const double small = prof.object_min > 0 ? prof.object_min : 1.0;
-  // Each model's tree and primary rays, kept for the timed rounds after the accuracy figures.
+  // Each plan's tree and primary rays, kept for the timed rounds after the accuracy figures.
   std::vector<tracer::SceneAccel> accels;
   std::vector<RaySoA> primaries;
-  // The three models, and where the auto model stores primitives apart in local frames, the same
-  // plan with them in double (the storage those frames replace: what they cost and save).
-  std::vector<std::pair<std::string, tracer::Plan>> plans;
-  for (tracer::Model m : {tracer::Model::fast, tracer::Model::automatic, tracer::Model::exact})
-    plans.emplace_back(tracer::model_name(m), tracer::make_plan(s, prof, m));
-  tracer::Plan apart64 = plans[1].second;
-  bool local = false;
-  for (tracer::KindPlan& kp : apart64.kinds) {
-    local = local || (!kp.split.empty() && kp.split_local);
-    kp.split_local = false;
-  }
-  if (local) plans.emplace_back(kApartInDouble, apart64);
   accels.reserve(plans.size());
   for (const auto& [label, plan] : plans) {
     std::mt19937_64 rng(seed);
@@ -274,7 +287,7 @@ std::vector<Row> whole_scene_rows(const scene::Scene& s, const std::string& case
     to.packet = 8;
     a.trace(rays, 0, rays.size(), hits.data(), to);
     Row r;
-    r.family = "scene", r.case_name = case_name, r.what = what;
+    r.family = family, r.case_name = case_name, r.what = what;
     r.method = label;
     r.precision = tracer::frame_name(a.plan().frame);
     r.rays = r.tests = n;
@@ -334,6 +347,46 @@ std::vector<Row> whole_scene_rows(const scene::Scene& s, const std::string& case
   return rows;
 }
 
+}  // namespace
+
+std::vector<Row> whole_scene_rows(const scene::Scene& s, const std::string& case_name, const std::string& what, std::size_t nrays,
+                                  int timed_rounds, std::uint64_t seed) {
+  const tracer::Profile prof = tracer::make_profile(s);
+  // The three models, and where the auto model stores primitives apart in local frames, the same
+  // plan with them in double (the storage those frames replace: what they cost and save).
+  LabelledPlans plans;
+  for (tracer::Model m : {tracer::Model::fast, tracer::Model::automatic, tracer::Model::exact})
+    plans.emplace_back(tracer::model_name(m), tracer::make_plan(s, prof, m));
+  tracer::Plan apart64 = plans[1].second;
+  bool local = false;
+  for (tracer::KindPlan& kp : apart64.kinds) {
+    local = local || (!kp.split.empty() && kp.split_local);
+    kp.split_local = false;
+  }
+  if (local) plans.emplace_back(kApartInDouble, apart64);
+  return plan_rows(s, prof, "scene", case_name, what, plans, nrays, timed_rounds, seed);
+}
+
+std::vector<Row> storage_rows(const scene::Scene& s, kinds::Kind k, const std::string& case_name, const std::string& what,
+                              std::size_t nrays, int timed_rounds, std::uint64_t seed) {
+  const tracer::Profile prof = tracer::make_profile(s);
+  // The auto plan with the kind whole in its batch, and the same with every primitive of the kind
+  // stored apart: in local frames, and in double.
+  tracer::Plan whole = tracer::make_plan(s, prof, tracer::Model::automatic);
+  tracer::KindPlan& kp = whole.kinds[std::size_t(k)];
+  kp.split.clear();
+  kp.split_method = kp.method;
+  tracer::Plan local = whole, dbl = whole;
+  for (tracer::Plan* p : {&local, &dbl}) {
+    tracer::KindPlan& x = p->kinds[std::size_t(k)];
+    x.split.resize(x.count);
+    for (std::size_t i = 0; i < x.count; ++i) x.split[i] = std::uint32_t(i);
+    x.split_local = p == &local;
+  }
+  const LabelledPlans plans = {{kStorageFloat, whole}, {kStorageLocal, local}, {kStorageDouble, dbl}};
+  return plan_rows(s, prof, "storage", case_name, what, plans, nrays, timed_rounds, seed);
+}
+
 void run_scenes(Ctx& x) {
   for (const SceneCase& c : scene_case_table()) {
     if (!x.selected("scene", c.name)) continue;
@@ -341,6 +394,16 @@ void run_scenes(Ctx& x) {
     if ((c.mesh && (x.o->data_dir.empty() || !x.o->real_meshes)) || (c.full_only && !x.o->full)) continue;
     x.reseed("scene", c.name);
     for (Row& r : whole_scene_rows(case_scene(c, x.o->data_dir), c.name, c.what, x.rays, x.o->timing ? x.o->scene_rounds : 0, x.rng()))
+      x.rows->push_back(std::move(r));
+  }
+  for (const StorageCase& c : storage_case_table()) {
+    if (!x.selected("storage", c.name)) continue;
+    x.tick("storage", c.name);
+    if (c.mesh && (x.o->data_dir.empty() || !x.o->real_meshes)) continue;
+    x.reseed("storage", c.name);
+    const scene::Scene s = c.mesh ? scene::load_scene(x.o->data_dir + "/meshes/" + c.mesh)
+                                  : scene::generate_spd(c.spd, scene::spd_default_size(c.spd));
+    for (Row& r : storage_rows(s, c.kind, c.name, c.what, x.rays, x.o->timing ? x.o->scene_rounds : 0, x.rng()))
       x.rows->push_back(std::move(r));
   }
 }

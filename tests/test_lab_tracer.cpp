@@ -4,6 +4,7 @@
 // optimiser and on contraction, are tests/test_accuracy.cpp, built optimised as well.
 #include "accuracy/lab.hpp"
 #include "plan_evidence_util.hpp"
+#include "tracer/plan.hpp"
 
 #include <gtest/gtest.h>
 
@@ -52,9 +53,41 @@ TEST(AccuracyBvh, KernelLabAloneHasNoTracerRows) {
   std::size_t scenes = 0;
   for (const auto& c : rb::acc::case_list(&rb::acc::tracer_cases())) scenes += c.family == "scene";
   EXPECT_GT(scenes, 0u);
-  for (const auto& c : rb::acc::case_list(nullptr)) EXPECT_NE(c.family, "scene");
+  for (const auto& c : rb::acc::case_list(nullptr)) EXPECT_TRUE(c.family != "scene" && c.family != "storage") << c.family;
 }
 
 // The plan's evidence, every cited case, those through the whole tracer included
 // (tests/plan_evidence_util.hpp; test_accuracy.cpp checks the kernels' cases optimised).
 TEST(AccuracyPlan, EveryOptionHasNoFailureOnTheCasesItCites) { EXPECT_GT(check_plan_evidence(&rb::acc::tracer_cases()), 40); }
+
+// Every kind's storage costs cite the lab case that measures them (kinds::StorageCost), and the
+// case runs: the kind in the frame, in local frames and in double, in that order, each with the
+// reference's answer on every ray.
+TEST(AccuracyPlan, StorageCostsCiteTheirLabCaseAndItsThreeStoragesAgree) {
+  int kinds_cited = 0;
+  for (const auto& c : rb::tracer::storage_costs()) {
+    const std::string ev = c.evidence;
+    if (ev.empty()) continue;
+    ++kinds_cited;
+    EXPECT_GT(c.local, 0.0);
+    EXPECT_GT(c.f64, 0.0);
+    EXPECT_NE(std::string(c.measured_on), "");
+    rb::acc::Options o;
+    o.filter = "^" + ev + "$";
+    o.rays = 256;  // the bunny's reference loops over its 69,451 triangles per ray
+    o.timing = false;
+    o.data_dir = std::string(RB_SOURCE_DIR) + "/data";
+    o.tracer = &rb::acc::tracer_cases();
+    const auto rows = rb::acc::run_lab(o);
+    ASSERT_EQ(rows.size(), 3u) << ev;
+    const char* order[] = {rb::acc::kStorageFloat, rb::acc::kStorageLocal, rb::acc::kStorageDouble};
+    for (std::size_t i = 0; i < 3; ++i) {
+      EXPECT_EQ(rows[i].family + "/" + rows[i].case_name, ev);
+      EXPECT_EQ(rows[i].method, order[i]);
+      EXPECT_EQ(rows[i].rays, rows[0].rays);
+      EXPECT_EQ(rows[i].failure_ppm(), 0.0) << ev << " " << rows[i].method << ": " << rows[i].false_hits << " false hits, "
+                                            << rows[i].false_misses << " false misses, " << rows[i].wrong_roots << " wrong hits";
+    }
+  }
+  EXPECT_EQ(kinds_cited, 2);  // spheres and triangles, the kinds that store double
+}

@@ -254,6 +254,29 @@ TEST(PlanPrimitives, AFewCoarsePrimitivesGoApartInLocalFramesAndTheRestStaysInFl
   EXPECT_TRUE(kp(exact, Kind::triangle).f64_storage);
 }
 
+// The coarse primitives go to whichever storage apart the kind's measured costs make cheaper: local
+// frames at the kinds' own figures, double where double were the cheaper one.
+TEST(PlanPrimitives, CoarsePrimitivesGoToTheCheaperStorageAtTheKindsCosts) {
+  const scene::Scene s = scene::precision_scene("scattered");
+  const tracer::Profile prof = tracer::make_profile(s);
+  const kinds::StorageCost& own = tracer::storage_costs()[std::size_t(Kind::triangle)];
+  ASSERT_LT(own.local, own.f64) << "the measured figures: local frames cheaper for triangles";
+  EXPECT_EQ(std::string(own.evidence), "storage/triangle");
+  tracer::StorageCosts costs = tracer::storage_costs();
+  costs[std::size_t(Kind::triangle)] = {3.0, 1.5, "storage/triangle", "a test"};
+  const tracer::Plan mine = tracer::make_plan(s, prof, Model::automatic), other = tracer::make_plan(s, prof, Model::automatic, costs);
+  EXPECT_TRUE(kp(mine, Kind::triangle).split_local);
+  const auto& t = kp(other, Kind::triangle);
+  EXPECT_FALSE(t.split_local);
+  EXPECT_EQ(t.split, kp(mine, Kind::triangle).split) << "the same primitives apart, in another storage";
+  EXPECT_NE(t.split_reason.find("in a batch of their own in double"), std::string::npos) << t.split_reason;
+  EXPECT_NE(t.split_reason.find("3.00x the kind in the frame in local frames and 1.50x in double"), std::string::npos) << t.split_reason;
+  const auto j = other.json()["kinds"][0]["split"];
+  EXPECT_EQ(j["storage"], "double");
+  EXPECT_EQ(j["cost"]["double"], 1.5);
+  EXPECT_EQ(j["cost"]["evidence"], "storage/triangle");
+}
+
 TEST(PlanPrimitives, DegenerateTrianglesNeverChangeThePlan) {
   for (const char* name : {"scanned", "scanned_double", "mesh_spheres_1e5"}) {
     scene::Scene with = scene::precision_scene(name), without = with;

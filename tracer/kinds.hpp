@@ -116,6 +116,19 @@ struct PlanOption {
 };
 inline constexpr double kAny = std::numeric_limits<double>::infinity();  // no bound on a condition
 
+// What storing a kind's primitives apart costs (kinds that store double): the time of a primary ray
+// in 8-ray packets with every primitive of the kind stored apart in float in local frames (the ray
+// re-based at each leaf), and in double, over the time with the kind in float in the frame. The
+// accuracy lab measures them (`raybench accuracy --filter storage/CASE`, CASE = `evidence`: the
+// ratio of medians over its rounds); the plan stores a kind's coarse primitives in the cheaper of
+// the two, and judges frames by what they leave apart at these costs. The report measures them
+// again on its machine and says whether the plan's choice still holds there.
+struct StorageCost {
+  double local = 1, f64 = 1;
+  const char* evidence = "";
+  const char* measured_on = "";  // the machine and build of the figures
+};
+
 // What a kind's surface rule is given: the ray as traced (frame coordinates), its hit distance,
 // the frame's origin and the world hit point origin + o + t d in double; `batch` is the kind's
 // batch in the tracer (custom kinds read it: the CSG trees in the frame).

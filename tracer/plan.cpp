@@ -28,6 +28,17 @@ std::span<const PlanOption> plan_options(Kind k) {
   return kinds::AllKinds::at<std::span<const PlanOption>>(k, [&]<class K>() { return std::span<const PlanOption>(K::plan); });
 }
 
+const StorageCosts& storage_costs() {
+  static const StorageCosts c = [] {
+    StorageCosts t{};
+    kinds::AllKinds::each([&]<class K>() {
+      if constexpr (requires { K::storage; }) t[std::size_t(K::id)] = K::storage;
+    });
+    return t;
+  }();
+  return c;
+}
+
 namespace {
 
 constexpr double kTauEye = 1.0 / 16;  // the eye's rounding shifts the view by at most 1/16 of a pixel
@@ -84,6 +95,9 @@ Plan make_plan(const scene::Scene& s, Model m) { return make_plan(s, make_profil
 
 namespace {
 
+// A primitive stored apart costs this many primitives in float: the cheaper of its two storages.
+double cheaper_storage(const kinds::StorageCost& c) { return std::min(c.local, c.f64); }
+
 // Whether the coarse primitives of kind k in a frame go to a batch of their own: they can change
 // more than a negligible share of its hits, and are either fine relative to an origin near them
 // (none of them huge: local frames hold them) or a few (at most kSplitShare of the kind); the rest
@@ -110,14 +124,14 @@ std::string per_kind_steps(const FrameError& e, const Profile& p, Model m, const
     if (p.kinds[std::size_t(k)].count)
       t += fmt::format("{}{} {}{}", t.empty() ? "" : ", ", kinds::kind_name(Kind(k)), fmt_pow2(e.contact[std::size_t(k)]),
                        store64[std::size_t(k)] ? " (stored in double)"
-                       : splits(e, p, m, k)    ? fmt::format(" ({} coarse in double)", e.classes[std::size_t(k)].coarse)
+                       : splits(e, p, m, k)    ? fmt::format(" ({} coarse stored apart)", e.classes[std::size_t(k)].coarse)
                                                : "");
   return t + fmt::format("; the eye's rounding shifts the view by {} pixel", fmt_ratio(e.eye));
 }
 
 // World, the scene's centre or the camera: the first that represents the scene in float, else the
 // best; among those that represent it, the one that leaves the fewest primitives to double.
-FrameChoice choose_frame(const scene::Scene& s, const Profile& p, Model m) {
+FrameChoice choose_frame(const scene::Scene& s, const Profile& p, Model m, const StorageCosts& costs) {
   std::vector<FrameChoice> cand(3);
   cand[0].kind = FrameKind::world;
   cand[1].kind = FrameKind::centre;
@@ -129,10 +143,14 @@ FrameChoice choose_frame(const scene::Scene& s, const Profile& p, Model m) {
     for (int k = 0; k < kKinds; ++k)
       if (splits(c.e, p, m, k)) c.e.contact[std::size_t(k)] = c.e.contact_fine[std::size_t(k)];
   }
-  auto split_count = [&](const FrameError& e) {
-    std::size_t n = 0;
-    for (int k = 0; k < kKinds; ++k) n += splits(e, p, m, k) ? e.classes[std::size_t(k)].coarse : 0;
-    return n;
+  // What a frame's primitives stored apart cost beyond the kind in float: each at the cheaper of its
+  // kind's two measured storages (kinds::StorageCost), in units of a primitive in float.
+  auto apart_cost = [&](const FrameError& e) {
+    double c = 0;
+    for (int k = 0; k < kKinds; ++k)
+      if (splits(e, p, m, k))
+        c += double(e.classes[std::size_t(k)].coarse) * std::max(0.0, cheaper_storage(costs[std::size_t(k)]) - 1.0);
+    return c;
   };
   // Kinds that no frame represents in float but that can be stored in double.
   std::array<bool, kKinds> store64{};
@@ -151,7 +169,7 @@ FrameChoice choose_frame(const scene::Scene& s, const Profile& p, Model m) {
   }
   if (m != Model::exact)
     for (std::size_t i = 0; i < cand.size(); ++i)
-      if (score(cand[i]) <= 1 && (score(cand[pick]) > 1 || split_count(cand[i].e) < split_count(cand[pick].e))) pick = i;
+      if (score(cand[i]) <= 1 && (score(cand[pick]) > 1 || apart_cost(cand[i].e) < apart_cost(cand[pick].e))) pick = i;
   FrameChoice f = cand[pick];
   f.store64 = store64;
   if (pick == 0)
@@ -161,12 +179,22 @@ FrameChoice choose_frame(const scene::Scene& s, const Profile& p, Model m) {
     f.reason = fmt::format("{}: in world coordinates the float step over a primitive's size is {}; relative to the {} it is {}",
                            m == Model::exact ? "the exact model re-centres" : "re-centred", per_kind_steps(cand[0].e, p, m, store64),
                            pick == 1 ? "scene's centre" : "camera", per_kind_steps(f.e, p, m, store64));
+  // Where several frames represent the scene and leave primitives apart, the ranking by cost.
+  std::string ranked;
+  for (std::size_t i = 0; m != Model::exact && i < cand.size(); ++i)
+    if (score(cand[i]) <= 1 && apart_cost(cand[pick].e) > 0)
+      ranked += fmt::format("{}{} {:.0f}", ranked.empty() ? "" : ", ", frame_name(cand[i].kind), apart_cost(cand[i].e));
+  if (ranked.find(',') != std::string::npos)
+    f.reason += fmt::format("; of the frames that represent it, the one whose primitives stored apart cost least (their cost beyond "
+                            "float, counted in primitives stored in float, at the kinds' storage costs: {})",
+                            ranked);
   return f;
 }
 
-// The split-off primitives of a kind: local frames, running the cheapest option in double whose
-// method stores double and whose lab conditions cover the kind (the most accurate such when none does).
-void plan_split(KindPlan& kp, Kind k, const KindProfile& kpro, const FrameError& fe) {
+// The split-off primitives of a kind: in local frames or in double, whichever the kind's measured
+// storage costs make cheaper, running the cheapest option in double whose method stores double and
+// whose lab conditions cover the kind (the most accurate such when none does).
+void plan_split(KindPlan& kp, Kind k, const KindProfile& kpro, const FrameError& fe, const kinds::StorageCost& cost) {
   const auto& opts = plan_options(k);
   const PlanOption* o64 = nullptr;
   auto stores64 = [&](const PlanOption& o) { return o.f64 && stores_double(k, o.method); };
@@ -177,22 +205,27 @@ void plan_split(KindPlan& kp, Kind k, const KindProfile& kpro, const FrameError&
   kp.split = fe.coarse_ids[std::size_t(k)];
   kp.split_method = o64 ? o64->method : 0;
   // Coarse where they lie in the frame, they are fine relative to an origin near them: stored in
-  // float in local frames, the ray re-based at each of their leaves, they trace faster than in
-  // double (the lab's scene/scattered: the auto model against the exact one) at no failure.
-  kp.split_local = true;
+  // float in local frames, the ray re-based at each of their leaves, or in double; both give the
+  // reference's hits (the lab's scene/scattered and storage cases), so the cheaper one.
+  kp.split_local = cost.local <= cost.f64;
+  kp.split_cost = cost;
   const KindClasses& c = kp.classes;
   kp.split_reason = fmt::format(
-      "{} coarse of {} ({:.2g} %) stored in a batch of their own in local frames (float relative to an origin per leaf, "
-      "kept in double; a leaf whose primitives no such origin holds in float stays in double), {}: in world float their "
-      "surfaces would move by up to {} of their size (#{}) and together could change {:.2g} of a million hits; the other "
-      "{} stay in {}",
-      c.coarse, kpro.count, 100.0 * double(c.coarse) / double(kpro.count), method_name(k, kp.split_method),
-      fmt_pow2(c.worst_coarse_ratio), c.worst_coarse, 1e6 * c.moved_share, kpro.count - c.coarse, kp.f64 ? "double" : "float");
+      "{} coarse of {} ({:.2g} %) stored in a batch of their own {}, {}: in world float their surfaces would move by up to {} "
+      "of their size (#{}) and together could change {:.2g} of a million hits; the other {} stay in {}. Stored apart, a ray "
+      "costs {:.2f}x the kind in the frame in local frames and {:.2f}x in double (measured on {}: `raybench accuracy --filter {}`)",
+      c.coarse, kpro.count, 100.0 * double(c.coarse) / double(kpro.count),
+      kp.split_local ? "in local frames (float relative to an origin per leaf, kept in double; a leaf whose primitives no such "
+                       "origin holds in float stays in double)"
+                     : "in double",
+      method_name(k, kp.split_method), fmt_pow2(c.worst_coarse_ratio), c.worst_coarse, 1e6 * c.moved_share, kpro.count - c.coarse,
+      kp.f64 ? "double" : "float", cost.local, cost.f64, *cost.measured_on ? cost.measured_on : "not measured", cost.evidence);
 }
 
 // A kind's method and precision: the cheapest option the lab shows without failure under the
 // kind's conditions (in double where the frame cannot hold it in float), with the reason.
-void plan_kind(KindPlan& kp, Kind k, const KindProfile& kpro, const FrameChoice& f, const Profile& p, Model m) {
+void plan_kind(KindPlan& kp, Kind k, const KindProfile& kpro, const FrameChoice& f, const Profile& p, Model m,
+               const kinds::StorageCost& cost) {
   const FrameError& fe = f.e;
   const bool need64 = m == Model::exact ? f.store64[std::size_t(k)] : fe.contact[std::size_t(k)] > kFloatTolerance && stores_double(k);
   const auto& opts = plan_options(k);
@@ -227,7 +260,7 @@ void plan_kind(KindPlan& kp, Kind k, const KindProfile& kpro, const FrameChoice&
     kp.reason += fmt::format("; stored in double: in float the surface would move by {} of {}", fmt_pow2(fe.contact[std::size_t(k)]),
                              kpro.scale_ratio > 1e3 ? "the smallest object" : "its size");
   kp.classes = fe.classes[std::size_t(k)];
-  if (splits(fe, p, m, int(k))) plan_split(kp, k, kpro, fe);
+  if (splits(fe, p, m, int(k))) plan_split(kp, k, kpro, fe, cost);
 }
 
 // The fast model's fixed choices: world coordinates, method 0 in float, the slab test on boxes as
@@ -272,7 +305,9 @@ void plan_slab_and_spawn(Plan& plan, const Profile& p, Model m, double ext) {
 
 }  // namespace
 
-Plan make_plan(const scene::Scene& s, const Profile& p, Model m) {
+Plan make_plan(const scene::Scene& s, const Profile& p, Model m) { return make_plan(s, p, m, storage_costs()); }
+
+Plan make_plan(const scene::Scene& s, const Profile& p, Model m, const StorageCosts& costs) {
   Plan plan;
   plan.model = m;
   plan.object_min = smallest_object(p);
@@ -282,12 +317,13 @@ Plan make_plan(const scene::Scene& s, const Profile& p, Model m) {
     plan_fast(plan, ext);
     return plan;
   }
-  const FrameChoice f = choose_frame(s, p, m);
+  const FrameChoice f = choose_frame(s, p, m, costs);
   plan.frame = f.kind;
   plan.origin = f.origin;
   plan.frame_reason = f.reason;
   for (int k = 0; k < kKinds; ++k)
-    if (p.kinds[std::size_t(k)].count) plan_kind(plan.kinds[std::size_t(k)], Kind(k), p.kinds[std::size_t(k)], f, p, m);
+    if (p.kinds[std::size_t(k)].count)
+      plan_kind(plan.kinds[std::size_t(k)], Kind(k), p.kinds[std::size_t(k)], f, p, m, costs[std::size_t(k)]);
   plan_slab_and_spawn(plan, p, m, ext);
   return plan;
 }
@@ -321,6 +357,10 @@ nlohmann::json Plan::json() const {
                                                    {"method", method_name(Kind(i), kp.split_method)},
                                                    {"precision", kp.split_local ? "float" : "double"},
                                                    {"storage", kp.split_local ? "local frames" : "double"},
+                                                   {"cost", {{"local_frames", kp.split_cost.local},
+                                                             {"double", kp.split_cost.f64},
+                                                             {"evidence", kp.split_cost.evidence},
+                                                             {"measured_on", kp.split_cost.measured_on}}},
                                                    {"reason", kp.split_reason}}}});
   }
   return {{"model", model_name(model)},

@@ -57,7 +57,9 @@ struct KindPlan {
   // Those stored in local frames: each leaf's primitives in float relative to an origin of its own
   // (kept in double), the ray re-based there; a leaf whose primitives no origin near them holds in
   // float stays in double (tracer/leaves.hpp, LocalFrame). Otherwise all in double.
+  // The cheaper storage at the kind's measured costs (`split_cost`: kinds::StorageCost).
   bool split_local = false;
+  kinds::StorageCost split_cost;
   std::string split_reason;
   // The classes, counted, with the worst primitive of each ("" when none was classed: fast model).
   std::string classes_text() const;
@@ -99,8 +101,14 @@ using kinds::PlanOption;
 // A kind's options with the lab's evidence, cheapest first (tracer/kinds.hpp, PlanOption).
 std::span<const PlanOption> plan_options(Kind k);
 
-// The plan of a scene under a model.
+// What storing each kind apart costs (kinds::StorageCost; 1 and 1 for kinds that are never stored
+// apart): the kinds' own measured figures, or, in tests, others.
+using StorageCosts = std::array<kinds::StorageCost, kKinds>;
+const StorageCosts& storage_costs();
+
+// The plan of a scene under a model (at the kinds' own storage costs, or at `costs`).
 Plan make_plan(const scene::Scene& s, Model m);
 Plan make_plan(const scene::Scene& s, const Profile& p, Model m);
+Plan make_plan(const scene::Scene& s, const Profile& p, Model m, const StorageCosts& costs);
 
 }  // namespace rb::tracer

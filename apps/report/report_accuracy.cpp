@@ -10,6 +10,7 @@
 #include "apps/report/report.hpp"
 #include "apps/report/report_record.hpp"
 #include "apps/report/report_sections.hpp"
+#include "apps/results/stats.hpp"
 
 #include <fmt/format.h>
 
@@ -207,6 +208,25 @@ json spawn_evidence(const std::vector<Row>& rows) {
   return j;
 }
 
+// What storing a kind apart costs in this run (family "storage": accuracy/lab.hpp, storage_rows),
+// per case: local frames and double over the kind in the frame, and local frames over double, each
+// the ratio of the paired rounds' times with its interval (the report's plan section checks the
+// plan's choice of storage against it).
+json storage_evidence(const std::vector<Row>& rows) {
+  json j = json::object();
+  for (const Row& f : rows) {
+    if (f.family != "storage" || f.method != acc::kStorageFloat) continue;
+    const Row* l = find(rows, "storage", f.case_name, acc::kStorageLocal, f.precision);
+    const Row* d = find(rows, "storage", f.case_name, acc::kStorageDouble, f.precision);
+    if (!l || !d || f.round_seconds.empty()) continue;
+    j[f.case_name] = {{"local_over_frame", stats::interval_json(stats::paired_ratio(l->round_seconds, f.round_seconds))},
+                      {"double_over_frame", stats::interval_json(stats::paired_ratio(d->round_seconds, f.round_seconds))},
+                      {"local_over_double", stats::interval_json(stats::paired_ratio(l->round_seconds, d->round_seconds))},
+                      {"failure_ppm", {f.failure_ppm(), l->failure_ppm(), d->failure_ppm()}}};
+  }
+  return j;
+}
+
 }  // namespace
 
 std::string report_section_accuracy(const ReportOptions& o, Record& rec, const fs::path& out, json& summary) {
@@ -318,7 +338,8 @@ std::string report_section_accuracy(const ReportOptions& o, Record& rec, const f
       md += "\n";
     }
   }
-  summary["accuracy"] = {{"best", best}, {"targets", tj}, {"seconds", secs}, {"rows", rows.size()}, {"spawn", spawn_evidence(rows)}};
+  summary["accuracy"] = {{"best", best}, {"targets", tj}, {"seconds", secs}, {"rows", rows.size()}, {"spawn", spawn_evidence(rows)},
+                         {"storage", storage_evidence(rows)}};
   if (o.charts && !readable_back((out / "accuracy.json").string())) {
     md += "_Accuracy charts were not drawn: accuracy.json, which they read, is not a regular file._\n\n";
   } else if (o.charts) {

@@ -108,6 +108,45 @@ std::string plan_spawn_check(const json& summary, json& spawn_check) {
   return md;
 }
 
+// The plan's storage of coarse primitives (local frames or double, whichever the kind's measured
+// costs make cheaper: kinds::StorageCost) against this run's lab, from the accuracy section's
+// evidence in `summary`; `storage_check` gets the figures and verdicts.
+std::string plan_storage_check(const json& summary, json& storage_check) {
+  if (!summary.contains("accuracy") || !summary["accuracy"].contains("storage") || summary["accuracy"]["storage"].empty()) return "";
+  const json& ev = summary["accuracy"]["storage"];
+  std::string md =
+      "\nWhere a kind's coarse primitives go apart, the plan stores them in float in local frames or in double, whichever costs "
+      "less, from figures the lab measured once (`raybench accuracy --filter storage/KIND`: primary rays in 8-ray packets with "
+      "every primitive of the kind stored each way, in rounds in which the three take turns) and kept with the kind; frames that "
+      "represent a scene equally are ranked by what they leave apart at the same costs. The same cases in this run, each ratio "
+      "the median of the rounds' own with its 95 % interval:\n\n"
+      "| kind | case | local frames / in the frame | double / in the frame | local frames / double | the plan's figures "
+      "(local frames, double) | the plan stores apart in | this run's lab says |\n|---|---|---:|---:|---:|---|---|---|\n";
+  storage_check = json::array();
+  bool all_hold = true;
+  for (int k = 0; k < kinds::kKinds; ++k) {
+    const kinds::StorageCost& c = tracer::storage_costs()[std::size_t(k)];
+    const std::string evidence = c.evidence, cs = evidence.substr(evidence.find('/') + 1);
+    if (evidence.empty() || !ev.contains(cs)) continue;
+    const auto lf = stats::interval_from_json(ev[cs]["local_over_frame"]), df = stats::interval_from_json(ev[cs]["double_over_frame"]),
+               ld = stats::interval_from_json(ev[cs]["local_over_double"]);
+    const bool plan_local = c.local <= c.f64;
+    // Local frames are cheaper here when the whole interval of local / double lies below 1, double
+    // when it lies above; either when it straddles 1.
+    const std::string here = ld.hi < 1 ? "local frames" : ld.lo > 1 ? "double" : "either (the interval holds 1)";
+    const bool holds = ld.hi < 1 ? plan_local : ld.lo > 1 ? !plan_local : true;
+    all_hold = all_hold && holds;
+    md += fmt::format("| {} | `{}` | {} | {} | {} | {:.2f}x, {:.2f}x ({}) | {} | {} |\n", kinds::kind_name(kinds::Kind(k)), evidence,
+                      stats::interval_text(lf), stats::interval_text(df), stats::interval_text(ld), c.local, c.f64, c.measured_on,
+                      plan_local ? "local frames" : "double", holds ? here + ": the plan's choice holds" : "**" + here + ": not the plan's choice**");
+    storage_check.push_back({{"kind", kinds::kind_name(kinds::Kind(k))}, {"evidence", evidence}, {"plan_local", c.local},
+                             {"plan_double", c.f64}, {"plan_stores_in", plan_local ? "local frames" : "double"},
+                             {"local_over_double", stats::interval_json(ld)}, {"plan_choice_holds", holds}});
+  }
+  if (!all_hold) md += "\n**On this machine the lab does not support the plan's storage for every kind** (its figures were measured elsewhere).\n";
+  return md;
+}
+
 // A far and a scaled copy of precision:kinds_ground rendered beside the original, as a table of
 // images with the share of pixels that differ (`copies_json`).
 std::string plan_copies(const ReportOptions& o, Record& rec, const fs::path& out, json& copies_json) {
@@ -245,9 +284,10 @@ std::string report_section_plan(const ReportOptions& o, Record& rec, const fs::p
         "and makes a plan (`raybench plan SCENE` prints it with a reason per choice): the frame of reference, whose origin is "
         "subtracted from every coordinate in double before it is rounded to float (world, the scene's centre or the camera); "
         "each kind's method and precision, the cheapest that the accuracy lab measures with no failure under the scene's "
-        "conditions (each choice cites the lab cases it rests on, and a test runs them); double storage for the primitives that "
-        "no frame represents in float (a planet under a ball): a whole kind, or, when they are at most a quarter of it, those "
-        "few in a batch and leaves of their own while the rest stays in float; node boxes widened for the scene's ray origins, so the fast slab test "
+        "conditions (each choice cites the lab cases it rests on, and a test runs them); a batch of their own for the primitives "
+        "that no frame represents in float (a far cluster of small meshes, a planet under a ball), in float in local frames or in "
+        "double, whichever the kind's measured storage costs make cheaper (below), while the rest stays in float, or double for "
+        "the whole kind when over a quarter of it is coarse and some of those are huge; node boxes widened for the scene's ray origins, so the fast slab test "
         "loses no hit; and the spawn offset of secondary rays (hit points projected onto their surface in double, then moved by "
         "the integer offset). `--model fast` is the fixed choice of a tracer that does not look (world coordinates, the "
         "cheapest method of every kind in float, an offset of 1e-5 of the scene's size); `--model exact` is the most accurate "
@@ -283,6 +323,8 @@ std::string report_section_plan(const ReportOptions& o, Record& rec, const fs::p
   }
   md += plan_goal_text(tally.by_verdict);
   md += plan_spawn_check(summary, spawn_check);
+  json storage_check;
+  md += plan_storage_check(summary, storage_check);
   // Where auto stores primitives apart in local frames: their speed against the same plan with them
   // in double (the lab's fourth row).
   if (!tally.local_lines.empty()) {
@@ -309,7 +351,7 @@ std::string report_section_plan(const ReportOptions& o, Record& rec, const fs::p
   md += plan_copies(o, rec, out, copies_json);
   json goal = {{"target", kAutoSpeedGoal}, {"memory_target", kAutoMemoryGoal}};
   for (const auto& [v, scenes] : tally.by_verdict) goal[doc::goal_word(v)] = scenes;
-  summary["plan"] = {{"scenes", tally.rows}, {"copies", copies_json}, {"auto_speed_goal", goal}, {"spawn_check", spawn_check}};
+  summary["plan"] = {{"scenes", tally.rows}, {"copies", copies_json}, {"auto_speed_goal", goal}, {"spawn_check", spawn_check}, {"storage_check", storage_check}};
   return md;
 }
 

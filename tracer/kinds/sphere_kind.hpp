@@ -73,6 +73,8 @@ struct SphereKind {
       {2, true, 1e7, kAny, kAny, "sphere/far_small_1e5 sphere/far_small_1e7 sphere/planet_pole sphere/planet_45",
        "the compensated form in double is right from 1e7 radii"},
   }};
+  // Stored apart: a ray's cost against the kind in the frame (StorageCost in tracer/kinds.hpp).
+  static constexpr StorageCost storage{1.15, 1.30, "storage/sphere", "Intel Xeon family 6 model 207, release build, one thread"};
   template <int M, class F>
   static RB_INLINE Hit<F> hit(const Ray<F>& r, const Pre<F>&, const Prim<F>& p) {
     if constexpr (M == 0) return intersect_sphere_geometric(r, p);
