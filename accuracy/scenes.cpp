@@ -170,6 +170,7 @@ const std::vector<SceneCase>& scene_case_table() {
       {"scanned", "a scanned-like mesh (20,480 triangles, float coordinates) with 3 % slivers and 100 collapsed triangles", "scanned"},
       {"scanned_double", "the same mesh with its coordinates in double", "scanned_double"},
       {"scattered", "230 small meshes, 30 of them in a cluster 3.7e4 from the origin and the rest within 800 of it", "scattered"},
+      {"cluster_ground", "balls on a floor 3.7e4 above 200 small meshes near the origin, seen from 200 away", "cluster_ground"},
       {"pipes", "long thin pipes as a CAD export tessellates them (facets 1e4 times longer than wide)", "pipes"},
       {.name = "pipes_far_1e4", .what = "the pipes 1e4 from the origin", .precision = "pipes", .move = 1e4},
       {.name = "scanned_far_1e5", .what = "the scanned-like mesh in double, 1e5 from the origin", .precision = "scanned_double", .move = 1e5},

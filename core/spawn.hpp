@@ -1,16 +1,17 @@
 // Where a secondary ray starts: a point computed on a surface lies within rounding error of it, on
 // either side, so a ray spawned there can hit its own surface again ("self-hit", shadow acne).
-// Three schemes, all in float (the tracer's frame coordinates), shared by the accuracy lab
-// (accuracy/secondary_cases.cpp measures each one's self-hits and cost) and the tracer (tracer/plan.hpp
-// picks one per scene):
+// Three schemes, all in float (the tracer's frame coordinates), measured by the accuracy lab
+// (accuracy/secondary_cases.cpp: each one's self-hits and cost); the tracer (tracer/plan.hpp) runs
+// the first (fast model) and the last (auto and exact):
 //   - extent epsilon: the point moved along the normal by a fixed fraction of the scene's size
 //     (simple and scale-aware, but at 6.4e6 from the origin a fraction of the extent is hundreds
 //     of units, and near the origin of a large scene it is below one float step);
 //   - Waechter and Binder's integer offset (Ray Tracing Gems, chapter 6): each coordinate moved
-//     along the normal by a number of float ulps proportional to the normal component, or, where
-//     the coordinate is near zero (below `origin` = scale / 32) by a fixed `scale / 65536`; the
-//     published constants assume a scene of size about 1, so `scale` (a power of two near the
-//     scene's size) keeps the scheme scale-invariant;
+//     along the normal by a number of float ulps proportional to the normal component (256 for a
+//     normal along the axis), or, where the coordinate is near zero (below 1/32), by a fixed
+//     1/65536 (the published constants, for a scene of size about 1). Sized to the coordinates,
+//     not to the point's error: far from the origin it lifts a ray past objects smaller than 256
+//     float steps there;
 //   - the error-bound offset (as pbrt-v4 spawns rays): a point recomputed in a form whose rounding
 //     error has a known bound, moved along the normal by that bound, each coordinate rounded one
 //     float further away.
@@ -29,14 +30,12 @@
 namespace rb::spawn {
 
 // Waechter-Binder on one coordinate (p, the unit normal's component n).
-inline float wb_one(float p, float n, float scale = 1.0f) {
+inline float wb_one(float p, float n) {
   const int of = int(256.0f * n);
   const float pi = std::bit_cast<float>(std::bit_cast<int>(p) + (p < 0 ? -of : of));
-  return std::fabs(p) < scale * (1.0f / 32.0f) ? p + scale * (1.0f / 65536.0f) * n : pi;
+  return std::fabs(p) < 1.0f / 32.0f ? p + (1.0f / 65536.0f) * n : pi;
 }
-inline Vec3f wb_offset(const Vec3f& p, const Vec3f& n, float scale = 1.0f) {
-  return {wb_one(p.x, n.x, scale), wb_one(p.y, n.y, scale), wb_one(p.z, n.z, scale)};
-}
+inline Vec3f wb_offset(const Vec3f& p, const Vec3f& n) { return {wb_one(p.x, n.x), wb_one(p.y, n.y), wb_one(p.z, n.z)}; }
 
 // gamma_n = n u / (1 - n u), u = 2^-24: the bound of n float roundings (Higham).
 constexpr float gamma_f(int n) {
@@ -103,17 +102,5 @@ inline Vec3f bound_offset(const Vec3f& p, const Vec3f& err, const Vec3f& n) {
 
 // The point moved along n by eps (the extent-epsilon scheme).
 inline Vec3f eps_offset(const Vec3f& p, const Vec3f& n, float eps) { return p + n * eps; }
-
-// The power of two in (size / 2, size] (size: the scene's largest extent): the scale of the
-// integer offset's near-origin constants. 1 for an empty or non-finite size.
-inline float pow2_scale(double size) {
-  if (!(size > 0) || !std::isfinite(size)) return 1.0f;
-  // size = m 2^e with m in [0.5, 1): e from the exponent bits (a subnormal size clamps below), the
-  // power of two built from its bits: frexp and ldexp without their library calls (the spawn point
-  // of every secondary ray pays for this).
-  const int bits = int((std::bit_cast<std::uint64_t>(size) >> 52) & 0x7ff);
-  const int e = bits == 0 ? -100 : std::max(-100, std::min(100, bits - 1022 - 1));
-  return std::bit_cast<float>(std::uint32_t(e + 127) << 23);
-}
 
 }  // namespace rb::spawn

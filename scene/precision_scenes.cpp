@@ -29,6 +29,9 @@
 //                   within 800 of the origin, 30 in a cluster 3.7e4 away (where float's step is a
 //                   500th of their triangles), the camera among those: no frame holds both groups
 //                   in float
+//   cluster_ground  ball_ground's balls and floor 3.7e4 above scattered's 200 near meshes, seen
+//                   from 80 away: no frame holds both, and the floor lies where float's step is
+//                   2^-8 (its balls must keep their shadows there)
 //   pipes           what a CAD export makes of 8 pipes 20 long and 0.05..0.2 in radius: 256 facets
 //                   around, each two triangles the pipe's length (10^4 times longer than wide),
 //                   and end caps as fans (8,192 triangles)
@@ -265,6 +268,27 @@ Scene scattered_scene() {
   return std::move(b.s);
 }
 
+// ball_ground's balls and floor 3.7e4 above a world of 200 small meshes near the origin (those of
+// scattered): no frame holds both in float, and the balls' floor lies where float's step is 2^-8.
+// The floor's checker cells line up with ball_ground's (even offsets, the floor mid-cell), so the
+// two render alike wherever the tracer keeps the far scene's detail.
+Scene cluster_ground_scene() {
+  PrecisionBuilder b("precision:cluster_ground");
+  Uniform U{0x2545F4914F6CDD1Dull};
+  const auto stone = b.material({0.7f, 0.68f, 0.62f}, 0.8f, 0.1f, 10);
+  for (int i = 0; i < 200; ++i) {
+    const double a = 2 * 3.141592653589793 * U(), r = 800 * std::sqrt(U());
+    b.icosphere({r * std::cos(a), 5 * U(), r * std::sin(a)}, 0.6 + 0.6 * U(), 1, stone);
+  }
+  const Vec3d at{20, 37000.5, -10};
+  b.floor(at, 30.3, b.material({0.8f, 0.8f, 0.8f}, 0.8f, 0, 0, 1.0f, {0.35f, 0.35f, 0.4f}));
+  put_balls(b, at);
+  // Seen from 80 away: far enough that world coordinates hold the eye (its rounding shifts the view
+  // by under a 16th of a pixel), near enough that a unit is 14 pixels.
+  b.view(at + Vec3d{0.7, 60.1, 190.3}, at + Vec3d{0.9, 1.3, 0.1}, 25);
+  return std::move(b.s);
+}
+
 Scene pipes_scene() {
   PrecisionBuilder b("precision:pipes");
   Uniform U{0x6A09E667F3BCC909ull};
@@ -304,7 +328,7 @@ Scene pipes_scene() {
 
 std::vector<std::string> precision_scene_names() {
   return {"ball_ground", "ball_ground_far", "kinds_ground", "planet", "mesh_spheres", "mesh_spheres_1e3", "mesh_spheres_1e5", "mesh_spheres_1e7",
-          "far_spheres", "thin_torus", "far_cylinders", "mixed_scales", "scanned", "scanned_double", "scattered", "pipes"};
+          "far_spheres", "thin_torus", "far_cylinders", "mixed_scales", "scanned", "scanned_double", "scattered", "cluster_ground", "pipes"};
 }
 
 Scene precision_scene(const std::string& name) {
@@ -324,6 +348,7 @@ Scene precision_scene(const std::string& name) {
   if (name == "scanned") return scanned_scene(true, "precision:scanned");
   if (name == "scanned_double") return scanned_scene(false, "precision:scanned_double");
   if (name == "scattered") return scattered_scene();
+  if (name == "cluster_ground") return cluster_ground_scene();
   if (name == "pipes") return pipes_scene();
   std::string all;
   for (const auto& n : precision_scene_names()) all += (all.empty() ? "" : ", ") + n;

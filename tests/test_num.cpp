@@ -165,26 +165,3 @@ TEST(Num, LoadsStoresAndLanes) {
 }  // namespace
 }  // namespace rb
 
-// The integer offset's scale from the exponent bits: the power of two in (size / 2, size], as frexp
-// and ldexp give it, over every exponent, subnormal sizes and the edges.
-TEST(Spawn, Pow2ScaleIsFrexpAndLdexp) {
-  auto by_library = [](double size) {
-    if (!(size > 0) || !std::isfinite(size)) return 1.0f;
-    int e = 0;
-    std::frexp(size, &e);
-    return std::ldexp(1.0f, std::max(-100, std::min(100, e - 1)));
-  };
-  std::mt19937_64 rng(5);
-  std::uniform_real_distribution<double> m(0.5, 1.0);
-  int checked = 0;
-  for (int e = -1080; e <= 1024; ++e)
-    for (int k = 0; k < 4; ++k) {
-      const double size = std::ldexp(k == 0 ? 0.5 : k == 1 ? std::nextafter(1.0, 0.0) : m(rng), e);
-      EXPECT_EQ(rb::spawn::pow2_scale(size), by_library(size)) << size;
-      ++checked;
-    }
-  for (const double size : {0.0, -1.0, std::numeric_limits<double>::infinity(), std::numeric_limits<double>::quiet_NaN(),
-                            std::numeric_limits<double>::denorm_min(), std::numeric_limits<double>::max(), 1.0, 3.0, 0x1p100, 0x1p101})
-    EXPECT_EQ(rb::spawn::pow2_scale(size), by_library(size)) << size;
-  EXPECT_GT(checked, 8000);
-}

@@ -381,26 +381,15 @@ SceneAccel::SpawnBase SceneAccel::spawn_base(const kinds::Surface& sf) const {
   b.p = to_frame(sf.p);
   b.ng = sf.ng;
   const Vec3f& p = b.p;
-  switch (plan_.spawn) {
-    case SpawnScheme::extent_eps: break;
-    case SpawnScheme::integer: {
-      // Scaled to this hit, not to the scene: the magnitude the hit point was computed from, its own
-      // coordinates and, for a primitive stored in float, its coordinates and extent (sf.err is 8
-      // float roundings of those, so sf.err 2^21 is their size; stored in double, 2^-29 of it). A
-      // ball resting on a planet keeps its offsets at the ball's scale.
-      const float m = std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z), float(sf.err * 0x1p21)});
-      b.scale = spawn::pow2_scale(m);
-      break;
-    }
-    case SpawnScheme::error_bound: {
-      // sf.p is the hit point projected onto the surface in double (tracer/kinds.hpp: within a few
-      // double roundings of it), so the error of the float point is its rounding to float plus the
-      // double error, bounded here by 2^-40 of the coordinate.
-      const Vec3d pd = sf.p - plan_.origin;
-      auto err = [&](double x, float f) { return float(std::fabs(x - double(f)) + std::fabs(x) * 0x1p-40 + sf.err); };
-      b.err = {err(pd.x, p.x), err(pd.y, p.y), err(pd.z, p.z)};
-      break;
-    }
+  if (plan_.spawn == SpawnScheme::error_bound) {
+    // sf.p is the hit point projected onto the surface in double (tracer/kinds.hpp: within a few
+    // double roundings of it), so the error of the float point is its rounding to float plus the
+    // double error, bounded here by 2^-40 of the coordinate, plus how far the traced primitive may
+    // lie from that surface (sf.err: its storage's rounding at this hit). All of this hit's own:
+    // a ball resting on a planet keeps its offsets at the ball's scale.
+    const Vec3d pd = sf.p - plan_.origin;
+    auto err = [&](double x, float f) { return float(std::fabs(x - double(f)) + std::fabs(x) * 0x1p-40 + sf.err); };
+    b.err = {err(pd.x, p.x), err(pd.y, p.y), err(pd.z, p.z)};
   }
   return b;
 }
@@ -409,7 +398,6 @@ Vec3f SceneAccel::spawn_point(const SpawnBase& b, const Vec3f& dir) const {
   const Vec3f n = dot(b.ng, dir) < 0.0f ? -b.ng : b.ng;
   switch (plan_.spawn) {
     case SpawnScheme::extent_eps: return spawn::eps_offset(b.p, n, plan_.spawn_eps);
-    case SpawnScheme::integer: return spawn::wb_offset(b.p, n, b.scale);
     case SpawnScheme::error_bound: return spawn::bound_offset(b.p, b.err, n);
   }
   return b.p;

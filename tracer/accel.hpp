@@ -80,7 +80,6 @@ class SceneAccel {
   struct SpawnBase {
     Vec3f p, err;      // the hit point in frame coordinates; the error-bound scheme's bound per axis
     Vec3f ng;          // the unit geometric normal
-    float scale = 1;   // the integer scheme's scale
   };
   SpawnBase spawn_base(const kinds::Surface& sf) const;
   Vec3f spawn_point(const SpawnBase& b, const Vec3f& dir) const;

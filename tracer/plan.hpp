@@ -32,8 +32,9 @@ enum class Model { fast, automatic, exact };
 const char* model_name(Model m);
 Model parse_model(const std::string& s);  // fast | auto | exact; throws std::invalid_argument
 
-// Where secondary rays start (core/spawn.hpp).
-enum class SpawnScheme { extent_eps, integer, error_bound };
+// Where secondary rays start (core/spawn.hpp): the fast model's extent epsilon, or each hit's own
+// error bound.
+enum class SpawnScheme { extent_eps, error_bound };
 const char* spawn_name(SpawnScheme s);
 
 enum class FrameKind { world, centre, camera };
@@ -83,10 +84,10 @@ struct Plan {
   bvh::Slab slab = bvh::Slab::conservative;
   float origin_bound = 0;
   std::string slab_reason;
-  // Secondary rays: the scheme (the integer offset scales to each hit: SceneAccel::spawn_point), and
-  // the extent epsilon (the fast model's offset: 1e-5 of the scene's extent and distance from the
+  // Secondary rays: the scheme (the error bound is each hit's own: SceneAccel::spawn_base), and the
+  // extent epsilon (the fast model's offset: 1e-5 of the scene's extent and distance from the
   // origin).
-  SpawnScheme spawn = SpawnScheme::integer;
+  SpawnScheme spawn = SpawnScheme::error_bound;
   float spawn_eps = 1e-5f;
   std::string spawn_reason;
   // The scale a primitive over a thousand times the smallest object is judged against
