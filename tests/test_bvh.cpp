@@ -358,3 +358,77 @@ TEST(Bvh, DefaultAndRobustTraversalLetNoRayThroughAClosedMesh) {
 }
 
 }  // namespace
+
+namespace {
+
+// The surface at a hit, field by field, bit for bit.
+void expect_same_surface(const kinds::Surface& a, const kinds::Surface& b, const std::string& what) {
+  EXPECT_EQ(std::bit_cast<std::uint64_t>(a.p.x), std::bit_cast<std::uint64_t>(b.p.x)) << what;
+  EXPECT_EQ(std::bit_cast<std::uint64_t>(a.p.y), std::bit_cast<std::uint64_t>(b.p.y)) << what;
+  EXPECT_EQ(std::bit_cast<std::uint64_t>(a.p.z), std::bit_cast<std::uint64_t>(b.p.z)) << what;
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_EQ(std::bit_cast<std::uint32_t>(a.ng[c]), std::bit_cast<std::uint32_t>(b.ng[c])) << what;
+    EXPECT_EQ(std::bit_cast<std::uint32_t>(a.ns[c]), std::bit_cast<std::uint32_t>(b.ns[c])) << what;
+  }
+  EXPECT_EQ(a.mat, b.mat) << what;
+}
+
+}  // namespace
+
+// What shading asks of every hit, kept or shortened where it costs most: a polygon's unit normal
+// and extent from its batch (computed once from all its vertices), a triangle's extent with one
+// square root, a sphere's normal normalised once. Each gives the bits of the long way, so images
+// do not change.
+TEST(Surface, ShortcutsGiveTheLongWaysBits) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  // Polygons: the gears' (many vertices each) and the checkerboard's floor.
+  for (const scene::Scene& s : {scene::generate_spd("gears", 1), scene::lecture_scene("checkerboard")}) {
+    ASSERT_FALSE(s.polygons.empty()) << s.name;
+    kinds::PolygonKind::Batch b;
+    kinds::SlotIds ids;
+    for (std::uint32_t i = 0; i < s.polygons.size(); ++i) ids.push_back(i);
+    kinds::PolygonKind::build(b, s, std::move(ids), {0, 0, 0}, 0, false, false);
+    for (std::uint32_t i = 0; i < s.polygons.size(); i += 7) {
+      kinds::HitQuery q;
+      q.scene = &s;
+      const auto& pg = s.polygons[i];
+      const Vec3d a = s.poly_verts[pg.first], c = s.poly_verts[pg.first + pg.count / 2];
+      q.p = a + (c - a) * u(rng) + Vec3d{1e-3, -2e-3, 5e-4};
+      q.ray = make_ray(Vec3f{0, 0, 0}, Vec3f{0.3f, -0.9f, 0.1f});
+      const kinds::Surface slow = kinds::PolygonKind::surface(q, i);
+      const double slow_extent = kinds::PolygonKind::extent(q, i);
+      EXPECT_EQ(slow_extent, kinds::PolygonKind::feature(s, i).extent);
+      q.batch = &b;
+      expect_same_surface(kinds::PolygonKind::surface(q, i), slow, s.name + " polygon " + std::to_string(i));
+      EXPECT_EQ(kinds::PolygonKind::extent(q, i), slow_extent) << s.name << " polygon " << i;
+    }
+  }
+  // Triangles: the bunny's and a tessellated teapot's.
+  for (const scene::Scene& s : {scene::load_scene(std::string(RB_SOURCE_DIR) + "/data/meshes/stanford-bunny.obj"), scene::generate_spd("teapot", 1)}) {
+    kinds::HitQuery q;
+    q.scene = &s;
+    for (std::uint32_t i = 0; i < s.triangles.size(); ++i)
+      ASSERT_EQ(kinds::TriangleKind::extent(q, i), kinds::TriangleKind::feature(s, i).extent) << s.name << " triangle " << i;
+  }
+  // Spheres: points around the centre (and at it), against unit_d and unit_or of the radial vector.
+  scene::Scene s;
+  s.spheres.push_back({{6400000.3, -2.7, 1e-3}, 1.7, 0});
+  s.spheres.push_back({{0.1, 0.2, 0.3}, 1e-30, 0});
+  for (std::uint32_t i = 0; i < 2; ++i)
+    for (int k = 0; k < 200; ++k) {
+      const auto& sp = s.spheres[i];
+      kinds::HitQuery q;
+      q.scene = &s;
+      q.ray = make_ray(Vec3f{0, 0, 0}, Vec3f{0.6f, 0.0f, -0.8f});
+      const Vec3d off{u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5};
+      q.p = k == 0 ? sp.c : sp.c + off * (sp.r * 2.0);
+      const kinds::Surface got = kinds::SphereKind::surface(q, i);
+      kinds::Surface want;
+      const Vec3d n = kinds::detail::unit_d(q.p - sp.c);
+      want.p = dot(n, n) > 0 ? sp.c + n * sp.r : q.p;
+      want.ng = want.ns = kinds::detail::unit_or(q.p - sp.c, -q.ray.d);
+      want.mat = sp.mat;
+      expect_same_surface(got, want, "sphere " + std::to_string(i) + " point " + std::to_string(k));
+    }
+}

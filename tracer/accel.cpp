@@ -364,7 +364,12 @@ kinds::Surface SceneAccel::surface(std::uint32_t prim, const Ray<float>& r, floa
   // A primitive stored in float lies within a few roundings of its coordinates (and, for placed
   // ones, of its map's) from the double surface sf.p is on: 8 u (|p| + its extent), frame units,
   // u = 2^-24; one stored in double within as many double roundings (u = 2^-53).
-  const double ext = AllKinds::at<double>(k, [&]<class K>() { return K::feature(*scene_, kinds::index_of(prim)).extent; });
+  // The primitive's extent: the kind's own shortcut where it has one (kept in its batch, or fewer
+  // square roots), else its feature's.
+  const double ext = AllKinds::at<double>(k, [&]<class K>() {
+    if constexpr (requires { K::extent(q, 0u); }) return K::extent(q, kinds::index_of(prim));
+    else return K::feature(*scene_, kinds::index_of(prim)).extent;
+  });
   const Vec3d pf = sf.p - plan_.origin;
   const bool apart = stored_apart(k, kinds::index_of(prim));
   const double u = plan_.kinds[std::size_t(k)].f64_storage || (apart && !plan_.kinds[std::size_t(k)].split_local) ? 0x1p-53 : 0x1p-24;

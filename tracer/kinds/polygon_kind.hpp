@@ -67,14 +67,28 @@ struct PolygonKind {
     PolygonSoA soa;                  // the polygons in leaf order
     std::vector<std::uint32_t> slot;  // per leaf slot: its slot in soa (UINT32_MAX: padding)
     SlotIds id;                       // per leaf slot: the scene index (UINT32_MAX: padding)
-    std::size_t bytes() const { return soa.bytes() + (slot.size() + id.size()) * sizeof(std::uint32_t); }
+    // Per scene index, what every hit on the polygon needs and each would otherwise recompute from
+    // all its vertices: the unit normal (Newell's, in double) and the extent.
+    std::vector<Vec3d> unit_normal;
+    std::vector<double> extent;
+    std::size_t bytes() const {
+      return soa.bytes() + (slot.size() + id.size()) * sizeof(std::uint32_t) + unit_normal.size() * sizeof(Vec3d) +
+             extent.size() * sizeof(double);
+    }
   };
+  static Vec3d unit_normal(const Scene& s, std::uint32_t i) {
+    const auto& pg = s.polygons[i];
+    return detail::unit_d(newell_normal(s.poly_verts.data() + pg.first, pg.count));
+  }
   // ids: the scene index of every leaf slot (UINT32_MAX for padding), in leaf order.
   static void build(Batch& b, const Scene& s, SlotIds ids, const Vec3d& origin, int /*method*/, bool /*f64*/,
                     bool /*f64_storage*/) {
     std::vector<std::vector<Vec3d>> polys;
     for (std::uint32_t p : ids)
       if (p != UINT32_MAX) polys.push_back(vertices(s, p, origin));
+    b.unit_normal.resize(s.polygons.size());
+    b.extent.resize(s.polygons.size());
+    for (std::uint32_t i = 0; i < s.polygons.size(); ++i) b.unit_normal[i] = unit_normal(s, i), b.extent[i] = feature(s, i).extent;
     b.id = std::move(ids);
     b.slot.assign(b.id.size(), UINT32_MAX);
     if (polys.empty()) return;
@@ -134,12 +148,18 @@ struct PolygonKind {
     return soa.bytes();
   }
 
+  // The extent of a hit's polygon: the batch's, when the query has one (the tracer's).
+  static double extent(const HitQuery& q, std::uint32_t i) {
+    const auto* b = static_cast<const Batch*>(q.batch);
+    return b && i < b->extent.size() ? b->extent[i] : feature(*q.scene, i).extent;
+  }
   static Surface surface(const HitQuery& q, std::uint32_t i) {
     const Scene& s = *q.scene;
     const auto& pg = s.polygons.at(i);
     const Vec3d* v = s.poly_verts.data() + pg.first;
     Surface h;
-    const Vec3d n = detail::unit_d(newell_normal(v, pg.count));
+    const auto* b = static_cast<const Batch*>(q.batch);
+    const Vec3d n = b && i < b->unit_normal.size() ? b->unit_normal[i] : unit_normal(s, i);
     h.p = detail::onto_plane(q.p, n, v[0]);
     h.ng = detail::unit_or(n, -q.ray.d);
     h.ns = s.poly_normals.empty() ? h.ng : detail::interpolate(v, s.poly_normals.data() + pg.first, pg.count, q.p, h.ng);

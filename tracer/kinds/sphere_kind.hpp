@@ -87,9 +87,14 @@ struct SphereKind {
   static Surface surface(const HitQuery& q, std::uint32_t i) {
     const auto& sp = q.scene->spheres.at(i);
     Surface h;
-    const Vec3d n = detail::unit_d(q.p - sp.c);
+    // The radial direction normalised once: the point projected onto the sphere along it, and the
+    // normal (detail::unit_d and unit_or of the same vector, without a second square root).
+    const Vec3d v = q.p - sp.c;
+    const double l = std::sqrt(dot(v, v));
+    const bool unit = l > 0.0 && std::isfinite(l);
+    const Vec3d n = unit ? v * (1.0 / l) : v;
     h.p = dot(n, n) > 0 ? sp.c + n * sp.r : q.p;
-    h.ng = h.ns = detail::unit_or(q.p - sp.c, -q.ray.d);
+    h.ng = h.ns = unit ? to_float(n) : -q.ray.d;
     h.mat = sp.mat;
     return h;
   }

@@ -35,6 +35,14 @@ struct TriangleKind {
     const Vec3d n = cross(b - a, c - a);
     return {(a + b + c) * (1.0 / 3.0), std::min({e0, e1, e2}), std::max({e0, e1, e2}), !(dot(n, n) > 0.0)};
   }
+  // feature(s, i).extent with one square root (of the longest squared edge: the same value, as the
+  // square root is monotone and correctly rounded): every hit's surface asks for it.
+  static double extent(const HitQuery& q, std::uint32_t i) {
+    const Scene& s = *q.scene;
+    const auto& t = s.triangles[i];
+    const Vec3d a = s.verts[t.v[0]], b = s.verts[t.v[1]], c = s.verts[t.v[2]];
+    return std::sqrt(std::max({dot(b - a, b - a), dot(c - b, c - b), dot(a - c, a - c)}));
+  }
   static const std::array<std::uint32_t, 3>& mesh_vertices(const Scene& s, std::uint32_t i) { return s.triangles[i].v; }
 
   // The vertices relative to the frame origin, each coordinate rounded once (shared vertices stay
