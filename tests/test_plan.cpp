@@ -1,7 +1,7 @@
 // Model no more than a scene needs: the numerical profile and the plan (tracer/profile.hpp,
 // tracer/plan.hpp) on scenes with known needs, the whole-scene accuracy of each model against the
 // exact reference (the lab's family "scene"), and invariance: a scene moved far from the origin or
-// scaled renders like the original under the auto model.
+// scaled renders like the original under the auto model. Spawn offsets: test_plan_spawn.cpp.
 #include "accuracy/lab.hpp"
 #include "render/render.hpp"
 #include "scene/camera.hpp"
@@ -347,100 +347,6 @@ TEST(PlanPrimitives, TheInputsPrecisionComesFromTheFileAndDecidesTheStorage) {
   std::remove(ply.c_str());
   std::remove(obj17.c_str());
   std::remove(obj6.c_str());
-}
-
-// ---- spawn offsets per hit ------------------------------------------------------------------------
-// A ball of radius 2 resting on a planet of radius 6.4e6: secondary rays start off the point they
-// leave by an offset scaled to that hit, not to the scene's largest coordinate (which would put
-// them tens of units away: no shadow under the ball, a false terminator on its lower half).
-namespace {
-bvh::HitRec trace_one(const tracer::SceneAccel& a, const Ray<float>& r, bool any) {
-  RaySoA rays;
-  rays.push(r);
-  std::vector<bvh::HitRec> h(rays.size());
-  tracer::TraceOptions o;
-  o.any = any;
-  a.trace(rays, 0, rays.size(), h.data(), o);
-  return h[0];
-}
-// Whether the light is blocked from the point a world ray from `from` along `dir` first hits.
-bool shadowed(const tracer::SceneAccel& a, const Vec3d& from, const Vec3d& dir, const Vec3d& light, std::uint32_t* hit_prim) {
-  const Ray<float> r = a.frame_ray(from, dir);
-  const bvh::HitRec h = trace_one(a, r, false);
-  *hit_prim = h.prim;
-  if (h.prim == bvh::kNoPrim) return false;
-  const kinds::Surface sf = a.surface(h.prim, r, h.t);
-  const Vec3d to = light - sf.p;
-  const Vec3f d = to_float(to * (1.0 / std::sqrt(dot(to, to))));
-  const Vec3f o = a.spawn_point(sf, d);
-  return trace_one(a, make_ray(o, d, 0.0f, float(std::sqrt(dot(to, to)))), true).prim != bvh::kNoPrim;
-}
-}  // namespace
-
-TEST(PlanSpawn, ABallOnAPlanetCastsItsShadowAndLightsItsLowerHalf) {
-  const scene::Scene s = scene::precision_scene("planet");
-  // The scene's own layout (scene/precision_scenes.cpp): the planet's top point, the ball on it.
-  const Vec3d top{0.3, 0, -0.2}, ball = top + Vec3d{0.3, 2.0, -0.1}, light = s.lights.at(0).pos;
-  const double radius = 2.0;
-  for (Model m : {Model::automatic, Model::exact}) {
-    const tracer::SceneAccel a = tracer::SceneAccel::build(s, tracer::make_plan(s, m));
-    std::uint32_t prim = 0;
-    // The ground in the ball's shadow: the line from the light through the ball's centre, where it
-    // meets the ground, seen from above.
-    const double k = light.y / (light.y - ball.y);
-    const Vec3d umbra = light + (ball - light) * k;
-    const Vec3d above = umbra + Vec3d{-0.5, 3.0, 0.4};
-    EXPECT_TRUE(shadowed(a, above, umbra - above, light, &prim)) << tracer::model_name(m) << ": no shadow under the ball";
-    EXPECT_EQ(kinds::index_of(prim), 0u) << "the planet (sphere 0) is what the ray meets";
-    // Lit ground away from the ball.
-    const Vec3d open = top + Vec3d{-6.0, 0.0, 5.0};
-    EXPECT_FALSE(shadowed(a, open + Vec3d{0.3, 3.0, 0.2}, Vec3d{-0.3, -3.0, -0.2}, light, &prim)) << tracer::model_name(m);
-    // Lit points of the ball whose normals point down (its lower half, facing the light).
-    const Vec3d l = light - ball;
-    for (const double down : {-0.05, -0.2, -0.4}) {
-      Vec3d n{l.x, down * std::sqrt(dot(l, l)), l.z};
-      n = n * (1.0 / std::sqrt(dot(n, n)));
-      ASSERT_GT(dot(n, l), 0.0);
-      EXPECT_FALSE(shadowed(a, ball + n * (radius + 1.0), n * -1.0, light, &prim))
-          << tracer::model_name(m) << ": a false terminator at normal y " << n.y;
-      EXPECT_EQ(kinds::index_of(prim), 1u) << "the ball (sphere 1) is what the ray meets";
-    }
-  }
-}
-
-// Balls on a floor 3.7e4 above a world of small meshes near the origin, which world coordinates
-// must hold beside them (precision:cluster_ground): where the float step is 2^-8, an offset of 256
-// float steps lifted a shadow ray from the floor by one unit, past the ball of radius 0.7. Per
-// hit, from its own error, every ball keeps its shadow, whatever the model.
-TEST(PlanSpawn, BallsOnAFloorFarFromTheFrameOriginCastTheirShadows) {
-  const scene::Scene s = scene::precision_scene("cluster_ground");
-  // The scene's own layout (scene/precision_scenes.cpp): the floor at `at`, put_balls' two balls.
-  const Vec3d at{20, 37000.5, -10}, light = s.lights.at(0).pos;
-  const struct {
-    Vec3d c;
-    double r;
-  } balls[] = {{at + Vec3d{0.3, 2.0, -0.1}, 2.0}, {at + Vec3d{3.1, 0.7, 1.7}, 0.7}};
-  for (Model m : {Model::automatic, Model::exact}) {
-    const tracer::Plan p = tracer::make_plan(s, m);
-    if (m == Model::automatic) ASSERT_EQ(p.frame, tracer::FrameKind::world) << "the balls far from the frame's origin";
-    const tracer::SceneAccel a = tracer::SceneAccel::build(s, p);
-    for (const auto& b : balls) {
-      // The floor where the line from the light through the ball's centre meets it, and nine
-      // tenths of the way there from where the ball touches the floor: both in its shadow, and
-      // both seen from straight above past the ball (over its radius from its centre's foot).
-      const Vec3d umbra = light + (b.c - light) * ((light.y - at.y) / (light.y - b.c.y));
-      const Vec3d contact{b.c.x, at.y, b.c.z};
-      for (const Vec3d& q : {umbra, contact + (umbra - contact) * 0.9}) {
-        std::uint32_t prim = 0;
-        EXPECT_TRUE(shadowed(a, q + Vec3d{0, 5.0, 0}, Vec3d{0, -1, 0}, light, &prim))
-            << tracer::model_name(m) << ": no shadow of the ball of radius " << b.r;
-        EXPECT_EQ(kinds::kind_of(prim), Kind::polygon) << "the floor is what the ray meets";
-      }
-    }
-    // Lit floor beside the balls.
-    std::uint32_t prim = 0;
-    EXPECT_FALSE(shadowed(a, at + Vec3d{-6.3, 5.0, 6.1}, Vec3d{-0.3, -5.0, -0.2}, light, &prim)) << tracer::model_name(m);
-  }
 }
 
 // ---- whole scenes against the exact reference ------------------------------------------------------
