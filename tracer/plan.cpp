@@ -130,7 +130,8 @@ std::string per_kind_steps(const FrameError& e, const Profile& p, Model m, const
 }
 
 // World, the scene's centre or the camera: the first that represents the scene in float, else the
-// best; among those that represent it, the one that leaves the fewest primitives to double.
+// best; among those that represent it, the one whose primitives stored apart cost least at the
+// kinds' measured storage costs.
 FrameChoice choose_frame(const scene::Scene& s, const Profile& p, Model m, const StorageCosts& costs) {
   std::vector<FrameChoice> cand(3);
   cand[0].kind = FrameKind::world;
