@@ -186,8 +186,8 @@ RenderTimes time_renders(const RenderRunOptions& o, const scene::Scene& s, const
     if (!o.rays_out.empty()) tracer::write_ray_file(o.rays_out, f);
     ++run;
     if (o.trace_alone) {
-      // The render's own width (its eye packets ask for 16 lanes: render/render.cpp).
-      out.alone = trace_rays_alone(accel, f, o.threads, o.repetitions, o.min_time, 16,
+      // At the render's own width (render::kRenderLanes).
+      out.alone = trace_rays_alone(accel, f, o.threads, o.repetitions, o.min_time, render::kRenderLanes,
                                    [&](double x) { progress(std::size_t(1e3 * x), 1000); });
       // The render's rate over the rate of the same rays traced alone, counted as the render counts
       // them: the traced-alone seconds over the render's, a ratio of medians with its interval.
@@ -289,7 +289,7 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
          {"eye_packet", ro.eye_packet},
          // The lanes per group the eye packets walked in: 16 (AVX-512) for a triangle mesh where the
          // binary and CPU have them; counted renders walk in 8.
-         {"eye_group_lanes", ro.count_tests ? 8 : accel.group_lanes({.packet = ro.eye_packet, .lanes = 16})},
+         {"eye_group_lanes", ro.count_tests ? 8 : accel.group_lanes({.packet = ro.eye_packet, .lanes = render::kRenderLanes})},
          {"packet_choice", {{"eye", o.eye_packet == 0 ? "fastest in the trial renders" : "given"},
                             {"secondary", o.secondary_packet == 0 ? "fastest in the trial renders" : "given"},
                             {"trials", rt.trial_rows}}},

@@ -172,9 +172,7 @@ void Renderer::trace(Work& w, const std::vector<Ray<float>>& rays, bool any, boo
   tracer::TraceOptions to;
   to.packet = secondary ? (o_.secondary_packet == 8 ? 8 : 1) : o_.eye_packet;
   to.any = any;
-  // Eye packets of 16 or more rays of a triangle mesh walk in 16 AVX-512 lanes where the binary and
-  // the CPU have them, as `raybench trace` does by default (the same hits: the image is unchanged).
-  to.lanes = 16;
+  to.lanes = kRenderLanes;
   w.order.clear();
   if (secondary && to.packet == 8) octant_order(rays, w.order);
   const bool sorted = !w.order.empty();

@@ -60,6 +60,11 @@ struct RenderOptions {
   bool keep_rays = false;
 };
 
+// The lanes per group a render asks its packets to walk in (tracer::TraceOptions::lanes): eye
+// packets of 16 or more rays of a triangle mesh walk in 16 AVX-512 lanes where the binary and the
+// CPU have them, as `raybench trace` does by default (the same hits: the image is unchanged).
+inline constexpr int kRenderLanes = 16;
+
 // One generation of a render's rays (0: the eye rays; 1: their reflection and refraction rays; ...):
 // its rays, how many hit, its shadow rays, and where its time went, in thread seconds (summed
 // over threads; under MPI, this rank's own).

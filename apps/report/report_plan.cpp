@@ -134,10 +134,13 @@ std::string plan_storage_check(const json& summary, json& storage_check) {
     const auto lf = stats::interval_from_json(ev[cs]["local_over_frame"]), df = stats::interval_from_json(ev[cs]["double_over_frame"]),
                ld = stats::interval_from_json(ev[cs]["local_over_double"]);
     const bool plan_local = c.local <= c.f64;
-    // Local frames are cheaper here when the whole interval of local / double lies below 1, double
-    // when it lies above; either when it straddles 1.
-    const std::string here = ld.hi < 1 ? "local frames" : ld.lo > 1 ? "double" : "either (the interval holds 1)";
-    const bool holds = ld.hi < 1 ? plan_local : ld.lo > 1 ? !plan_local : true;
+    // Local frames / double judged against 1: below it, local frames are cheaper here; above, double;
+    // straddling it (or unmeasured), either.
+    const stats::Verdict v = stats::verdict(ld, 1.0);
+    const std::string here = v == stats::Verdict::not_met ? "local frames"
+                             : v == stats::Verdict::met   ? "double"
+                                                          : "either (the interval holds 1)";
+    const bool holds = v == stats::Verdict::not_met ? plan_local : v == stats::Verdict::met ? !plan_local : true;
     all_hold = all_hold && holds;
     md += fmt::format("| {} | `{}` | {} | {} | {} | {:.2f}x, {:.2f}x ({}) | {} | {} |\n", kinds::kind_name(kinds::Kind(k)), evidence,
                       stats::interval_text(lf), stats::interval_text(df), stats::interval_text(ld), c.local, c.f64, c.measured_on,
