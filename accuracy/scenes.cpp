@@ -313,7 +313,7 @@ std::vector<Row> plan_rows(const scene::Scene& s, const tracer::Profile& prof, c
       if (!got) continue;
       // The secondary ray: from the model's hit point by its spawn offset, into the hemisphere the
       // primary ray came from.
-      const kinds::Surface sf = a.surface(hits[i].prim, fr, hits[i].t);
+      const kinds::Surface sf = a.surface(hits[i], fr);
       const Vec3f side_n = dot(sf.ng, fr.d) <= 0.0f ? sf.ng : -sf.ng;
       Vec3d dir = unit_rand(rng);
       if (dot(dir, to_double(side_n)) < 0) dir = dir * -1.0;

@@ -138,9 +138,21 @@ Bvh8 collapse8(const Bvh2& b);
 void make_conservative(Bvh8& t, float origin_bound);
 
 // ---- what the traversal returns and counts -------------------------------------------------------
-// A hit: t (+inf when none) and the primitive as kind << kKindShift | index within its kind (kNoPrim):
-// the primitive's own kind (3 bits), whichever batch it was traced in.
+// A traced ray's hit: t (+inf when none) and the primitive as kind << kKindShift | index within its
+// kind (kNoPrim): the primitive's own kind (3 bits), whichever batch it was traced in; and what the
+// kernel knew of the hit beyond t that its surface would otherwise have to intersect again to learn:
+// a CSG solid's leaf tag (+-(leaf + 1), negative on a subtracted surface; kernels/csg_ray.hpp). aux is
+// 0 for the other kinds, and read only for the kinds that write it (a walk may keep a CSG hit's tag
+// after a nearer hit of another kind replaced it).
 struct HitRec {
+  float t;
+  std::uint32_t prim;
+  float aux = 0;
+};
+// The closest hit so far of one ray, as a walk and its leaves keep it (bvh/hit.hpp): t and the
+// primitive, 8 bytes that stay in registers through a single ray's walk; a leaf source whose hits
+// carry an aux datum keeps it in its ray cache (bvh/hit.hpp, carries_aux).
+struct Closest {
   float t;
   std::uint32_t prim;
 };

@@ -29,10 +29,19 @@ inline const char* slab_name(Slab s) {
 
 inline constexpr float kInfF = std::numeric_limits<float>::infinity();
 
-// The finished hit: t = +inf when nothing was hit (the contract of Hit).
-RB_INLINE HitRec finished(HitRec h) {
-  if (h.prim == kNoPrim) h.t = kInfF;
-  return h;
+// Whether a leaf source's hits carry an aux datum (HitRec::aux): its ray cache keeps one, written by
+// the leaf that gave the ray's closest hit.
+template <class L>
+inline constexpr bool carries_aux = requires(typename L::RayCache& c) { c.aux; };
+
+// The finished hit: t = +inf when nothing was hit (the contract of Hit); the aux datum from the ray's
+// cache where the leaf source keeps one.
+RB_INLINE HitRec finished(const Closest& h) { return {h.prim == kNoPrim ? kInfF : h.t, h.prim}; }
+template <class Cache>
+RB_INLINE HitRec finished(const Closest& h, const Cache& c) {
+  HitRec o = finished(h);
+  if constexpr (requires { c.aux; }) o.aux = c.aux;
+  return o;
 }
 
 // The closest hit is canonical: the least t, and at an equal t the least hit code (the kind, then
@@ -41,14 +50,14 @@ RB_INLINE HitRec finished(HitRec h) {
 // tested: single rays, packets of every size and the brute-force loop give the same hits. Node
 // tests and the stack keep boxes whose entry equals the closest t (the tests are inclusive), so
 // the other face's leaf is still visited.
-RB_INLINE bool nearer(float t, std::uint32_t code, const HitRec& h) { return t < h.t || (t == h.t && code < h.prim); }
+RB_INLINE bool nearer(float t, std::uint32_t code, const Closest& h) { return t < h.t || (t == h.t && code < h.prim); }
 
 // A leaf's hit lanes (t = +inf on the others, at least one hit) against h: the least t, at an
 // equal t the least code among the lanes and h. code_of(lane) gives a lane's code; it is read for
 // the nearest lane and, only when several lanes share its t, for each of them. True, with h
 // updated, when the leaf gives a nearer hit by `nearer`.
 template <class CodeOf>
-RB_INLINE bool take_nearest(const f8& t8, HitRec& h, CodeOf&& code_of) {
+RB_INLINE bool take_nearest(const f8& t8, Closest& h, CodeOf&& code_of) {
   float t;
   unsigned ties;
   const int lane = lanes::argmin(t8, t, ties);
@@ -65,8 +74,9 @@ inline constexpr int kMaxGroups = kMaxRays / 8;
 
 // What a leaf source sees of a packet: the groups with rays to test at this leaf (list[0..n)),
 // each group's rays, current closest distance (tbest, lowered by hits) and the rays to test
-// (active: a leaf clears, with Any, the rays that hit), and the primitive hit per ray (ray l of
-// group k at prim[N k + l]). V: the group's register (f8; f16 in the 16-lane walk).
+// (active: a leaf clears, with Any, the rays that hit), the primitive hit per ray (ray l of
+// group k at prim[N k + l]) and the hit's aux datum per group (HitRec::aux; null where the walk keeps
+// none). V: the group's register (f8; f16 in the 16-lane walk).
 template <class V>
 struct PacketRaysT {
   static constexpr int N = lanes::Group<V>::N;
@@ -77,15 +87,18 @@ struct PacketRaysT {
   V* tbest = nullptr;
   mask* active = nullptr;
   std::uint32_t* prim = nullptr;
+  V* aux = nullptr;
   bool improved = false;  // set by packet_update when a ray's tbest fell
 };
 using PacketRays = PacketRaysT<f8>;
 
 // Records a leaf's hits for the rays of group k: lanes of `hit` that are active take t (at most
 // their tbest: the kernel ran with tmax = tbest; at an equal t only a lesser code, as `nearer`) and
-// the primitive `code`; with Any, the rays that hit leave the packet.
+// the primitive `code` (and, given, the aux datum per lane); with Any, the rays that hit leave the
+// packet.
 template <bool Any, class V>
-RB_INLINE void packet_update(PacketRaysT<V>& p, int k, const typename PacketRaysT<V>::mask& hit, const V& t, std::uint32_t code) {
+RB_INLINE void packet_update(PacketRaysT<V>& p, int k, const typename PacketRaysT<V>::mask& hit, const V& t, std::uint32_t code,
+                             const V* aux = nullptr) {
   using G = lanes::Group<V>;
   constexpr int N = G::N;
   auto m = hit & p.active[k];
@@ -103,6 +116,7 @@ RB_INLINE void packet_update(PacketRaysT<V>& p, int k, const typename PacketRays
     }
   }
   p.tbest[k] = xsimd::select(m, t, p.tbest[k]);
+  if (aux && p.aux) p.aux[k] = xsimd::select(m, *aux, p.aux[k]);
   p.improved = true;
   while (bits) {
     const int l = __builtin_ctz(bits);

@@ -8,15 +8,17 @@
 // never switched per ray.
 //
 // A leaf source L provides:
-//   using RayCache;      per single ray (constructed from it): whatever its leaves precompute
+//   using RayCache;      per single ray (constructed from it): whatever its leaves precompute; with
+//                        a member `aux`, the aux datum of the ray's closest hit (HitRec::aux)
 //   using PacketCache;   the same per group of a packet
-//   bool single(ref, const Ray<float>& r, RayCache&, HitRec& h) const;
+//   bool single(ref, const Ray<float>& r, RayCache&, Closest& h) const;
 //       the ray against leaf `ref`'s primitives with tmax = h.t (inclusive); true when h was
 //       improved by the canonical order (`nearer`: a lesser t, or a lesser code at an equal t);
 //       never called with an empty leaf
 //   template <bool Any> void packet(ref, PacketRays& p, PacketCache&) const;
 //       the listed groups' active rays against the leaf: improves p.tbest and p.prim per lane
-//       (packet_update); with Any, clears p.active of rays that hit
+//       (packet_update, and p.aux where the source carries aux data); with Any, clears p.active
+//       of rays that hit
 //   std::uint32_t slots(ref) const;   real primitives in the leaf (for the counted traversal)
 #pragma once
 

@@ -70,8 +70,9 @@ struct RayMask {
 };
 
 // The packet's rays as the walk tests them: per group the rays, their slab terms, closest distance
-// so far, the rays a leaf is to test, and the hit primitive per ray; the slab terms also per ray
-// as scalars (the first active ray's own test); the rays still looking for a hit.
+// so far, the rays a leaf is to test, and the hit primitive per ray with its aux datum (HitRec::aux);
+// the slab terms also per ray as scalars (the first active ray's own test); the rays still looking
+// for a hit.
 template <class V, int G>
 struct Packet {
   using Lanes = lanes::Group<V>;
@@ -82,6 +83,7 @@ struct Packet {
   V tbest[G];
   typename Lanes::mask act[G];
   std::uint32_t prim[N * G];
+  V aux[G];
   alignas(64) float rd_s[3][N * G], ord_s[3][N * G], o_s[3][N * G], tmin_s[N * G];
   Mask alive;
 
@@ -106,6 +108,9 @@ struct Packet {
       alive.set(g, Lanes::bits(r[g].tmin <= r[g].tmax));
     }
     for (auto& q : prim) q = kNoPrim;
+  }
+  void load_aux() {
+    for (auto& a : aux) a = V(0);
   }
   // The frustum of the alive rays: per axis their extreme origins and reciprocal directions.
   SlabFrustum frustum() const {
@@ -156,14 +161,17 @@ struct Packet {
       if (const unsigned b = m.group(g)) x = xsimd::max(x, xsimd::select(Lanes::of(b), tbest[g], V(-kInfF)));
     return Lanes::hmax(x);
   }
-  // The rays' hits into out[i, i + N G).
+  // The rays' hits into out[i, i + N G), with their aux data where the leaf source keeps them (Aux:
+  // then load_aux ran after load).
+  template <bool Aux>
   void finish(std::size_t i, HitRec* out) const {
     for (int g = 0; g < G; ++g) {
-      alignas(64) float tt[N];
+      alignas(64) float tt[N], ta[N];
       tbest[g].store_aligned(tt);
+      if constexpr (Aux) aux[g].store_aligned(ta);
       for (int l = 0; l < N; ++l) {
         const std::uint32_t pr = prim[N * g + l];
-        out[i + N * std::size_t(g) + std::size_t(l)] = {pr == kNoPrim ? kInfF : tt[l], pr};
+        out[i + N * std::size_t(g) + std::size_t(l)] = {pr == kNoPrim ? kInfF : tt[l], pr, Aux ? ta[l] : 0.0f};
       }
     }
   }
@@ -186,6 +194,7 @@ template <bool Robust, bool Count, class V, int G, class L>
     if (h.prim == kNoPrim) continue;
     p.prim[f] = h.prim;
     p.tbest[g] = xsimd::select(Packet<V, G>::Lanes::of(1u << l), V(h.t), p.tbest[g]);
+    if constexpr (carries_aux<L>) p.aux[g] = xsimd::select(Packet<V, G>::Lanes::of(1u << l), V(h.aux), p.aux[g]);
     p.alive.set(g, p.alive.group(g) & ~(1u << l));
   }
 }
@@ -292,10 +301,12 @@ RB_INLINE void visit_packet_leaf(const L& leaves, std::uint32_t ref, const Mask&
 template <bool Robust, bool Any, bool Count, int G, class L, class V = f8>
 void trace_packet(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_t i, HitRec* out, TraceCounters& c) {
   using Mask = typename Packet<V, G>::Mask;
+  constexpr bool kAux = carries_aux<L>;
   Packet<V, G> p;
   p.load(rays, i);
+  if constexpr (kAux) p.load_aux();
   if (p.alive.empty() || t.nodes.empty()) {
-    p.finish(i, out);
+    p.template finish<kAux>(i, out);
     return;
   }
   const SlabFrustum fr = p.frustum();
@@ -305,6 +316,7 @@ void trace_packet(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_
   view.tbest = p.tbest;
   view.active = p.act;
   view.prim = p.prim;
+  if constexpr (kAux) view.aux = p.aux;
   typename L::template PacketCacheFor<V> cache;
   Stack st(t);
   MaskStack<Mask> ms(t);
@@ -350,7 +362,7 @@ void trace_packet(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_
     }
   }
 done:
-  p.finish(i, out);
+  p.template finish<kAux>(i, out);
 }
 
 }  // namespace rb::bvh

@@ -69,7 +69,7 @@ RB_INLINE bool visit_node(const WNode* nodes, const SlabRay& sr, float tmax, std
 // One leaf visit of a single ray: true when the leaf improved h. With closest hit, the stack
 // entries now beyond h.t are dropped at once.
 template <bool Any, bool Count, class L>
-RB_INLINE bool visit_leaf(const L& leaves, std::uint32_t ref, const Ray<float>& r, typename L::RayCache& cache, HitRec& h,
+RB_INLINE bool visit_leaf(const L& leaves, std::uint32_t ref, const Ray<float>& r, typename L::RayCache& cache, Closest& h,
                           std::uint32_t* sref, float* sd, std::size_t& sp, TraceCounters& c) {
   if constexpr (Count) {
     const std::uint32_t s = leaves.slots(ref);
@@ -84,7 +84,7 @@ RB_INLINE bool visit_leaf(const L& leaves, std::uint32_t ref, const Ray<float>& 
 // The walk of one ray from node `ref` (the root, or where an any-hit packet left the ray).
 template <bool Robust, bool Any, bool Count, class L>
 RB_INLINE HitRec single_loop(const Bvh8& t, const L& leaves, const Ray<float>& r, Stack& st, TraceCounters& c, std::uint32_t ref = 0) {
-  HitRec h{r.tmax, kNoPrim};
+  Closest h{r.tmax, kNoPrim};
   const SlabRay sr = SlabRay::make(r);
   typename L::RayCache cache(r);
   std::uint32_t* const sref = st.ref;
@@ -94,9 +94,9 @@ RB_INLINE HitRec single_loop(const Bvh8& t, const L& leaves, const Ray<float>& r
   for (;;) {
     while (!is_leaf(ref))
       if (!visit_node<Robust, Any, Count>(nodes, sr, h.t, ref, sref, sd, sp, st.cap, c)) goto pop;
-    if (visit_leaf<Any, Count>(leaves, ref, r, cache, h, sref, sd, sp, c) && Any) return h;
+    if (visit_leaf<Any, Count>(leaves, ref, r, cache, h, sref, sd, sp, c) && Any) return finished(h, cache);
   pop:
-    if (sp == 0) return finished(h);
+    if (sp == 0) return finished(h, cache);
     ref = sref[--sp];
   }
 }
@@ -134,7 +134,7 @@ void trace_pairs(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_t
     Ray<float> r;
     SlabRay sr;
     std::optional<typename L::RayCache> cache;
-    HitRec h{kInfF, kNoPrim};  // set by start(); initialised so that no path reads an indeterminate value
+    Closest h{kInfF, kNoPrim};  // set by start(); initialised so that no path reads an indeterminate value
     std::uint32_t ref;
     std::size_t sp;
     std::size_t k = 0;  // the ray's index
@@ -173,7 +173,7 @@ void trace_pairs(const Bvh8& t, const L& leaves, const RaySoA& rays, std::size_t
       v.ref = s.ref[--v.sp];
       return true;
     }
-    out[v.k] = finished(v.h);
+    out[v.k] = finished(v.h, *v.cache);
     return false;
   };
   bool a = start(w[0]), b = a && start(w[1]);

@@ -216,7 +216,7 @@ void Renderer::shade(float* samples, Work& w, RenderStats& st) const {
       continue;
     }
     if (pr.depth == 1) ++st.eye_hit;
-    const kinds::Surface sf = a_.surface(w.hits[i].prim, r, w.hits[i].t);
+    const kinds::Surface sf = a_.surface(w.hits[i], r);
     const scene::Material& m = mats_[sf.mat < mats_.size() ? sf.mat : 0];
     const Vec3f base = surface_color(m, sf.p);
     const bool front = dot(sf.ng, r.d) <= 0.0f;  // the ray arrives on the side ng points to
@@ -300,7 +300,7 @@ void Renderer::shadows(float* samples, Work& w, RenderStats& st, GenerationStats
       const std::uint32_t j = w.live[k];
       if (w.hits[k].prim == bvh::kNoPrim) continue;
       if (!transparent_) { w.pass[j] = 0.0f; continue; }
-      const kinds::Surface sf = a_.surface(w.hits[k].prim, cur[k], w.hits[k].t);
+      const kinds::Surface sf = a_.surface(w.hits[k], cur[k]);
       const scene::Material& m = mats_[sf.mat < mats_.size() ? sf.mat : 0];
       w.pass[j] *= m.t;
       if (!(m.t > 0.0f) || round + 1 >= kMaxCrossings) { w.pass[j] = m.t > 0.0f ? w.pass[j] : 0.0f; continue; }

@@ -123,16 +123,22 @@ bool contains_node(const CsgTree& T, std::uint32_t i, Vec3d p) {
 bool csg_contains(const CsgTree& T, Vec3d p) { return !T.nodes.empty() && contains_node(T, T.root, p); }
 
 namespace scene {
+CsgSurface csg_surface(const CsgTree& tree, float tag, Vec3f p) {
+  CsgSurface s;
+  const long k = std::lround(std::fabs(tag)) - 1;
+  if (k < 0 || std::size_t(k) >= tree.leaves.size()) return s;
+  s.hit = true;
+  s.normal = csg_normal(tree, tag, p);
+  s.material = tree.leaves[std::size_t(k)].material;
+  return s;
+}
+
 CsgSurface csg_surface(const CsgTree& tree, const Ray<float>& r) {
   float tag = 0;
   const Hit<float> h = csg_closest(tree, r, tag);
-  CsgSurface s;
-  if (!h.mask) return s;
-  s.hit = true;
+  if (!h.mask) return {};
+  CsgSurface s = csg_surface(tree, tag, r.at(h.t));
   s.t = h.t;
-  s.normal = csg_normal(tree, tag, r.at(h.t));
-  const long k = std::lround(std::fabs(tag)) - 1;
-  s.material = k >= 0 && std::size_t(k) < tree.leaves.size() ? tree.leaves[std::size_t(k)].material : 0;
   return s;
 }
 }  // namespace scene

@@ -67,5 +67,8 @@ struct CsgSurface {
   std::uint32_t material = 0;
 };
 CsgSurface csg_surface(const CsgTree& tree, const Ray<float>& r);
+// The same at a hit already found: the point p on the surface of the leaf with `tag` (the closest-hit
+// query's, kernels/csg_ray.hpp), t left 0; hit = false when the tag names no leaf.
+CsgSurface csg_surface(const CsgTree& tree, float tag, Vec3f p);
 
 }  // namespace rb::scene

@@ -2,6 +2,7 @@
 // rays and watertightness of the robust traversal (its layout, hostile inputs and adversarial trees:
 // tests/test_bvh_trees.cpp).
 #include "bvh/slab.hpp"
+#include "scene/csg_scene.hpp"
 #include "scene/sources.hpp"
 #include "soa/groups.hpp"
 #include "tracer/accel.hpp"
@@ -431,4 +432,39 @@ TEST(Surface, ShortcutsGiveTheLongWaysBits) {
       want.mat = sp.mat;
       expect_same_surface(got, want, "sphere " + std::to_string(i) + " point " + std::to_string(k));
     }
+}
+
+// A CSG hit carries the leaf its surface is on (HitRec::aux, the tag of the closest-hit query), so
+// shading does not run the tree's query again. The surface from the carried leaf has the material and
+// the normal (to float rounding: the query run again may round t differently where contraction
+// differs) of the surface the query run again finds: for every single ray (the same scalar query),
+// and for packets (the 8-lane query) except where the two queries meet a leaf's edge differently.
+TEST(Surface, CsgHitsCarryTheLeafTheirSurfaceIsOn) {
+  for (const std::string& name : scene::csg_scene_names()) {
+    const scene::Scene s = scene::csg_scene(name);
+    const tracer::SceneAccel a = tracer::SceneAccel::build(s);
+    const RaySoA rays = tracer::make_rays(s, a, tracer::RaySet::primary, 4096, 5);
+    for (int packet : {1, 8}) {
+      std::vector<HitRec> h(rays.count);
+      tracer::TraceOptions o;
+      o.packet = packet;
+      a.trace(rays, 0, rays.count, h.data(), o);
+      std::size_t csg = 0, same_leaf = 0, same_dir = 0;
+      for (std::size_t i = 0; i < rays.count; ++i) {
+        if (h[i].prim == kNoPrim || kinds::kind_of(h[i].prim) != kinds::Kind::csg) continue;
+        ++csg;
+        const std::string what = name + " packet " + std::to_string(packet) + " ray " + std::to_string(i);
+        ASSERT_NE(h[i].aux, 0.0f) << what;
+        const kinds::Surface carried = a.surface(h[i], rays.get(i));
+        const kinds::Surface again = a.surface({h[i].t, h[i].prim}, rays.get(i));
+        same_leaf += carried.mat == again.mat;
+        same_dir += dot(carried.ng, again.ng) > 0.9999f;
+        if (packet == 1) EXPECT_GT(dot(carried.ng, again.ng), 0.9999f) << what;
+      }
+      EXPECT_GT(csg, rays.count / 10) << name;
+      const double share = packet == 1 ? 1.0 : 0.999;
+      EXPECT_GE(double(same_leaf), share * double(csg)) << name << " packet " << packet;
+      EXPECT_GE(double(same_dir), share * double(csg)) << name << " packet " << packet;
+    }
+  }
 }

@@ -244,7 +244,7 @@ TEST(PlanPrimitives, AFewCoarsePrimitivesGoApartInLocalFramesAndTheRestStaysInFl
     if (h[i].prim == bvh::kNoPrim) continue;
     ++hits;
     EXPECT_TRUE(a.stored_apart(Kind::triangle, kinds::index_of(h[i].prim)));
-    EXPECT_LT(a.surface(h[i].prim, rays.get(i), h[i].t).err, 8 * 0x1p-24 * 9.0);
+    EXPECT_LT(a.surface(h[i], rays.get(i)).err, 8 * 0x1p-24 * 9.0);
   }
   EXPECT_GT(hits, 0u);
   // The fast model keeps them in float, and the exact model stores the whole kind in double.

@@ -31,7 +31,7 @@ bool shadowed(const tracer::SceneAccel& a, const Vec3d& from, const Vec3d& dir, 
   const bvh::HitRec h = trace_one(a, r, false);
   *hit_prim = h.prim;
   if (h.prim == bvh::kNoPrim) return false;
-  const kinds::Surface sf = a.surface(h.prim, r, h.t);
+  const kinds::Surface sf = a.surface(h, r);
   const Vec3d to = light - sf.p;
   const Vec3f d = to_float(to * (1.0 / std::sqrt(dot(to, to))));
   const Vec3f o = a.spawn_point(sf, d);

@@ -351,13 +351,15 @@ Ray<float> SceneAccel::frame_ray(const Vec3d& o, const Vec3d& d, double tmin, do
   return make_ray(o - plan_.origin, d, tmin, tmax);
 }
 
-kinds::Surface SceneAccel::surface(std::uint32_t prim, const Ray<float>& r, float t) const {
+kinds::Surface SceneAccel::surface(const bvh::HitRec& h, const Ray<float>& r) const {
+  const std::uint32_t prim = h.prim;
   kinds::HitQuery q;
   q.scene = scene_;
   q.origin = plan_.origin;
   q.ray = r;
-  q.t = t;
-  q.p = world_point(r, t);
+  q.t = h.t;
+  q.p = world_point(r, h.t);
+  q.aux = h.aux;
   const Kind k = kinds::kind_of(prim);
   q.batch = table_.batch[std::size_t(k)];
   kinds::Surface sf = AllKinds::at<kinds::Surface>(k, [&]<class K>() { return K::surface(q, kinds::index_of(prim)); });
@@ -416,7 +418,7 @@ int SceneAccel::group_lanes(const TraceOptions& o) const {
 }
 
 HitRec SceneAccel::brute_force(const Ray<float>& r, bool any) const {
-  HitRec h{r.tmax, kNoPrim};
+  bvh::Closest h{r.tmax, kNoPrim};
   if (!(r.tmin <= r.tmax)) return {std::numeric_limits<float>::infinity(), kNoPrim};
   RayCache cache(r);
   for (int tag = 0; tag < kLeafKinds; ++tag) {
@@ -424,9 +426,9 @@ HitRec SceneAccel::brute_force(const Ray<float>& r, bool any) const {
       return std::get<Batch<K>>(tag < kKinds ? batches_ : apart_).id.size();
     });
     for (std::size_t g = 0; g < slots; g += 8)
-      if (fns_[std::size_t(tag)].single(table_.batch[tag], g, r, cache, h) && any) return bvh::finished(h);
+      if (fns_[std::size_t(tag)].single(table_.batch[tag], g, r, cache, h) && any) return bvh::finished(h, cache);
   }
-  return bvh::finished(h);
+  return bvh::finished(h, cache);
 }
 
 }  // namespace rb::tracer

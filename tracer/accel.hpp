@@ -69,8 +69,9 @@ class SceneAccel {
   Vec3d world_point(const Ray<float>& r, float t) const {
     return plan_.origin + to_double(r.o) + to_double(r.d) * double(t);
   }
-  // The surface of primitive `prim` (bvh::prim_code) hit by the frame ray r at t.
-  kinds::Surface surface(std::uint32_t prim, const Ray<float>& r, float t) const;
+  // The surface of the hit h (its primitive, bvh::prim_code, at h.t, with what the kernel kept in
+  // h.aux) of the frame ray r.
+  kinds::Surface surface(const bvh::HitRec& h, const Ray<float>& r) const;
   // Where a secondary ray leaving the surface along `dir` (unit, frame = world directions) starts,
   // by the plan's spawn scheme: the hit point in frame coordinates moved off the surface on the
   // side `dir` leaves to. `n` is the unit geometric normal.

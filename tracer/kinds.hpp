@@ -139,6 +139,7 @@ struct HitQuery {
   float t = 0;
   Vec3d p{0, 0, 0};
   const void* batch = nullptr;
+  float aux = 0;  // the hit's HitRec::aux
 };
 
 namespace detail {

@@ -9,7 +9,7 @@ namespace {
 template <class K, int M, bool F64, bool S64>
 LeafFns std_fns() {
   LeafFns f;
-  f.single = [](const void* b, std::size_t base, const Ray<float>& r, RayCache& c, HitRec& h) {
+  f.single = [](const void* b, std::size_t base, const Ray<float>& r, RayCache& c, bvh::Closest& h) {
     return std_single<K, M, F64, S64>(*static_cast<const StdBatch<K>*>(b), base, r, c, h);
   };
   f.packet[0] = [](const void* b, std::size_t base, bvh::PacketRays& p, PacketCache& c) {
@@ -25,8 +25,12 @@ template <class K>
 LeafFns custom_fns() {
   using B = typename K::Batch;
   LeafFns f;
-  f.single = [](const void* b, std::size_t base, const Ray<float>& r, RayCache&, HitRec& h) {
-    return K::single(*static_cast<const B*>(b), base, r, h);
+  f.single = [](const void* b, std::size_t base, const Ray<float>& r, RayCache& c, bvh::Closest& h) {
+    // A kind whose hits carry an aux datum (HitRec::aux) writes it into the ray's cache.
+    if constexpr (requires(const B& x, bvh::Closest& y, float& a) { K::single(x, base, r, y, a); })
+      return K::single(*static_cast<const B*>(b), base, r, h, c.aux);
+    else
+      return K::single(*static_cast<const B*>(b), base, r, h);
   };
   f.packet[0] = [](const void* b, std::size_t base, bvh::PacketRays& p, PacketCache&) { K::template packet<false>(*static_cast<const B*>(b), base, p); };
   f.packet[1] = [](const void* b, std::size_t base, bvh::PacketRays& p, PacketCache&) { K::template packet<true>(*static_cast<const B*>(b), base, p); };
@@ -64,7 +68,7 @@ LeafFns apart_method_fns() {
     return std_fns<K, M, false, false>();  // never chosen for primitives apart (the plan's stores64)
   } else {
     LeafFns f;
-    f.single = [](const void* b, std::size_t base, const Ray<float>& r, RayCache&, HitRec& h) {
+    f.single = [](const void* b, std::size_t base, const Ray<float>& r, RayCache&, bvh::Closest& h) {
       return apart_single<K, M>(*static_cast<const StdBatch<K>*>(b), base, r, h);
     };
     f.packet[0] = [](const void* b, std::size_t base, bvh::PacketRays& p, PacketCache&) {

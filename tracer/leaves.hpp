@@ -84,10 +84,12 @@ struct PreTupleOf<kinds::KindList<K...>> {
 using AllPre = PreTupleOf<AllKinds>::type;
 
 // One ray broadcast to 8 lanes and each kind's precompute on it (Woop's shear), made at the first
-// leaf of that kind the ray reaches (most rays of a sparse view never reach one).
+// leaf of that kind the ray reaches (most rays of a sparse view never reach one); and the aux datum
+// of the ray's closest hit (HitRec::aux), written by the kinds that keep one (CSG: the leaf tag).
 struct RayCache {
   Ray<f8> rb;
   bool ready = false;
+  float aux = 0;
   AllPre pre;
   explicit RayCache(const Ray<float>&) {}
   RB_INLINE Ray<f8>& ray8(const Ray<float>& r) {
@@ -194,7 +196,7 @@ RB_INLINE void prefetch_ids(const B& b, std::size_t base) {
 // `at`: the group's first slot in the double storage (base, but for a deep group of a batch in local
 // frames).
 template <class K, int M, bool Store64>
-RB_INLINE bool std_single64(const StdBatch<K>& b, std::size_t base, const Ray<float>& r, HitRec& h, std::size_t at) {
+RB_INLINE bool std_single64(const StdBatch<K>& b, std::size_t base, const Ray<float>& r, bvh::Closest& h, std::size_t at) {
   Ray<d4> rd = Ray<d4>::broadcast(r);
   rd.tmax = d4(detail::tmax64(h.t));
   const auto pre = K::pre(rd);
@@ -223,7 +225,7 @@ RB_INLINE bool std_single64(const StdBatch<K>& b, std::size_t base, const Ray<fl
 }
 
 template <class K, int M, bool F64, bool Store64>
-RB_INLINE bool std_single(const StdBatch<K>& b, std::size_t base, const Ray<float>& r, RayCache& c, HitRec& h) {
+RB_INLINE bool std_single(const StdBatch<K>& b, std::size_t base, const Ray<float>& r, RayCache& c, bvh::Closest& h) {
   prefetch_ids(b, base);
   if constexpr (!F64) {
     Ray<f8>& rb = c.ray8(r);
@@ -328,7 +330,7 @@ RB_INLINE Ray<float> lane_ray(const Ray<f8>& r, int l) {
 // One ray against a float group in its local frame at g: the kernel on the re-based ray, each hit's
 // t brought back to the ray in double and kept within [r.tmin, h.t].
 template <class K, int M>
-RB_INLINE bool local_single(const StdBatch<K>& b, std::size_t base, const Vec3d& g, const Ray<float>& r, HitRec& h) {
+RB_INLINE bool local_single(const StdBatch<K>& b, std::size_t base, const Vec3d& g, const Ray<float>& r, bvh::Closest& h) {
   const LocalRay l = local_ray(r, g, h.t);
   const Ray<f8> rb = Ray<f8>::broadcast(l.r);
   const Hit<f8> hit = K::template hit<M>(rb, K::pre(rb), b.f32.template load<f8>(base));
@@ -342,7 +344,7 @@ RB_INLINE bool local_single(const StdBatch<K>& b, std::size_t base, const Vec3d&
 
 // The leaf functions of a batch in local frames (a whole batch in double when it has no frames).
 template <class K, int M>
-RB_INLINE bool apart_single(const StdBatch<K>& b, std::size_t base, const Ray<float>& r, HitRec& h) {
+RB_INLINE bool apart_single(const StdBatch<K>& b, std::size_t base, const Ray<float>& r, bvh::Closest& h) {
   prefetch_ids(b, base);
   if (b.local.empty()) return std_single64<K, M, true>(b, base, r, h, base);
   const LocalFrame& f = b.local[base / 8];
@@ -404,7 +406,7 @@ RB_INLINE void apart_packet(const StdBatch<K>& b, std::size_t base, bvh::PacketR
     while (bits) {
       const int l = __builtin_ctz(bits);
       bits &= bits - 1;
-      HitRec h{tb[l], p.prim[8 * g + l]};
+      bvh::Closest h{tb[l], p.prim[8 * g + l]};
       if (!local_single<K, M>(b, base, f.origin, lane_ray(p.r[g], l), h)) continue;
       tb[l] = h.t;
       p.prim[8 * g + l] = h.prim;
@@ -419,7 +421,7 @@ RB_INLINE void apart_packet(const StdBatch<K>& b, std::size_t base, bvh::PacketR
 
 // ---- one function pointer set per kind ------------------------------------------------------------
 struct LeafFns {
-  bool (*single)(const void* batch, std::size_t base, const Ray<float>& r, RayCache& c, HitRec& h) = nullptr;
+  bool (*single)(const void* batch, std::size_t base, const Ray<float>& r, RayCache& c, bvh::Closest& h) = nullptr;
   void (*packet[2])(const void* batch, std::size_t base, bvh::PacketRays& p, PacketCache& c) = {nullptr, nullptr};  // [Any]
 };
 
@@ -454,7 +456,7 @@ struct TableLeaves {
   using PacketCache = tracer::PacketCache;
   template <class V>  // groups of 8 lanes only: every kind's leaf functions are 8-lane
   using PacketCacheFor = PacketCache;
-  RB_INLINE bool single(std::uint32_t ref, const Ray<float>& r, RayCache& c, HitRec& h) const {
+  RB_INLINE bool single(std::uint32_t ref, const Ray<float>& r, RayCache& c, bvh::Closest& h) const {
     const int k = bvh::leaf_kind(ref);
     return fns[k].single(batch[k], std::size_t(bvh::leaf_group(ref)) * 8, r, c, h);
   }

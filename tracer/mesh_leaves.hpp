@@ -106,7 +106,7 @@ struct MeshLeaves {
   template <class V>
   using PacketCacheFor = MeshPacketCache<V>;
   static bool is_apart(std::uint32_t ref) { return bvh::leaf_kind(ref) != int(Tri::id); }
-  RB_INLINE bool single(std::uint32_t ref, const Ray<float>& r, RayCache& c, HitRec& h) const {
+  RB_INLINE bool single(std::uint32_t ref, const Ray<float>& r, RayCache& c, bvh::Closest& h) const {
     const std::size_t base = std::size_t(bvh::leaf_group(ref)) * 8;
     if (is_apart(ref)) [[unlikely]]
       return apart_single<Tri, 0>(*apart, base, r, h);
@@ -211,7 +211,7 @@ struct MeshLeaves {
         };
         const Hit<f8> hit = intersect_triangle_woop_permuted(w, rr, vertex(0), vertex(1), vertex(2));
         if (none_of<f8>(hit.mask)) continue;
-        bvh::HitRec h{tb[l], p.prim[N * g + l]};
+        bvh::Closest h{tb[l], p.prim[N * g + l]};
         if (!bvh::take_nearest(hit.t, h, [&](int lane) { return kinds::code(kinds::TriangleKind::id, tri->id[base + std::size_t(lane)]); }))
           continue;
         tb[l] = h.t;

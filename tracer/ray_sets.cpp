@@ -119,7 +119,7 @@ RaySoA make_rays(const scene::Scene& s, const SceneAccel& accel, RaySet set, std
       continue;
     }
     // diffuse: about the geometric normal facing the incoming ray.
-    Vec3d n = to_double(accel.surface(hits[i].prim, r, hits[i].t).ng);
+    Vec3d n = to_double(accel.surface(hits[i], r).ng);
     if (!(dot(n, n) > 0)) n = to_double(r.d) * -1.0;
     n = unit(n);
     if (dot(n, to_double(r.d)) > 0) n = n * -1.0;

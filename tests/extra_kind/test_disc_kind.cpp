@@ -117,7 +117,7 @@ TEST(ExtraKind, TracedLikeAnEngineKind) {
         const double t = disc_t(d, r);
         ASSERT_TRUE(std::isfinite(t)) << "ray " << i;
         EXPECT_NEAR(hits[i].t, t, 1e-5 * t) << "ray " << i;
-        const kinds::Surface sf = a.surface(hits[i].prim, r, hits[i].t);
+        const kinds::Surface sf = a.surface(hits[i], r);
         const Vec3d n = DiscKind::unit_normal(d);
         EXPECT_NEAR(dot(sf.p - d.c, n), 0.0, 1e-12);
         EXPECT_NEAR(std::fabs(dot(to_double(sf.ng), n)), 1.0, 1e-6);

@@ -66,7 +66,7 @@ struct CsgKind {
     const bool moved = !(origin.x == 0 && origin.y == 0 && origin.z == 0);
     for (const auto& c : s.csgs) b.trees.push_back(moved && c.in_frame ? c.in_frame(origin) : c.tree);
   }
-  static bool single(const Batch& b, std::size_t base, const Ray<float>& r, bvh::HitRec& h) {
+  static bool single(const Batch& b, std::size_t base, const Ray<float>& r, bvh::Closest& h, float& aux) {
     bool any = false;
     Ray<float> rr = r;
     rr.tmax = h.t;
@@ -78,6 +78,7 @@ struct CsgKind {
       if (hc.mask && bvh::nearer(hc.t, code(id, sid), h)) {
         rr.tmax = hc.t;
         h = {hc.t, code(id, sid)};
+        aux = tag;
         any = true;
       }
     }
@@ -95,7 +96,7 @@ struct CsgKind {
         rr.tmax = p.tbest[k];
         f8 tag;
         const Hit<f8> hit = csg_hit8(*b.trees[sid], rr, tag);
-        bvh::packet_update<Any>(p, k, hit.mask, hit.t, code(id, sid));
+        bvh::packet_update<Any>(p, k, hit.mask, hit.t, code(id, sid), &tag);
       }
     }
   }
@@ -118,12 +119,13 @@ struct CsgKind {
     return bytes;
   }
 
-  // The tree's own closest-hit query on the ray as traced gives the outward normal (flipped on
-  // subtracted surfaces) and the material of the leaf surface hit.
+  // The leaf surface hit gives the outward normal (flipped on subtracted surfaces) and the
+  // material: the leaf the traversal found (the hit's tag, HitQuery::aux), or, for a hit that does
+  // not carry it, the tree's own closest-hit query run again on the ray as traced.
   static Surface surface(const HitQuery& q, std::uint32_t i) {
     const auto* b = static_cast<const Batch*>(q.batch);
     const CsgTree& tree = b && i < b->trees.size() ? *b->trees[i] : *q.scene->csgs.at(i).tree;
-    const auto c = scene::csg_surface(tree, q.ray);
+    const auto c = q.aux != 0 ? scene::csg_surface(tree, q.aux, q.ray.at(q.t)) : scene::csg_surface(tree, q.ray);
     Surface h;
     h.p = q.p;
     h.ng = h.ns = c.hit ? detail::unit_or(to_double(c.normal), -q.ray.d) : -q.ray.d;

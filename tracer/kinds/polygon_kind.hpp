@@ -103,7 +103,7 @@ struct PolygonKind {
   // One ray against the 8 slots from `base`: one polygon at a time (scalar), the closest within h.t
   // (a tie by `bvh::nearer`). The kernel rounds every product on its own, so the scalar
   // instantiation gives the bits of the 8-lane one that packets run.
-  static bool single(const Batch& b, std::size_t base, const Ray<float>& r, bvh::HitRec& h) {
+  static bool single(const Batch& b, std::size_t base, const Ray<float>& r, bvh::Closest& h) {
     bool any = false;
     Ray<float> rr = r;
     rr.tmax = h.t;
