@@ -18,6 +18,7 @@ struct RenderRunOptions {
   bool count_tests = false;     // one more render, untimed, counts box and primitive tests (--counts; on with --spd)
   int secondary_packet = 0;     // 1 or 8; 0: the faster in trial renders (apps/render_run.cpp)
   int eye_packet = 0;           // 1, 8, 16 or 64; 0: the fastest of 64, 16 and 8 in trial renders
+  int tile = 16;                // tile side in samples (render::RenderOptions::tile)
   std::string model = "auto";  // auto | fast | exact (tracer/plan.hpp)
   int warmup = 0;               // untimed renders before the timed ones (the command line: 1)
   int repetitions = 1;          // timed renders; the median is quoted (the command line: 5)

@@ -254,6 +254,7 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
   if (o.spd) ro = render::spd_options(s, w, h, o.depth);
   else ro.width = w, ro.height = h, ro.depth = o.depth;
   ro.count_tests = o.count_tests;
+  ro.tile = o.tile;
   const RenderTimes rt = time_renders(o, s, accel, ro, mpi);
   if (!rt.rank0) return json();
   const render::RenderStats& st = rt.st;
@@ -287,6 +288,7 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
          {"tests_counted", ro.count_tests},
          {"secondary_packet", ro.secondary_packet},
          {"eye_packet", ro.eye_packet},
+         {"tile", ro.tile},
          // The lanes per group the eye packets walked in: 16 (AVX-512) for a triangle mesh where the
          // binary and CPU have them; counted renders walk in 8.
          {"eye_group_lanes", ro.count_tests ? 8 : accel.group_lanes({.packet = ro.eye_packet, .lanes = render::kRenderLanes})},

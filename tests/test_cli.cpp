@@ -11,6 +11,7 @@
 #include <map>
 #include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <regex>
 #include <sstream>
@@ -307,7 +308,8 @@ TEST(Cli, RenderWithoutOutputWritesSceneNameAndHainesOnlyUnderSpd) {
 }
 
 // Box and primitive tests are counted only when asked (--counts, or --spd), in one more render that
-// is not timed; the image is the same. Every render says where its time went, per generation.
+// is not timed; the image is the same, as it is under other tile sides. Every render says where its
+// time went, per generation.
 TEST(Cli, RenderCountsOnlyWhenAskedAndSplitsItsTime) {
   Scratch s("render-counts");
   const std::string base = "render lecture:five_glass_balls --width 32 -r 2 --warmup 0 --min-time 0 --eye-packet 8 --secondary-packet 8 ";
@@ -324,6 +326,14 @@ TEST(Cli, RenderCountsOnlyWhenAskedAndSplitsItsTime) {
   EXPECT_EQ(counted["trace_seconds"].size(), 2u) << "the counted render is not timed";
   EXPECT_EQ(counted["image_fnv1a"], plain["image_fnv1a"]);
   EXPECT_EQ(counted["total_rays"], plain["total_rays"]);
+  // Other tile sides: the same image and rays (each sample's rays do not depend on its tile).
+  for (const char* tile : {"5", "64"}) {
+    r = run_in(s.dir, base + "--tile " + tile + " -o c.png --json -");
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(r.json()["tile"].get<int>(), std::atoi(tile));
+    EXPECT_EQ(r.json()["image_fnv1a"], plain["image_fnv1a"]) << "tile " << tile;
+    EXPECT_EQ(r.json()["total_rays"], plain["total_rays"]) << "tile " << tile;
+  }
   r = run_in(s.dir, "render spd:balls:1 --width 16 -r 1 --warmup 0 --spd -o spd.png --json -");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_TRUE(r.json()["tests_counted"].get<bool>()) << "--spd counts";

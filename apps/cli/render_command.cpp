@@ -36,6 +36,11 @@ class RenderCommand final : public Command {
         ->transform(packet_size_choice({"auto", "1", "8"}))
         ->type_name("auto|1|8")
         ->default_str("auto");
+    sub_->add_option("--tile", rdo.tile,
+                     "Tile side in samples: a tile's rays are traced\ngeneration by generation, each generation's\nrays as one "
+                     "batch (memory per thread grows\nwith the square of the side; the image does\nnot change)")
+        ->check(CLI::Range(1, 1024))
+        ->capture_default_str();
     sub_->add_option("--model", rdo.model, "How the scene is modelled: auto (what it\nneeds: `raybench plan`), fast or exact")
         ->check(one_of({"auto", "fast", "exact"}))->capture_default_str();
     sub_->add_option("-r,--repetitions", rdo.repetitions, "Timed renders (the median is quoted)")->check(CLI::Range(1, 100))->capture_default_str();
