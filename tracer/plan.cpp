@@ -282,7 +282,7 @@ void plan_fast(Plan& plan, double ext) {
 }
 
 // Conservative boxes for every ray origin the scene produces, and the spawn offset.
-void plan_slab_and_spawn(Plan& plan, const Profile& p, Model m, double ext) {
+void plan_slab_and_spawn(Plan& plan, const Profile& p, double ext) {
   plan.slab = bvh::Slab::conservative;
   const Vec3d lo = p.origins.empty() ? Vec3d{0, 0, 0} : p.origins.lo - plan.origin, hi = p.origins.empty() ? Vec3d{0, 0, 0} : p.origins.hi - plan.origin;
   const double ob = std::max({std::fabs(lo.x), std::fabs(lo.y), std::fabs(lo.z), std::fabs(hi.x), std::fabs(hi.y), std::fabs(hi.z)});
@@ -326,7 +326,7 @@ Plan make_plan(const scene::Scene& s, const Profile& p, Model m, const StorageCo
   for (int k = 0; k < kKinds; ++k)
     if (p.kinds[std::size_t(k)].count)
       plan_kind(plan.kinds[std::size_t(k)], Kind(k), p.kinds[std::size_t(k)], f, p, m, costs[std::size_t(k)]);
-  plan_slab_and_spawn(plan, p, m, ext);
+  plan_slab_and_spawn(plan, p, ext);
   return plan;
 }
 
