@@ -36,10 +36,9 @@ inline constexpr bool carries_aux = requires(typename L::RayCache& c) { c.aux; }
 
 // The finished hit: t = +inf when nothing was hit (the contract of Hit); the aux datum from the ray's
 // cache where the leaf source keeps one.
-RB_INLINE HitRec finished(const Closest& h) { return {h.prim == kNoPrim ? kInfF : h.t, h.prim}; }
 template <class Cache>
 RB_INLINE HitRec finished(const Closest& h, const Cache& c) {
-  HitRec o = finished(h);
+  HitRec o{h.prim == kNoPrim ? kInfF : h.t, h.prim};
   if constexpr (requires { c.aux; }) o.aux = c.aux;
   return o;
 }
