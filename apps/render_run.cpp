@@ -414,6 +414,7 @@ std::string render_text(const json& j) {
       t += fmt::format("  trial render: eye {:>2} -> {:.1f} ms, others {} -> {:.1f} ms in the BVH\n", tr["eye_packet"].get<int>(),
                        tr["eye_trace_ms"].get<double>(), tr["secondary_packet"].get<int>(), tr["secondary_trace_ms"].get<double>());
   }
+  if (j.contains("tile")) t += fmt::format("tiles: {0} x {0} samples, each traced generation by generation (--tile)\n", j["tile"].get<int>());
   t += fmt::format("time: preprocess {:.1f} ms (load {:.1f}, plan {:.1f}, BVH {:.1f}), trace {:.1f} ms, {:.2f} Mrays/s\n",
                    j["preprocess_ms"].get<double>(), j["load_ms"].get<double>(), j["plan_ms"].get<double>(), j["build_ms"].get<double>(),
                    j["trace_ms"].get<double>(), j["mrays_per_s"].get<double>());

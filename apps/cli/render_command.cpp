@@ -45,7 +45,7 @@ class RenderCommand final : public Command {
         ->check(one_of({"auto", "fast", "exact"}))->capture_default_str();
     sub_->add_option("-r,--repetitions", rdo.repetitions, "Timed renders (the median is quoted)")->check(CLI::Range(1, 100))->capture_default_str();
     sub_->add_option("--warmup", rdo.warmup, "Untimed renders before the timed ones")->check(CLI::Range(0, 100))->capture_default_str();
-    sub_->add_option("--min-time", rdo.min_time, "Seconds a timed repetition lasts at least: the\nimage rendered that many times over (the\nfigures are per render)")
+    sub_->add_option("--min-time", rdo.min_time, "Seconds a timed repetition lasts at least: the\nimage rendered that many times over (at most\n1000; the figures are per render)")
         ->check(CLI::Range(0.0, 10.0))
         ->capture_default_str();
     output("--rays-out", rdo.rays_out,
