@@ -100,7 +100,25 @@ inline Vec3f bound_offset(const Vec3f& p, const Vec3f& err, const Vec3f& n) {
   return {away(po.x, n.x * d), away(po.y, n.y * d), away(po.z, n.z * d)};
 }
 
-// The point moved along n by eps (the extent-epsilon scheme).
-inline Vec3f eps_offset(const Vec3f& p, const Vec3f& n, float eps) { return p + n * eps; }
+// bound_offset for 8 points at once, lane for lane the same bits (the same fused operations, and
+// one float step in the integer order of step_floats8, which is next_up / next_down on finite
+// values).
+inline Vec3<f8> bound_offset(const Vec3<f8>& p, const Vec3<f8>& err, const Vec3<f8>& n) {
+  const f8 d = vfma(vabs(n.x), err.x, vfma(vabs(n.y), err.y, vabs(n.z) * err.z));
+  auto away8 = [&](const f8& pn, const f8& nc) {
+    const f8 po = vfma(nc, d, pn), off = nc * d;
+    const __m256i up = _mm256_castps_si256(_mm256_cmp_ps(off, _mm256_setzero_ps(), _CMP_GT_OQ));
+    const __m256i down = _mm256_castps_si256(_mm256_cmp_ps(off, _mm256_setzero_ps(), _CMP_LT_OQ));
+    return f8(step_floats8(po, _mm256_sub_epi32(down, up)));  // +1 where off > 0, -1 where off < 0
+  };
+  return {away8(p.x, n.x), away8(p.y, n.y), away8(p.z, n.z)};
+}
+
+// The point moved along n by eps (the extent-epsilon scheme), fused (p + n eps rounded once) in
+// one lane or eight.
+template <class F>
+RB_INLINE Vec3<F> eps_offset(const Vec3<F>& p, const Vec3<F>& n, const F& eps) {
+  return {vfma(n.x, eps, p.x), vfma(n.y, eps, p.y), vfma(n.z, eps, p.z)};
+}
 
 }  // namespace rb::spawn

@@ -33,6 +33,12 @@ template <class F> RB_INLINE F dot(const Vec3<F>& a, const Vec3<F>& b) { return 
 template <class F> RB_INLINE F dot_rounded(const Vec3<F>& a, const Vec3<F>& b) {
   return vrounded(a.x * b.x) + vrounded(a.y * b.y) + vrounded(a.z * b.z);
 }
+// The dot product with its fused multiply-adds spelled out, fma(a.z, b.z, fma(a.y, b.y, a.x b.x)):
+// the same bits in every instantiation under any -ffp-contract (the compiler fuses scalar and SIMD
+// expressions differently). The same operation count as dot.
+template <class F> RB_INLINE F dot_fma(const Vec3<F>& a, const Vec3<F>& b) {
+  return vfma(a.z, b.z, vfma(a.y, b.y, a.x * b.x));
+}
 template <class F> RB_INLINE Vec3<F> cross(const Vec3<F>& a, const Vec3<F>& b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }

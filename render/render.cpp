@@ -2,12 +2,14 @@
 
 #include "bvh/traverse.hpp"
 #include "render/optics.hpp"
+#include "soa/aligned.hpp"
 #include "tracer/parallel.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -76,6 +78,66 @@ void add_to(float* samples, std::uint32_t sample, const Vec3f& c) {
   px[0] += c.x; px[1] += c.y; px[2] += c.z;
 }
 
+// A generation's hits as SoA lanes, what shading runs on eight at a time. The arrays only grow (a
+// thread's tiles reuse them) and are written by index; rows past the hits up to a multiple of 8 are
+// zeros.
+struct HitLanes {
+  // Three float arrays: a vector per row.
+  struct V3 {
+    avec<float> x, y, z;
+    void set(std::size_t k, const Vec3f& v) { x[k] = v.x, y[k] = v.y, z[k] = v.z; }
+    Vec3f get(std::size_t k) const { return {x[k], y[k], z[k]}; }
+    Vec3<f8> load8(std::size_t k) const { return {load<f8>(&x[k]), load<f8>(&y[k]), load<f8>(&z[k])}; }
+    void store8(std::size_t k, const Vec3<f8>& v) { store(&x[k], v.x), store(&y[k], v.y), store(&z[k], v.z); }
+  };
+  // In, per hit: the generation's ray and the material; the world point and the ray's eta_i / eta_t
+  // there (double); the light test's normal, the shading normal towards the ray, the ray's
+  // direction, the surface colour, the material's kd, ks and exponent; the spawn base (frame point,
+  // its error bound and the geometric normal), the geometric normal towards the ray and the light
+  // test's geometric normal.
+  std::vector<std::uint32_t> ray;
+  std::vector<const scene::Material*> mat;
+  avec<double> px, py, pz, eta;
+  V3 nl, ns, d, base, bp, err, ng, ng_in, ngl;
+  avec<float> kd, ks, shine;
+  // Out: per light (light l's rows from l * stride) n.L and the local light; the mirror direction
+  // and the refracted one (where tok > 0: no total internal reflection); where the shadow rays, the
+  // mirror ray and the refracted ray start.
+  avec<float> ndl, tok;
+  V3 local, dr, dt, from_shadow, from_mirror, from_refracted;
+  std::size_t n = 0, stride = 0;
+
+  // Room for `rays` hits and `lights` lights; no hits yet.
+  void reset(std::size_t rays, std::size_t lights) {
+    n = 0;
+    stride = round_up(std::max<std::size_t>(rays, 1), kPadLanes);
+    if (px.size() >= stride && ndl.size() >= lights * stride) return;
+    ray.resize(stride);
+    mat.resize(stride);
+    for (auto* a : doubles()) a->resize(stride);
+    for (auto* a : floats()) a->resize(stride);
+    for (auto* a : {&ndl, &local.x, &local.y, &local.z}) a->resize(lights * stride);
+  }
+  // Zero rows from the last hit to the next multiple of 8.
+  void pad() {
+    for (std::size_t k = n; k < round_up(n, kPadLanes); ++k) {
+      for (auto* a : doubles()) (*a)[k] = 0.0;
+      for (auto* a : floats()) (*a)[k] = 0.0f;
+    }
+  }
+
+ private:
+  std::array<avec<double>*, 4> doubles() { return {&px, &py, &pz, &eta}; }
+  std::array<avec<float>*, 46> floats() {
+    std::array<avec<float>*, 46> a{};
+    std::size_t i = 0;
+    for (V3* v : {&nl, &ns, &d, &base, &bp, &err, &ng, &ng_in, &ngl, &dr, &dt, &from_shadow, &from_mirror, &from_refracted})
+      a[i++] = &v->x, a[i++] = &v->y, a[i++] = &v->z;
+    for (auto* s : {&kd, &ks, &shine, &tok}) a[i++] = s;
+    return a;
+  }
+};
+
 }  // namespace
 
 // A tile's rays in flight, reused from tile to tile on each thread (allocation churn cost more
@@ -89,6 +151,7 @@ struct Renderer::Work {
   std::vector<float> pass;
   std::vector<std::uint32_t> live, more_live;
   RaySoA soa;
+  HitLanes lanes;  // the generation's hits, shaded in lanes
 };
 
 RenderOptions spd_options(const scene::Scene& s, int width, int height, int depth) {
@@ -200,14 +263,25 @@ void Renderer::trace(Work& w, const std::vector<Ray<float>>& rays, bool any, boo
   (shadow ? g.shadow_traverse_s : g.traverse_s) += s - packed;
 }
 
-// RT_shade for every ray of the generation: background on a miss; else the ambient term, one
-// shadow ray per light the surface faces (their light is added by shadows()), and below the
-// depth limit the reflection and refraction rays of the next generation.
+// RT_shade for every ray of the generation, in three passes over its hits:
+//  1. one hit at a time: the background on a miss; else the surface (its point, normals and
+//     material), the ambient term, and the hit's row in the SoA lanes;
+//  2. eight hits at a time (optics.hpp): per light its direction (in double: world points) and
+//     local light (Lambert + Phong, in float); the mirror direction, the refracted direction (in
+//     double), and where the shadow, mirror and refracted rays start (the plan's spawn scheme);
+//  3. one hit at a time, in the order of pass 1: a shadow ray per light the surface faces (their
+//     light is added by shadows()) and below the depth limit the reflection and refraction rays of
+//     the next generation.
+// Each lane computes what one hit shaded alone computes, bit for bit, and sums and rays come in
+// the same order: the image does not depend on where a hit falls in the lanes.
 void Renderer::shade(float* samples, Work& w, RenderStats& st) const {
   w.next_path.clear();
   w.next_rays.clear();
   w.shadow.clear();
   w.srays.clear();
+  const std::size_t lights = light_pos_.size();
+  HitLanes& h = w.lanes;
+  h.reset(w.rays.size(), lights);
   for (std::size_t i = 0; i < w.rays.size(); ++i) {
     const PathRay& pr = w.path[i];
     const Ray<float>& r = w.rays[i];
@@ -222,35 +296,71 @@ void Renderer::shade(float* samples, Work& w, RenderStats& st) const {
     const bool front = dot(sf.ng, r.d) <= 0.0f;  // the ray arrives on the side ng points to
     const Vec3f ng_in = front ? sf.ng : -sf.ng;  // normals turned towards the incoming ray
     const Vec3f ns_in = front ? sf.ns : -sf.ns;
-    // The normal of the light test: one-sided opaque surfaces keep theirs.
+    // The normals of the light test: one-sided opaque surfaces keep theirs.
     const bool two = o_.two_sided || m.t > 0;
-    const Vec3f nl = two ? ns_in : sf.ns;
-    const Vec3f ngl = two ? ng_in : sf.ng;
-
-    // Ambient.
     add_to(samples, pr.sample, mul(pr.w, base * (o_.ambient * m.kd)));
-    // Lights: Lambert + Phong, each behind a shadow ray from the surface (on the light test's
-    // side) to the light, in the frame. Every shadow ray leaves from one point (the side of ngl).
-    const Vec3f view = -r.d;
-    const tracer::SceneAccel::SpawnBase spawn = a_.spawn_base(sf);
-    bool have_shadow_origin = false;
-    Vec3f shadow_origin{0, 0, 0};
-    for (std::size_t l = 0; l < light_pos_.size(); ++l) {
-      const Vec3d to = light_pos_[l] - sf.p;
-      const double dist = std::sqrt(dot(to, to));
-      if (!(dist > 0.0)) continue;
-      const Vec3f L = to_float(to * (1.0 / dist));
-      const float ndl = dot(nl, L);
-      if (!(ndl > 0.0f)) continue;
-      float spec = 0.0f;
-      if (m.ks > 0.0f) {
-        const float rv = dot(reflect(-L, nl), view);
-        if (rv > 0.0f) spec = m.ks * std::pow(rv, m.shine);
+    const std::size_t k = h.n++;
+    h.ray[k] = std::uint32_t(i);
+    h.mat[k] = &m;
+    h.px[k] = sf.p.x, h.py[k] = sf.p.y, h.pz[k] = sf.p.z;
+    h.eta[k] = !(m.t > 0.0f) ? 1.0 : front ? 1.0 / double(m.ior) : double(m.ior) / 1.0;
+    h.nl.set(k, two ? ns_in : sf.ns);
+    h.ns.set(k, ns_in);
+    h.d.set(k, r.d);
+    h.base.set(k, base);
+    h.kd[k] = m.kd, h.ks[k] = m.ks, h.shine[k] = m.shine;
+    const tracer::SceneAccel::SpawnBase sb = a_.spawn_base(sf);
+    h.bp.set(k, sb.p);
+    h.err.set(k, sb.err);
+    h.ng.set(k, sb.ng);
+    h.ng_in.set(k, ng_in);
+    h.ngl.set(k, two ? ng_in : sf.ng);
+  }
+  const std::size_t n = h.n;
+  h.pad();
+  for (std::size_t k = 0; k < n; k += 8) {
+    const Vec3<f8> nl = h.nl.load8(k), ns = h.ns.load8(k), d = h.d.load8(k), base = h.base.load8(k);
+    const f8 kd = load<f8>(&h.kd[k]), ks = load<f8>(&h.ks[k]), shine = load<f8>(&h.shine[k]);
+    for (std::size_t l = 0; l < lights; ++l) {
+      alignas(kSimdAlign) float L[3][8];
+      for (std::size_t j = 0; j < 8; j += 4) {  // the direction to the light, in double
+        const Vec3<d4> p{load<d4>(&h.px[k + j]), load<d4>(&h.py[k + j]), load<d4>(&h.pz[k + j])};
+        const Vec3<d4> to = Vec3<d4>::from(light_pos_[l]) - p;
+        const Vec3<d4> u = to * (d4(1.0) / vsqrt(dot_fma(to, to)));  // NaN at the light: no light
+        store(L[0] + j, u.x), store(L[1] + j, u.y), store(L[2] + j, u.z);
       }
-      const Vec3f local = base * (m.kd * ndl) + Vec3f{spec, spec, spec};
-      if (!have_shadow_origin) shadow_origin = a_.spawn_point(spawn, ngl), have_shadow_origin = true;
-      const Vec3f o = shadow_origin;
-      w.shadow.push_back({pr.sample, mul(mul(pr.w, light_col_[l]), local)});
+      Vec3<f8> local;
+      const std::size_t at = l * h.stride + k;
+      store(&h.ndl[at], local_light<f8>({load<f8>(L[0]), load<f8>(L[1]), load<f8>(L[2])}, nl, -d, kd, ks, shine, base, local));
+      h.local.store8(at, local);
+    }
+    for (std::size_t j = 0; j < 8; j += 4) {  // Snell, in double
+      Vec3<d4> t;
+      const Vec3<d4> dd{load<d4>(&h.d.x[k + j]), load<d4>(&h.d.y[k + j]), load<d4>(&h.d.z[k + j])};
+      const Vec3<d4> nn{load<d4>(&h.ns.x[k + j]), load<d4>(&h.ns.y[k + j]), load<d4>(&h.ns.z[k + j])};
+      const d4 kk = refract_k(dd, nn, load<d4>(&h.eta[k + j]), t);
+      store(&h.dt.x[k + j], t.x), store(&h.dt.y[k + j], t.y), store(&h.dt.z[k + j], t.z);
+      store(&h.tok[k + j], vselect(kk >= d4(0.0), d4(1.0), d4(0.0)));
+    }
+    // Every ray leaves on the side of the geometric normal (towards the ray) it goes to; shadow
+    // rays on the light test's side.
+    const Vec3<f8> dr = reflect(d, ns), dt = h.dt.load8(k), ng_in = h.ng_in.load8(k);
+    const Vec3<f8> bp = h.bp.load8(k), err = h.err.load8(k), ng = h.ng.load8(k);
+    auto side = [&](const Vec3<f8>& dir) { return vselect3(dot_fma(dir, ng_in) < f8(0.0f), -ng_in, ng_in); };
+    h.dr.store8(k, dr);
+    h.from_shadow.store8(k, a_.spawn_point(bp, err, ng, h.ngl.load8(k)));
+    h.from_mirror.store8(k, a_.spawn_point(bp, err, ng, side(dr)));
+    h.from_refracted.store8(k, a_.spawn_point(bp, err, ng, side(dt)));
+  }
+  for (std::size_t k = 0; k < n; ++k) {
+    const PathRay& pr = w.path[h.ray[k]];
+    const scene::Material& m = *h.mat[k];
+    // Lights: each behind a shadow ray from the surface to the light, in the frame.
+    for (std::size_t l = 0; l < lights; ++l) {
+      const std::size_t at = l * h.stride + k;
+      if (!(h.ndl[at] > 0.0f)) continue;
+      const Vec3f o = h.from_shadow.get(k);
+      w.shadow.push_back({pr.sample, mul(mul(pr.w, light_col_[l]), h.local.get(at))});
       w.srays.push_back(make_ray(o, light_frame_[l] - o, 0.0f, 1.0f - 1e-6f));
     }
     // Reflection and refraction below the depth limit.
@@ -258,11 +368,8 @@ void Renderer::shade(float* samples, Work& w, RenderStats& st) const {
     const bool reflective = m.ks > 0.0f, transmits = m.t > 0.0f;
     bool tir = false;
     if (transmits) {
-      const float eta_i = front ? 1.0f : m.ior, eta_t = front ? m.ior : 1.0f;
-      const auto dt = refract(r.d, ns_in, eta_i, eta_t);
-      if (dt) {
-        const Vec3f o = a_.spawn_point(spawn, dot(*dt, ng_in) < 0.0f ? -ng_in : ng_in);
-        w.next_rays.push_back(make_ray(o, *dt));
+      if (h.tok[k] > 0.0f) {
+        w.next_rays.push_back(make_ray(h.from_refracted.get(k), h.dt.get(k)));
         w.next_path.push_back({pr.sample, pr.depth + 1, pr.w * m.t});
         ++st.refract;
       } else {
@@ -271,9 +378,7 @@ void Renderer::shade(float* samples, Work& w, RenderStats& st) const {
     }
     const float kr = m.ks + (tir ? m.t : 0.0f);
     if (o_.spd ? (reflective || transmits) : kr > 0.0f) {
-      const Vec3f dr = reflect(r.d, ns_in);
-      const Vec3f o = a_.spawn_point(spawn, dot(dr, ng_in) < 0.0f ? -ng_in : ng_in);
-      w.next_rays.push_back(make_ray(o, dr));
+      w.next_rays.push_back(make_ray(h.from_mirror.get(k), h.dr.get(k)));
       w.next_path.push_back({pr.sample, pr.depth + 1, pr.w * kr});
       ++st.reflect;
     }

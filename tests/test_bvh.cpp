@@ -459,7 +459,9 @@ TEST(Surface, CsgHitsCarryTheLeafTheirSurfaceIsOn) {
         const kinds::Surface again = a.surface({h[i].t, h[i].prim}, rays.get(i));
         same_leaf += carried.mat == again.mat;
         same_dir += dot(carried.ng, again.ng) > 0.9999f;
-        if (packet == 1) EXPECT_GT(dot(carried.ng, again.ng), 0.9999f) << what;
+        if (packet == 1) {
+          EXPECT_GT(dot(carried.ng, again.ng), 0.9999f) << what;
+        }
       }
       EXPECT_GT(csg, rays.count / 10) << name;
       const double share = packet == 1 ? 1.0 : 0.999;

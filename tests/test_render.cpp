@@ -8,7 +8,9 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -31,8 +33,8 @@ void expect_vec(const Vec3f& a, const Vec3f& b, float tol = 2e-6f) {
 
 TEST(RenderOptics, ReflectMirrorsAboutTheNormal) {
   const float s = std::sqrt(0.5f);
-  expect_vec(reflect({s, -s, 0}, {0, 1, 0}), {s, s, 0});
-  expect_vec(reflect({0, 0, 1}, {0, 0, -1}), {0, 0, -1});  // head-on: straight back
+  expect_vec(reflect<float>({s, -s, 0}, {0, 1, 0}), {s, s, 0});
+  expect_vec(reflect<float>({0, 0, 1}, {0, 0, -1}), {0, 0, -1});  // head-on: straight back
 }
 
 TEST(RenderOptics, SnellIntoGlassAt45Degrees) {
@@ -67,6 +69,65 @@ TEST(RenderOptics, TotalInternalReflectionBeyondTheCriticalAngle) {
   const float s = std::sqrt(0.5f);
   EXPECT_FALSE(refract({s, -s, 0}, {0, 1, 0}, 1.5f, 1.0f).has_value());  // 45 degrees
   EXPECT_TRUE(refract({s, -s, 0}, {0, 1, 0}, 1.0f, 1.5f).has_value());   // never into the denser medium
+}
+
+// Shading runs eight hits at a time (render.cpp); each lane must give the bits of the scalar
+// instantiation, or an image would depend on where its hits fall in the lanes.
+TEST(RenderOptics, LanesGiveTheScalarBits) {
+  std::uint32_t state = 12345u;
+  auto uni = [&] {  // a fixed sequence in [-1, 1)
+    state = state * 1664525u + 1013904223u;
+    return float(state >> 8) * 0x1p-23f - 1.0f;
+  };
+  auto unit = [&] { return normalize(Vec3f{uni(), uni(), uni()}); };
+  int lit = 0, refracted = 0;
+  for (int round = 0; round < 64; ++round) {
+    alignas(kSimdAlign) float L[3][8], nl[3][8], v[3][8], kd[8], ks[8], sh[8], base[3][8];
+    alignas(kSimdAlign) double d[3][8], n[3][8], eta[8];
+    for (int i = 0; i < 8; ++i) {
+      const Vec3f a = unit(), b = unit(), c = unit(), e = unit(), f = unit();
+      for (int k = 0; k < 3; ++k) L[k][i] = a[k], nl[k][i] = b[k], v[k][i] = c[k], base[k][i] = 0.5f + 0.5f * uni();
+      for (int k = 0; k < 3; ++k) d[k][i] = e[k], n[k][i] = f[k];
+      kd[i] = 0.5f + 0.5f * uni(), ks[i] = i % 3 == 0 ? 0.0f : 0.5f + 0.5f * uni(), sh[i] = 1.0f + 40.0f * (uni() + 1.0f);
+      eta[i] = i % 2 ? 1.0 / 1.5 : 1.5;
+    }
+    Vec3<f8> local8;
+    const f8 ndl8 = local_light<f8>({load<f8>(L[0]), load<f8>(L[1]), load<f8>(L[2])}, {load<f8>(nl[0]), load<f8>(nl[1]), load<f8>(nl[2])},
+                                    {load<f8>(v[0]), load<f8>(v[1]), load<f8>(v[2])}, load<f8>(kd), load<f8>(ks), load<f8>(sh),
+                                    {load<f8>(base[0]), load<f8>(base[1]), load<f8>(base[2])}, local8);
+    const Vec3<f8> r8 = reflect<f8>({load<f8>(L[0]), load<f8>(L[1]), load<f8>(L[2])}, {load<f8>(nl[0]), load<f8>(nl[1]), load<f8>(nl[2])});
+    for (int j = 0; j < 8; j += 4) {
+      Vec3<d4> t4;
+      const d4 k4 = refract_k<d4>({load<d4>(d[0] + j), load<d4>(d[1] + j), load<d4>(d[2] + j)},
+                                  {load<d4>(n[0] + j), load<d4>(n[1] + j), load<d4>(n[2] + j)}, load<d4>(eta + j), t4);
+      for (int i = 0; i < 4; ++i) {
+        Vec3d t1;
+        const double k1 = refract_k<double>({d[0][j + i], d[1][j + i], d[2][j + i]}, {n[0][j + i], n[1][j + i], n[2][j + i]}, eta[j + i], t1);
+        EXPECT_EQ(std::bit_cast<std::uint64_t>(lane(k4, i)), std::bit_cast<std::uint64_t>(k1));
+        if (k1 >= 0.0) {
+          ++refracted;
+          for (int c = 0; c < 3; ++c) EXPECT_EQ(lane(c == 0 ? t4.x : c == 1 ? t4.y : t4.z, i), t1[c]) << "round " << round;
+        }
+      }
+    }
+    for (int i = 0; i < 8; ++i) {
+      Vec3f local1;
+      const float ndl1 = local_light<float>({L[0][i], L[1][i], L[2][i]}, {nl[0][i], nl[1][i], nl[2][i]}, {v[0][i], v[1][i], v[2][i]},
+                                            kd[i], ks[i], sh[i], {base[0][i], base[1][i], base[2][i]}, local1);
+      EXPECT_EQ(std::bit_cast<std::uint32_t>(lane(ndl8, i)), std::bit_cast<std::uint32_t>(ndl1)) << "round " << round;
+      const Vec3f r1 = reflect<float>({L[0][i], L[1][i], L[2][i]}, {nl[0][i], nl[1][i], nl[2][i]});
+      EXPECT_EQ(lane(r8.x, i), r1.x);
+      EXPECT_EQ(lane(r8.y, i), r1.y);
+      EXPECT_EQ(lane(r8.z, i), r1.z);
+      if (!(ndl1 > 0.0f)) continue;
+      ++lit;
+      EXPECT_EQ(lane(local8.x, i), local1.x) << "round " << round << " lane " << i;
+      EXPECT_EQ(lane(local8.y, i), local1.y);
+      EXPECT_EQ(lane(local8.z, i), local1.z);
+    }
+  }
+  EXPECT_GT(lit, 100);  // both branches were taken
+  EXPECT_GT(refracted, 50);
 }
 
 // ---- shadows -----------------------------------------------------------------------------------

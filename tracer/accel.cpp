@@ -402,12 +402,21 @@ SceneAccel::SpawnBase SceneAccel::spawn_base(const kinds::Surface& sf) const {
 }
 
 Vec3f SceneAccel::spawn_point(const SpawnBase& b, const Vec3f& dir) const {
-  const Vec3f n = dot(b.ng, dir) < 0.0f ? -b.ng : b.ng;
+  const Vec3f n = dot_fma(b.ng, dir) < 0.0f ? -b.ng : b.ng;
   switch (plan_.spawn) {
     case SpawnScheme::extent_eps: return spawn::eps_offset(b.p, n, plan_.spawn_eps);
     case SpawnScheme::error_bound: return spawn::bound_offset(b.p, b.err, n);
   }
   return b.p;
+}
+
+Vec3<f8> SceneAccel::spawn_point(const Vec3<f8>& p, const Vec3<f8>& err, const Vec3<f8>& ng, const Vec3<f8>& dir) const {
+  const Vec3<f8> n = vselect3(dot_fma(ng, dir) < f8(0.0f), -ng, ng);
+  switch (plan_.spawn) {
+    case SpawnScheme::extent_eps: return spawn::eps_offset(p, n, f8(plan_.spawn_eps));
+    case SpawnScheme::error_bound: return spawn::bound_offset(p, err, n);
+  }
+  return p;
 }
 
 Vec3f SceneAccel::spawn_point(const kinds::Surface& sf, const Vec3f& dir) const { return spawn_point(spawn_base(sf), dir); }

@@ -84,6 +84,8 @@ class SceneAccel {
   };
   SpawnBase spawn_base(const kinds::Surface& sf) const;
   Vec3f spawn_point(const SpawnBase& b, const Vec3f& dir) const;
+  // spawn_point for 8 hits at once (the bases' p, err and ng as lanes), lane for lane the same.
+  Vec3<f8> spawn_point(const Vec3<f8>& p, const Vec3<f8>& err, const Vec3<f8>& ng, const Vec3<f8>& dir) const;
 
   // Traces rays [begin, end) (frame coordinates; begin a multiple of 8) into out[begin, end).
   void trace(const RaySoA& rays, std::size_t begin, std::size_t end, HitRec* out, const TraceOptions& o) const;
