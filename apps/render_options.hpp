@@ -19,6 +19,7 @@ struct RenderRunOptions {
   int secondary_packet = 0;     // 1 or 8; 0: the faster in trial renders (apps/render_run.cpp)
   int eye_packet = 0;           // 1, 8, 16 or 64; 0: the fastest of 64, 16 and 8 in trial renders
   int tile = 16;                // tile side in samples (render::RenderOptions::tile)
+  std::string secondary_order = "octant";  // octant | sfc (render::RenderOptions::secondary_order)
   std::string model = "auto";  // auto | fast | exact (tracer/plan.hpp)
   int warmup = 0;               // untimed renders before the timed ones (the command line: 1)
   int repetitions = 1;          // timed renders; the median is quoted (the command line: 5)

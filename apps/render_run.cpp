@@ -255,6 +255,7 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
   else ro.width = w, ro.height = h, ro.depth = o.depth;
   ro.count_tests = o.count_tests;
   ro.tile = o.tile;
+  ro.secondary_order = o.secondary_order == "sfc" ? render::RenderOptions::Order::sfc : render::RenderOptions::Order::octant;
   const RenderTimes rt = time_renders(o, s, accel, ro, mpi);
   if (!rt.rank0) return json();
   const render::RenderStats& st = rt.st;
@@ -289,6 +290,7 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
          {"secondary_packet", ro.secondary_packet},
          {"eye_packet", ro.eye_packet},
          {"tile", ro.tile},
+         {"secondary_order", ro.secondary_order == render::RenderOptions::Order::sfc ? "sfc" : "octant"},
          // The lanes per group the eye packets walked in: 16 (AVX-512) for a triangle mesh where the
          // binary and CPU have them; counted renders walk in 8.
          {"eye_group_lanes", ro.count_tests ? 8 : accel.group_lanes({.packet = ro.eye_packet, .lanes = render::kRenderLanes})},
@@ -410,6 +412,9 @@ std::string render_text(const json& j) {
     const json& pc = j["packet_choice"];
     t += fmt::format("packets: eye rays {} ({}), reflection, refraction and shadow rays {} ({})\n", j["eye_packet"].get<int>(),
                      pc["eye"].get<std::string>(), j["secondary_packet"].get<int>(), pc["secondary"].get<std::string>());
+    if (j.value("secondary_packet", 1) == 8 && j.contains("secondary_order"))
+      t += fmt::format("  packets of 8 in {} order (--secondary-order)\n",
+                       j["secondary_order"] == "sfc" ? "octant, origin and direction Morton" : "direction octant");
     for (const auto& tr : pc["trials"])
       t += fmt::format("  trial render: eye {:>2} -> {:.1f} ms, others {} -> {:.1f} ms in the BVH\n", tr["eye_packet"].get<int>(),
                        tr["eye_trace_ms"].get<double>(), tr["secondary_packet"].get<int>(), tr["secondary_trace_ms"].get<double>());

@@ -51,23 +51,48 @@ struct PathRay {
 // A shadow ray: what its light adds to the sample when nothing opaque is in the way.
 struct ShadowRay {
   std::uint32_t sample;
+  std::uint32_t light;
   Vec3f add;
 };
 
 Vec3f mul(const Vec3f& a, const Vec3f& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
 
-// The rays' indices ordered by direction octant, stably: the BVH traces 8 consecutive rays as one
-// packet only when they share an octant, and a generation interleaves reflection with refraction
-// rays and each hit's shadow rays towards different lights. Empty when all share one octant.
-void octant_order(const std::vector<Ray<float>>& rays, std::vector<std::uint32_t>& order) {
-  std::size_t count[9] = {};
-  auto oct = [](const Ray<float>& r) { return std::size_t((r.d.x < 0) | (r.d.y < 0) << 1 | (r.d.z < 0) << 2); };
-  for (const auto& r : rays) ++count[oct(r) + 1];
+// The rays' indices ordered by direction octant and, with `group` (below `groups`), by group within
+// an octant, stably: the BVH traces 8 consecutive rays as one packet only when they share an
+// octant, and a generation interleaves reflection with refraction rays and each hit's shadow rays
+// towards different lights (their group: rays to one light converge). Empty when all share one
+// bucket.
+void octant_order(const std::vector<Ray<float>>& rays, std::vector<std::uint32_t>& order, std::vector<std::size_t>& count,
+                  const std::uint32_t* group = nullptr, std::size_t groups = 1) {
+  count.assign(8 * groups + 1, 0);
+  auto bucket = [&](std::size_t i) {
+    const Ray<float>& r = rays[i];
+    const std::size_t oct = std::size_t((r.d.x < 0) | (r.d.y < 0) << 1 | (r.d.z < 0) << 2);
+    return oct * groups + (group ? group[i] : 0);
+  };
+  for (std::size_t i = 0; i < rays.size(); ++i) ++count[bucket(i) + 1];
   order.clear();
-  if (std::count(count + 1, count + 9, rays.size()) == 1) return;
-  for (int k = 1; k < 9; ++k) count[k] += count[k - 1];
+  if (std::count(count.begin() + 1, count.end(), rays.size()) == 1) return;
+  for (std::size_t k = 1; k < count.size(); ++k) count[k] += count[k - 1];
   order.resize(rays.size());
-  for (std::size_t i = 0; i < rays.size(); ++i) order[count[oct(rays[i])]++] = std::uint32_t(i);
+  for (std::size_t i = 0; i < rays.size(); ++i) order[count[bucket(i)]++] = std::uint32_t(i);
+}
+
+// The rays' indices ordered by the ray sort's key (octant, then the Morton codes of origin and
+// direction), equal keys in the batch's order.
+void key_order(const std::vector<Ray<float>>& rays, const tracer::RayKey& key, std::vector<std::uint64_t>& keys,
+               std::vector<std::uint32_t>& order) {
+  constexpr int kIndexBits = 28;  // the index below the 36-bit key: every word differs
+  order.clear();
+  if (rays.size() >= (std::size_t(1) << kIndexBits)) {
+    std::vector<std::size_t> count;
+    return octant_order(rays, order, count);
+  }
+  keys.resize(rays.size());
+  for (std::size_t i = 0; i < rays.size(); ++i) keys[i] = key(rays[i].o, rays[i].d) << kIndexBits | std::uint64_t(i);
+  std::sort(keys.begin(), keys.end());
+  order.resize(rays.size());
+  for (std::size_t i = 0; i < rays.size(); ++i) order[i] = std::uint32_t(keys[i] & ((std::uint64_t(1) << kIndexBits) - 1));
 }
 
 using Clock = std::chrono::steady_clock;
@@ -147,7 +172,10 @@ struct Renderer::Work {
   std::vector<PathRay> path, next_path;
   std::vector<ShadowRay> shadow;
   std::vector<bvh::HitRec> hits, sorted_hits;
-  std::vector<std::uint32_t> order;  // the octant order of a batch traced in packets
+  std::vector<std::uint32_t> order;  // the order of a batch traced in packets
+  std::vector<std::uint64_t> keys;    // its sort keys (RenderOptions::Order::sfc)
+  std::vector<std::size_t> buckets;   // the octant order's counts
+  std::vector<std::uint32_t> light;   // the light of each shadow ray being traced
   std::vector<float> pass;
   std::vector<std::uint32_t> live, more_live;
   RaySoA soa;
@@ -174,7 +202,15 @@ Vec3f surface_color(const scene::Material& m, const Vec3d& p) {
   return (parity & 1) ? m.color2 : m.color;
 }
 
-Renderer::Renderer(const scene::Scene& s, const tracer::SceneAccel& a, const RenderOptions& o) : s_(s), a_(a), o_(o) {
+namespace {
+tracer::RayKey frame_key(const scene::Scene& s, const tracer::SceneAccel& a) {
+  const scene::Bounds b = s.bounds();
+  return tracer::RayKey(a.to_frame(b.lo), a.to_frame(b.hi));
+}
+}  // namespace
+
+Renderer::Renderer(const scene::Scene& s, const tracer::SceneAccel& a, const RenderOptions& o)
+    : s_(s), a_(a), o_(o), key_(frame_key(s, a)) {
   if (o.width < 1 || o.height < 1 || o.width > 16384 || o.height > 16384)
     throw std::invalid_argument("image size " + std::to_string(o.width) + " x " + std::to_string(o.height) +
                                 " is outside 1 .. 16384");
@@ -237,7 +273,10 @@ void Renderer::trace(Work& w, const std::vector<Ray<float>>& rays, bool any, boo
   to.any = any;
   to.lanes = kRenderLanes;
   w.order.clear();
-  if (secondary && to.packet == 8) octant_order(rays, w.order);
+  if (secondary && to.packet == 8) {
+    if (o_.secondary_order == RenderOptions::Order::sfc) key_order(rays, key_, w.keys, w.order);
+    else octant_order(rays, w.order, w.buckets, shadow ? w.light.data() : nullptr, shadow ? light_pos_.size() : 1);
+  }
   const bool sorted = !w.order.empty();
   fill(w.soa, rays, sorted ? w.order.data() : nullptr);
   std::uint64_t coherent = 0, groups = 0;
@@ -360,7 +399,7 @@ void Renderer::shade(float* samples, Work& w, RenderStats& st) const {
       const std::size_t at = l * h.stride + k;
       if (!(h.ndl[at] > 0.0f)) continue;
       const Vec3f o = h.from_shadow.get(k);
-      w.shadow.push_back({pr.sample, mul(mul(pr.w, light_col_[l]), h.local.get(at))});
+      w.shadow.push_back({pr.sample, std::uint32_t(l), mul(mul(pr.w, light_col_[l]), h.local.get(at))});
       w.srays.push_back(make_ray(o, light_frame_[l] - o, 0.0f, 1.0f - 1e-6f));
     }
     // Reflection and refraction below the depth limit.
@@ -398,6 +437,8 @@ void Renderer::shadows(float* samples, Work& w, RenderStats& st, GenerationStats
   w.live.resize(w.srays.size());
   for (std::size_t i = 0; i < w.srays.size(); ++i) w.live[i] = std::uint32_t(i);
   for (int round = 0; !cur.empty(); ++round) {
+    w.light.resize(cur.size());
+    for (std::size_t k = 0; k < cur.size(); ++k) w.light[k] = w.shadow[w.live[k]].light;
     trace(w, cur, !transparent_, true, true, st, g);
     w.more.clear();
     w.more_live.clear();

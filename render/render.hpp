@@ -25,6 +25,7 @@
 #include "scene/scene.hpp"
 #include "tracer/accel.hpp"
 #include "tracer/ray_file.hpp"
+#include "tracer/ray_order.hpp"
 
 #include <cstdint>
 #include <functional>
@@ -52,6 +53,12 @@ struct RenderOptions {
   // direction-octant order, 8 rays of one octant as a packet (the hits go back to the batch's
   // order, so the image is the same bit for bit in every mode).
   int secondary_packet = 1;
+  // The order of a batch traced in packets of 8: by direction octant (stable: the batch's order
+  // within an octant, which for a tile follows its image rows), or by the ray sort's key (octant,
+  // then the Morton codes of origin, in the scene's box, and direction: tracer/ray_order.hpp).
+  // Either way the hits go back to the batch's order: the image is the same.
+  enum class Order { octant, sfc };
+  Order secondary_order = Order::octant;
   // Eye rays: rays per packet (1, 8, 16 or 64; a tile's rows of neighbouring pixels, so a
   // 64-ray packet is a 16x4 block of the image traced with a frustum test of the node's children).
   int eye_packet = 64;
@@ -158,6 +165,7 @@ class Renderer {
   std::vector<Vec3d> light_pos_;  // world
   std::vector<Vec3f> light_frame_;  // the same in the tracer's frame
   std::vector<Vec3f> light_col_;
+  tracer::RayKey key_;  // RenderOptions::Order::sfc: the key, origins quantised in the scene's box
 
   // The steps of one generation (RT_trace / RT_shade), in the order render_tile runs them.
   void eye_rays(int x0, int y0, int x1, int y1, Work& w) const;                                // spawn the first generation

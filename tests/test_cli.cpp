@@ -308,7 +308,7 @@ TEST(Cli, RenderWithoutOutputWritesSceneNameAndHainesOnlyUnderSpd) {
 }
 
 // Box and primitive tests are counted only when asked (--counts, or --spd), in one more render that
-// is not timed; the image is the same, as it is under other tile sides. Every render says where its
+// is not timed; the image is the same, as it is under other tile sides and orders. Every render says where its
 // time went, per generation.
 TEST(Cli, RenderCountsOnlyWhenAskedAndSplitsItsTime) {
   Scratch s("render-counts");
@@ -334,6 +334,14 @@ TEST(Cli, RenderCountsOnlyWhenAskedAndSplitsItsTime) {
     EXPECT_EQ(r.json()["image_fnv1a"], plain["image_fnv1a"]) << "tile " << tile;
     EXPECT_EQ(r.json()["total_rays"], plain["total_rays"]) << "tile " << tile;
   }
+  // Packets of 8 in the ray sort's order: the same image and rays (the hits go back to the batch's
+  // order before shading).
+  EXPECT_EQ(plain["secondary_order"], "octant");
+  r = run_in(s.dir, base + "--secondary-order sfc -o d.png --json -");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.json()["secondary_order"], "sfc");
+  EXPECT_EQ(r.json()["image_fnv1a"], plain["image_fnv1a"]) << "--secondary-order sfc";
+  EXPECT_EQ(r.json()["total_rays"], plain["total_rays"]) << "--secondary-order sfc";
   r = run_in(s.dir, "render spd:balls:1 --width 16 -r 1 --warmup 0 --spd -o spd.png --json -");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_TRUE(r.json()["tests_counted"].get<bool>()) << "--spd counts";
@@ -422,7 +430,9 @@ TEST(Cli, RenderGivesMedianRangeAndCvAndTooManyThreadsWarn) {
     const int passes = j["passes"][i].get<int>();
     EXPECT_GT(passes, 1) << j["passes"];
     EXPECT_LE(passes, 1000) << j["passes"];
-    if (passes < 1000) EXPECT_GE(passes * j["trace_seconds"][i].get<double>(), 0.1) << j["passes"];
+    if (passes < 1000) {
+      EXPECT_GE(passes * j["trace_seconds"][i].get<double>(), 0.1) << j["passes"];
+    }
   }
   EXPECT_TRUE(has(r.err, "warning: " + std::to_string(more) + " threads asked for")) << r.err;
   // The machine around the renders, as trace and bench record it.

@@ -39,6 +39,22 @@ constexpr int kIndexBits = 28, kDigitBits = 12, kPasses = 3, kBins = 1 << kDigit
 
 }  // namespace
 
+// Keys: octant (3 bits) | origin Morton code, 8 bits per axis (24) | direction Morton code, 3 bits
+// per axis (9); an origin's cell in [lo, hi] (clamped), a direction component's in [-1, 1].
+RayKey::RayKey(const Vec3f& lo, const Vec3f& hi) : lo_(lo) {
+  auto scale = [](float a, float b) { return b > a && std::isfinite(b - a) ? 256.0f / (b - a) : 0.0f; };
+  scale_ = {scale(lo.x, hi.x), scale(lo.y, hi.y), scale(lo.z, hi.z)};
+}
+
+std::uint64_t RayKey::operator()(const Vec3f& o, const Vec3f& d) const {
+  const std::uint64_t oct = std::uint64_t(d.x < 0) | std::uint64_t(d.y < 0) << 1 | std::uint64_t(d.z < 0) << 2;
+  const std::uint64_t om = kSpread.t[cell(o.x, lo_.x, scale_.x, 256)] | kSpread.t[cell(o.y, lo_.y, scale_.y, 256)] << 1 |
+                           kSpread.t[cell(o.z, lo_.z, scale_.z, 256)] << 2;
+  const std::uint64_t dm = kSpread.t[cell(d.x, -1.0f, 4.0f, 8)] | kSpread.t[cell(d.y, -1.0f, 4.0f, 8)] << 1 |
+                           kSpread.t[cell(d.z, -1.0f, 4.0f, 8)] << 2;
+  return oct << 33 | om << 9 | dm;
+}
+
 void RayOrder::sort(const RaySoA& in, const Vec3f& lo, const Vec3f& hi, ThreadScope& ts) {
   const std::size_t n = in.count;
   if (n >= (std::size_t(1) << kIndexBits)) throw std::length_error("RayOrder: more than 2^28 rays");
@@ -46,19 +62,10 @@ void RayOrder::sort(const RaySoA& in, const Vec3f& lo, const Vec3f& hi, ThreadSc
   tmp_keys_.resize(n);
   order_.resize(n);
   const std::size_t chunks = (n + kChunk - 1) / kChunk;
-  // Keys: octant (3 bits) | origin Morton code, 8 bits per axis (24) | direction Morton code, 3 bits
-  // per axis (9); an origin's cell in [lo, hi] (clamped), a direction component's in [-1, 1].
-  auto scale = [](float a, float b) { return b > a && std::isfinite(b - a) ? 256.0f / (b - a) : 0.0f; };
-  const Vec3f s{scale(lo.x, hi.x), scale(lo.y, hi.y), scale(lo.z, hi.z)};
+  const RayKey key(lo, hi);
   ts.parallel_for(chunks, 1, [&](std::size_t c) {
-    for (std::size_t i = c * kChunk, e = std::min(n, i + kChunk); i < e; ++i) {
-      const std::uint64_t oct = std::uint64_t(in.dx[i] < 0) | std::uint64_t(in.dy[i] < 0) << 1 | std::uint64_t(in.dz[i] < 0) << 2;
-      const std::uint64_t om = kSpread.t[cell(in.ox[i], lo.x, s.x, 256)] | kSpread.t[cell(in.oy[i], lo.y, s.y, 256)] << 1 |
-                               kSpread.t[cell(in.oz[i], lo.z, s.z, 256)] << 2;
-      const std::uint64_t dm = kSpread.t[cell(in.dx[i], -1.0f, 4.0f, 8)] | kSpread.t[cell(in.dy[i], -1.0f, 4.0f, 8)] << 1 |
-                               kSpread.t[cell(in.dz[i], -1.0f, 4.0f, 8)] << 2;
-      keys_[i] = (oct << 33 | om << 9 | dm) << kIndexBits | std::uint64_t(i);
-    }
+    for (std::size_t i = c * kChunk, e = std::min(n, i + kChunk); i < e; ++i)
+      keys_[i] = key({in.ox[i], in.oy[i], in.oz[i]}, {in.dx[i], in.dy[i], in.dz[i]}) << kIndexBits | std::uint64_t(i);
   });
   // LSD radix sort of the key bits, stable: per pass, each block's histogram, the blocks' offsets in
   // block order (bin-major: every bin's total first, then each block's running offsets, all

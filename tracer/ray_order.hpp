@@ -19,6 +19,18 @@
 
 namespace rb::tracer {
 
+// The key a ray is sorted by (36 bits, above): a box's quantisation of origins, made once.
+class RayKey {
+ public:
+  // Origins quantised in [lo, hi] (frame coordinates; an empty or infinite extent puts every origin
+  // in cell 0 along that axis).
+  RayKey(const Vec3f& lo, const Vec3f& hi);
+  std::uint64_t operator()(const Vec3f& o, const Vec3f& d) const;
+
+ private:
+  Vec3f lo_, scale_;
+};
+
 class RayOrder {
  public:
   // Sorts the real rays of `in` (in.count) into sorted() on `ts`'s threads; `lo`, `hi`: the box the

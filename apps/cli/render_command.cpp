@@ -36,6 +36,11 @@ class RenderCommand final : public Command {
         ->transform(packet_size_choice({"auto", "1", "8"}))
         ->type_name("auto|1|8")
         ->default_str("auto");
+    sub_->add_option("--secondary-order", rdo.secondary_order,
+                     "Order of rays traced in packets of 8: octant\n(by direction octant, else as made) or sfc\n(octant, "
+                     "then the Morton codes of origin\nand direction; the image does not change)")
+        ->check(one_of({"octant", "sfc"}))
+        ->capture_default_str();
     sub_->add_option("--tile", rdo.tile,
                      "Tile side in samples: a tile's rays are traced\ngeneration by generation, each generation's\nrays as one "
                      "batch (memory per thread grows\nwith the square of the side; the image does\nnot change)")

@@ -237,7 +237,9 @@ std::string report_section_render(const ReportOptions& o, Record& rec, const fs:
         "go through the BVH as one SoA batch, their shadow rays as another batch. Each scene's eye rays go in packets of 64, 16 "
         "or 8 and its other rays one by one or sorted by direction octant into packets of 8 (a packet whose rays do not "
         "share an octant falls back to single rays), whichever traced fastest in trial renders before the timed one (the "
-        "time table names the choice). Tiles run on TBB threads (and under `mpirun` on MPI ranks).\n\n";
+        "time table names the choice). Shading takes a generation's hits eight at a time in SIMD lanes (per light the "
+        "direction to it and Snell's law in double, Lambert and Phong in float, the rays' spawn points), each lane giving "
+        "the bits of one hit shaded alone. Tiles run on TBB threads (and under `mpirun` on MPI ranks).\n\n";
   md += "SPD scenes follow Haines' protocol (`--spd`): 513 x 513 rays through the pixel corners of a 512 x 512 image, each "
         "pixel the mean of its four corners, depth 5 with the eye ray at depth 1, every ray hitting a reflector or a "
         "transmitter spawns a reflection ray, positional lights, smooth shading of `pp` patches, opaque surfaces one-sided "

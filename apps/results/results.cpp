@@ -200,7 +200,7 @@ json config_of(const std::string& kind, const json& doc) {
     for (const char* k : {"mode", "seed", "rays", "filter"})
       if (doc.contains(k)) c[k] = doc[k];
   } else if (kind == "trace" || kind == "render") {
-    for (const char* k : {"scene", "rays", "ray_set", "seed", "threads", "packet", "model", "slab", "repetitions", "warmup", "width", "height", "tile"})
+    for (const char* k : {"scene", "rays", "ray_set", "seed", "threads", "packet", "model", "slab", "repetitions", "warmup", "width", "height", "tile", "secondary_order"})
       if (doc.contains(k)) c[k] = doc[k];
   } else if (kind == "bench" && doc.contains("context")) {
     for (const char* k : {"raybench_seed", "raybench_repetitions"})
