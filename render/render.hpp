@@ -53,9 +53,10 @@ struct RenderOptions {
   // direction-octant order, 8 rays of one octant as a packet (the hits go back to the batch's
   // order, so the image is the same bit for bit in every mode).
   int secondary_packet = 1;
-  // The order of a batch traced in packets of 8: by direction octant (stable: the batch's order
-  // within an octant, which for a tile follows its image rows), or by the ray sort's key (octant,
-  // then the Morton codes of origin, in the scene's box, and direction: tracer/ray_order.hpp).
+  // The order of a batch traced in packets of 8: by direction octant, shadow rays then by their
+  // light (stable: the batch's order within, which for a tile follows its image rows), or by the ray
+  // sort's key (octant, then the Morton codes of origin, in the scene's box, and direction:
+  // tracer/ray_order.hpp).
   // Either way the hits go back to the batch's order: the image is the same.
   enum class Order { octant, sfc };
   Order secondary_order = Order::octant;

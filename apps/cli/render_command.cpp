@@ -37,8 +37,8 @@ class RenderCommand final : public Command {
         ->type_name("auto|1|8")
         ->default_str("auto");
     sub_->add_option("--secondary-order", rdo.secondary_order,
-                     "Order of rays traced in packets of 8: octant\n(by direction octant, else as made) or sfc\n(octant, "
-                     "then the Morton codes of origin\nand direction; the image does not change)")
+                     "Order of rays traced in packets of 8: octant\n(by direction octant, shadow rays then by\nlight, else as "
+                     "made) or sfc (octant, then\nthe Morton codes of origin and direction; the\nimage does not change)")
         ->check(one_of({"octant", "sfc"}))
         ->capture_default_str();
     sub_->add_option("--tile", rdo.tile,
