@@ -1,15 +1,15 @@
 #include "render/render.hpp"
 
 #include "bvh/traverse.hpp"
+#include "render/batch_order.hpp"
+#include "render/hit_lanes.hpp"
 #include "render/optics.hpp"
-#include "soa/aligned.hpp"
 #include "tracer/parallel.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -57,44 +57,6 @@ struct ShadowRay {
 
 Vec3f mul(const Vec3f& a, const Vec3f& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
 
-// The rays' indices ordered by direction octant and, with `group` (below `groups`), by group within
-// an octant, stably: the BVH traces 8 consecutive rays as one packet only when they share an
-// octant, and a generation interleaves reflection with refraction rays and each hit's shadow rays
-// towards different lights (their group: rays to one light converge). Empty when all share one
-// bucket.
-void octant_order(const std::vector<Ray<float>>& rays, std::vector<std::uint32_t>& order, std::vector<std::size_t>& count,
-                  const std::uint32_t* group = nullptr, std::size_t groups = 1) {
-  count.assign(8 * groups + 1, 0);
-  auto bucket = [&](std::size_t i) {
-    const Ray<float>& r = rays[i];
-    const std::size_t oct = std::size_t((r.d.x < 0) | (r.d.y < 0) << 1 | (r.d.z < 0) << 2);
-    return oct * groups + (group ? group[i] : 0);
-  };
-  for (std::size_t i = 0; i < rays.size(); ++i) ++count[bucket(i) + 1];
-  order.clear();
-  if (std::count(count.begin() + 1, count.end(), rays.size()) == 1) return;
-  for (std::size_t k = 1; k < count.size(); ++k) count[k] += count[k - 1];
-  order.resize(rays.size());
-  for (std::size_t i = 0; i < rays.size(); ++i) order[count[bucket(i)]++] = std::uint32_t(i);
-}
-
-// The rays' indices ordered by the ray sort's key (octant, then the Morton codes of origin and
-// direction), equal keys in the batch's order.
-void key_order(const std::vector<Ray<float>>& rays, const tracer::RayKey& key, std::vector<std::uint64_t>& keys,
-               std::vector<std::uint32_t>& order) {
-  constexpr int kIndexBits = 28;  // the index below the 36-bit key: every word differs
-  order.clear();
-  if (rays.size() >= (std::size_t(1) << kIndexBits)) {
-    std::vector<std::size_t> count;
-    return octant_order(rays, order, count);
-  }
-  keys.resize(rays.size());
-  for (std::size_t i = 0; i < rays.size(); ++i) keys[i] = key(rays[i].o, rays[i].d) << kIndexBits | std::uint64_t(i);
-  std::sort(keys.begin(), keys.end());
-  order.resize(rays.size());
-  for (std::size_t i = 0; i < rays.size(); ++i) order[i] = std::uint32_t(keys[i] & ((std::uint64_t(1) << kIndexBits) - 1));
-}
-
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
@@ -102,66 +64,6 @@ void add_to(float* samples, std::uint32_t sample, const Vec3f& c) {
   float* px = samples + 3 * std::size_t(sample);
   px[0] += c.x; px[1] += c.y; px[2] += c.z;
 }
-
-// A generation's hits as SoA lanes, what shading runs on eight at a time. The arrays only grow (a
-// thread's tiles reuse them) and are written by index; rows past the hits up to a multiple of 8 are
-// zeros.
-struct HitLanes {
-  // Three float arrays: a vector per row.
-  struct V3 {
-    avec<float> x, y, z;
-    void set(std::size_t k, const Vec3f& v) { x[k] = v.x, y[k] = v.y, z[k] = v.z; }
-    Vec3f get(std::size_t k) const { return {x[k], y[k], z[k]}; }
-    Vec3<f8> load8(std::size_t k) const { return {load<f8>(&x[k]), load<f8>(&y[k]), load<f8>(&z[k])}; }
-    void store8(std::size_t k, const Vec3<f8>& v) { store(&x[k], v.x), store(&y[k], v.y), store(&z[k], v.z); }
-  };
-  // In, per hit: the generation's ray and the material; the world point and the ray's eta_i / eta_t
-  // there (double); the light test's normal, the shading normal towards the ray, the ray's
-  // direction, the surface colour, the material's kd, ks and exponent; the spawn base (frame point,
-  // its error bound and the geometric normal), the geometric normal towards the ray and the light
-  // test's geometric normal.
-  std::vector<std::uint32_t> ray;
-  std::vector<const scene::Material*> mat;
-  avec<double> px, py, pz, eta;
-  V3 nl, ns, d, base, bp, err, ng, ng_in, ngl;
-  avec<float> kd, ks, shine;
-  // Out: per light (light l's rows from l * stride) n.L and the local light; the mirror direction
-  // and the refracted one (where tok > 0: no total internal reflection); where the shadow rays, the
-  // mirror ray and the refracted ray start.
-  avec<float> ndl, tok;
-  V3 local, dr, dt, from_shadow, from_mirror, from_refracted;
-  std::size_t n = 0, stride = 0;
-
-  // Room for `rays` hits and `lights` lights; no hits yet.
-  void reset(std::size_t rays, std::size_t lights) {
-    n = 0;
-    stride = round_up(std::max<std::size_t>(rays, 1), kPadLanes);
-    if (px.size() >= stride && ndl.size() >= lights * stride) return;
-    ray.resize(stride);
-    mat.resize(stride);
-    for (auto* a : doubles()) a->resize(stride);
-    for (auto* a : floats()) a->resize(stride);
-    for (auto* a : {&ndl, &local.x, &local.y, &local.z}) a->resize(lights * stride);
-  }
-  // Zero rows from the last hit to the next multiple of 8.
-  void pad() {
-    for (std::size_t k = n; k < round_up(n, kPadLanes); ++k) {
-      for (auto* a : doubles()) (*a)[k] = 0.0;
-      for (auto* a : floats()) (*a)[k] = 0.0f;
-    }
-  }
-
- private:
-  std::array<avec<double>*, 4> doubles() { return {&px, &py, &pz, &eta}; }
-  std::array<avec<float>*, 46> floats() {
-    std::array<avec<float>*, 46> a{};
-    std::size_t i = 0;
-    for (V3* v : {&nl, &ns, &d, &base, &bp, &err, &ng, &ng_in, &ngl, &dr, &dt, &from_shadow, &from_mirror, &from_refracted})
-      a[i++] = &v->x, a[i++] = &v->y, a[i++] = &v->z;
-    for (auto* s : {&kd, &ks, &shine, &tok}) a[i++] = s;
-    return a;
-  }
-};
 
 }  // namespace
 
