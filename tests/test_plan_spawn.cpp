@@ -1,13 +1,16 @@
 // Where secondary rays start (tracer/plan.hpp, SceneAccel::spawn_point): each hit's own offset keeps
 // a small object's shadow, and the surface it leaves lit, however far from the frame's origin the
 // scene lies and whatever the size of what it rests on.
+#include "core/spawn.hpp"
 #include "scene/sources.hpp"
 #include "tracer/accel.hpp"
 #include "tracer/plan.hpp"
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <string>
 
 namespace {
@@ -36,6 +39,47 @@ bool shadowed(const tracer::SceneAccel& a, const Vec3d& from, const Vec3d& dir, 
   const Vec3f d = to_float(to * (1.0 / std::sqrt(dot(to, to))));
   const Vec3f o = a.spawn_point(sf, d);
   return trace_one(a, make_ray(o, d, 0.0f, float(std::sqrt(dot(to, to)))), true).prim != bvh::kNoPrim;
+}
+
+// The shader's spawn points, eight hits at a time (SceneAccel::spawn_point on lanes), are the
+// scalar ones bit for bit: error-bound offsets of points near and far from the frame's origin,
+// normals on either side of the ray's direction, and the extent-epsilon offset.
+TEST(PlanSpawn, EightLanesGiveTheScalarSpawnPoints) {
+  const scene::Scene s = scene::precision_scene("cluster_ground");
+  const tracer::SceneAccel a = tracer::SceneAccel::build(s, tracer::make_plan(s, Model::automatic));
+  ASSERT_EQ(a.plan().spawn, tracer::SpawnScheme::error_bound);
+  std::uint32_t state = 7u;
+  auto uni = [&] {  // a fixed sequence in [-1, 1)
+    state = state * 1664525u + 1013904223u;
+    return float(state >> 8) * 0x1p-23f - 1.0f;
+  };
+  auto unit = [&] { return normalize(Vec3f{uni(), uni(), uni()}); };
+  auto same = [](float x, float y) { return std::bit_cast<std::uint32_t>(x) == std::bit_cast<std::uint32_t>(y); };
+  int moved = 0;
+  for (int round = 0; round < 64; ++round) {
+    alignas(kSimdAlign) float v[12][8];
+    tracer::SceneAccel::SpawnBase b[8];
+    Vec3f dir[8];
+    for (int i = 0; i < 8; ++i) {
+      const float scale = std::ldexp(1.0f, (round + i) % 40 - 10);  // 2^-10 .. 2^29 from the origin
+      b[i].p = Vec3f{uni(), uni(), uni()} * scale;
+      b[i].err = Vec3f{std::fabs(uni()), std::fabs(uni()), std::fabs(uni())} * (scale * 0x1p-20f);
+      b[i].ng = unit();
+      dir[i] = i == 7 ? Vec3f{0, 0, 0} : unit();  // lane 7: a direction along no side
+      const Vec3f* f[4] = {&b[i].p, &b[i].err, &b[i].ng, &dir[i]};
+      for (int k = 0; k < 12; ++k) v[k][i] = (*f[k / 3])[k % 3];
+    }
+    auto lanes3 = [&](int k) { return Vec3<f8>{load<f8>(v[k]), load<f8>(v[k + 1]), load<f8>(v[k + 2])}; };
+    const Vec3<f8> o8 = a.spawn_point(lanes3(0), lanes3(3), lanes3(6), lanes3(9));
+    const Vec3<f8> e8 = spawn::eps_offset(lanes3(0), lanes3(6), f8(1e-3f));
+    for (int i = 0; i < 8; ++i) {
+      const Vec3f o1 = a.spawn_point(b[i], dir[i]), e1 = spawn::eps_offset(b[i].p, b[i].ng, 1e-3f);
+      moved += !(o1.x == b[i].p.x && o1.y == b[i].p.y && o1.z == b[i].p.z);
+      EXPECT_TRUE(same(lane(o8.x, i), o1.x) && same(lane(o8.y, i), o1.y) && same(lane(o8.z, i), o1.z)) << "round " << round << " lane " << i;
+      EXPECT_TRUE(same(lane(e8.x, i), e1.x) && same(lane(e8.y, i), e1.y) && same(lane(e8.z, i), e1.z)) << "round " << round << " lane " << i;
+    }
+  }
+  EXPECT_GT(moved, 500);  // the offsets did move the points
 }
 
 // A ball of radius 2 resting on a planet of radius 6.4e6: secondary rays start off the point they
