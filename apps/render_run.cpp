@@ -97,9 +97,11 @@ struct RenderTimes {
 // The warm-up renders and the trial renders first (not in the median), then the timed ones; the
 // image and the counts are those of the last render (every render computes the same image).
 // Packet sizes: given, or (0: auto) the fastest in this run. The trial renders after the warm-up
-// ones try the candidates (eye rays in packets of 64, 16 and 8; the other rays one by one and in
-// octant-ordered packets of 8), a candidate per render in turn, and each generation takes the size
-// whose trace time was least (summed over threads; under MPI each rank chooses from its own tiles).
+// ones try the candidates (eye rays in packets of 64, 16 and 8; the eye rays' shadow rays, and
+// apart from them the other rays, one by one and in octant-ordered packets of 8), a candidate per
+// render in turn, and each of the three kinds takes the size whose trace time was least (summed
+// over threads; under MPI each rank chooses from its own tiles). The kinds' rays do not depend on
+// the sizes, so each kind's choice is independent of the others'.
 // `ro` leaves with the packet sizes of the timed renders. Every one of these renders takes the plain
 // traversal; with ro.count_tests one more render, untimed, takes the counting one for the box and
 // primitive test counts (the image and the ray counts are the same).
@@ -108,15 +110,21 @@ RenderTimes time_renders(const RenderRunOptions& o, const scene::Scene& s, const
   RenderTimes out;
   const std::vector<int> eye_sizes = o.eye_packet == 0 ? std::vector<int>{64, 16, 8} : std::vector<int>{o.eye_packet};
   const std::vector<int> sec_sizes = o.secondary_packet == 0 ? std::vector<int>{1, 8} : std::vector<int>{o.secondary_packet};
-  const int trials = o.eye_packet == 0 || o.secondary_packet == 0 ? int(std::max(eye_sizes.size(), sec_sizes.size())) : 0;
+  const int eye_shadow = o.eye_shadow_packet < 0 ? o.secondary_packet : o.eye_shadow_packet;
+  const std::vector<int> esh_sizes = eye_shadow == 0 ? std::vector<int>{1, 8} : std::vector<int>{eye_shadow};
+  const int trials = o.eye_packet == 0 || o.secondary_packet == 0 || eye_shadow == 0
+                         ? int(std::max({eye_sizes.size(), sec_sizes.size(), esh_sizes.size()}))
+                         : 0;
   out.trials = trials;
   const double never = std::numeric_limits<double>::infinity();
-  std::vector<double> eye_s(eye_sizes.size(), never), sec_s(sec_sizes.size(), never);  // least seconds per candidate
+  // least seconds per candidate
+  std::vector<double> eye_s(eye_sizes.size(), never), sec_s(sec_sizes.size(), never), esh_s(esh_sizes.size(), never);
   auto fastest = [](const std::vector<int>& sizes, const std::vector<double>& secs) {
     return sizes[std::size_t(std::min_element(secs.begin(), secs.end()) - secs.begin())];
   };
   ro.eye_packet = eye_sizes[0];
   ro.secondary_packet = sec_sizes[0];
+  ro.eye_shadow_packet = esh_sizes[0];
   int rank = 0;
 #ifdef RB_HAVE_MPI
   if (mpi) rank = mpi->rank(), out.ranks = mpi->size();
@@ -150,9 +158,14 @@ RenderTimes time_renders(const RenderRunOptions& o, const scene::Scene& s, const
   const LoadWatch watch;
   for (run = 0; run < timed_end; ++run) {
     const bool trial = run >= warmup && run < untimed;
-    const std::size_t e = std::size_t(run - warmup) % eye_sizes.size(), k = std::size_t(run - warmup) % sec_sizes.size();
-    if (trial) ro.eye_packet = eye_sizes[e], ro.secondary_packet = sec_sizes[k];
-    if (run == untimed && trials > 0) ro.eye_packet = fastest(eye_sizes, eye_s), ro.secondary_packet = fastest(sec_sizes, sec_s);
+    const std::size_t e = std::size_t(run - warmup) % eye_sizes.size(), k = std::size_t(run - warmup) % sec_sizes.size(),
+                      q = std::size_t(run - warmup) % esh_sizes.size();
+    if (trial) ro.eye_packet = eye_sizes[e], ro.secondary_packet = sec_sizes[k], ro.eye_shadow_packet = esh_sizes[q];
+    if (run == untimed && trials > 0) {
+      ro.eye_packet = fastest(eye_sizes, eye_s);
+      ro.secondary_packet = fastest(sec_sizes, sec_s);
+      ro.eye_shadow_packet = fastest(esh_sizes, esh_s);
+    }
     const auto t1 = std::chrono::steady_clock::now();
     out.st = render_once();
     if (run >= untimed) {
@@ -166,8 +179,13 @@ RenderTimes time_renders(const RenderRunOptions& o, const scene::Scene& s, const
     if (trial) {
       eye_s[e] = std::min(eye_s[e], out.st.eye_trace_s);
       sec_s[k] = std::min(sec_s[k], out.st.secondary_trace_s);
-      out.trial_rows.push_back({{"eye_packet", ro.eye_packet}, {"secondary_packet", ro.secondary_packet},
-                                {"eye_trace_ms", 1e3 * out.st.eye_trace_s}, {"secondary_trace_ms", 1e3 * out.st.secondary_trace_s}});
+      esh_s[q] = std::min(esh_s[q], out.st.eye_shadow_trace_s);
+      out.trial_rows.push_back({{"eye_packet", ro.eye_packet},
+                                {"eye_shadow_packet", ro.eye_shadow_packet},
+                                {"secondary_packet", ro.secondary_packet},
+                                {"eye_trace_ms", 1e3 * out.st.eye_trace_s},
+                                {"eye_shadow_trace_ms", 1e3 * out.st.eye_shadow_trace_s},
+                                {"secondary_trace_ms", 1e3 * out.st.secondary_trace_s}});
     }
   }
   if (count) {
@@ -288,6 +306,7 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
          {"total_rays", st.rays()},
          {"tests_counted", ro.count_tests},
          {"secondary_packet", ro.secondary_packet},
+         {"eye_shadow_packet", ro.packet_for(0, true)},
          {"eye_packet", ro.eye_packet},
          {"tile", ro.tile},
          {"secondary_order", ro.secondary_order == render::RenderOptions::Order::sfc ? "sfc" : "octant"},
@@ -295,6 +314,9 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
          // binary and CPU have them; counted renders walk in 8.
          {"eye_group_lanes", ro.count_tests ? 8 : accel.group_lanes({.packet = ro.eye_packet, .lanes = render::kRenderLanes})},
          {"packet_choice", {{"eye", o.eye_packet == 0 ? "fastest in the trial renders" : "given"},
+                            {"eye_shadow", (o.eye_shadow_packet < 0 ? o.secondary_packet : o.eye_shadow_packet) == 0
+                                               ? "fastest in the trial renders"
+                                               : "given"},
                             {"secondary", o.secondary_packet == 0 ? "fastest in the trial renders" : "given"},
                             {"trials", rt.trial_rows}}},
          {"node_visits", st.cost.nodes},
@@ -410,14 +432,17 @@ std::string render_text(const json& j) {
                    j["plan"]["frame"]["kind"].get<std::string>());
   if (j.contains("packet_choice")) {
     const json& pc = j["packet_choice"];
-    t += fmt::format("packets: eye rays {} ({}), reflection, refraction and shadow rays {} ({})\n", j["eye_packet"].get<int>(),
-                     pc["eye"].get<std::string>(), j["secondary_packet"].get<int>(), pc["secondary"].get<std::string>());
-    if (j.value("secondary_packet", 1) == 8 && j.contains("secondary_order"))
+    const int esh = j.value("eye_shadow_packet", j["secondary_packet"].get<int>());
+    t += fmt::format("packets: eye rays {} ({}), their shadow rays {} ({}), reflection, refraction and later shadow rays {} ({})\n",
+                     j["eye_packet"].get<int>(), pc["eye"].get<std::string>(), esh, pc.value("eye_shadow", pc["secondary"].get<std::string>()),
+                     j["secondary_packet"].get<int>(), pc["secondary"].get<std::string>());
+    if ((j.value("secondary_packet", 1) == 8 || esh == 8) && j.contains("secondary_order"))
       t += fmt::format("  packets of 8 in {} order (--secondary-order)\n",
                        j["secondary_order"] == "sfc" ? "octant, origin and direction Morton" : "direction octant");
     for (const auto& tr : pc["trials"])
-      t += fmt::format("  trial render: eye {:>2} -> {:.1f} ms, others {} -> {:.1f} ms in the BVH\n", tr["eye_packet"].get<int>(),
-                       tr["eye_trace_ms"].get<double>(), tr["secondary_packet"].get<int>(), tr["secondary_trace_ms"].get<double>());
+      t += fmt::format("  trial render: eye {:>2} -> {:.1f} ms, their shadow rays {} -> {:.1f} ms, others {} -> {:.1f} ms in the BVH\n",
+                       tr["eye_packet"].get<int>(), tr["eye_trace_ms"].get<double>(), tr.value("eye_shadow_packet", 0),
+                       tr.value("eye_shadow_trace_ms", 0.0), tr["secondary_packet"].get<int>(), tr["secondary_trace_ms"].get<double>());
   }
   if (j.contains("tile")) t += fmt::format("tiles: {0} x {0} samples, each traced generation by generation (--tile)\n", j["tile"].get<int>());
   t += fmt::format("time: preprocess {:.1f} ms (load {:.1f}, plan {:.1f}, BVH {:.1f}), trace {:.1f} ms, {:.2f} Mrays/s\n",

@@ -82,6 +82,7 @@ struct Renderer::Work {
   std::vector<std::uint32_t> live, more_live;
   RaySoA soa;
   HitLanes lanes;  // the generation's hits, shaded in lanes
+  std::size_t gen = 0;  // the generation being traced (0: the eye rays)
 };
 
 RenderOptions spd_options(const scene::Scene& s, int width, int height, int depth) {
@@ -171,7 +172,7 @@ void Renderer::trace(Work& w, const std::vector<Ray<float>>& rays, bool any, boo
                      GenerationStats& g) const {
   const auto t0 = Clock::now();
   tracer::TraceOptions to;
-  to.packet = secondary ? (o_.secondary_packet == 8 ? 8 : 1) : o_.eye_packet;
+  to.packet = secondary ? o_.packet_for(w.gen, shadow) : o_.eye_packet;
   to.any = any;
   to.lanes = kRenderLanes;
   w.order.clear();
@@ -199,7 +200,7 @@ void Renderer::trace(Work& w, const std::vector<Ray<float>>& rays, bool any, boo
     for (std::size_t i = 0; i < rays.size(); ++i) w.hits[w.order[i]] = out[i];
   }
   const double packed = std::chrono::duration<double>(t1 - t0).count(), s = seconds_since(t0);
-  (secondary ? st.secondary_trace_s : st.eye_trace_s) += s;
+  (!secondary ? st.eye_trace_s : shadow && w.gen == 0 ? st.eye_shadow_trace_s : st.secondary_trace_s) += s;
   g.pack_s += packed;
   (shadow ? g.shadow_traverse_s : g.traverse_s) += s - packed;
 }
@@ -379,6 +380,7 @@ void Renderer::render_tile(std::size_t t, float* samples, RenderStats& st) const
   st.eye += w.rays.size();
   for (std::size_t gen = 0; !w.rays.empty(); ++gen) {
     GenerationStats& g = st.generation(gen);
+    w.gen = gen;
     g.rays += w.rays.size();
     trace(w, w.rays, false, gen > 0, false, st, g);
     for (std::size_t i = 0; i < w.rays.size(); ++i) g.hits += w.hits[i].prim != bvh::kNoPrim;
@@ -393,11 +395,10 @@ void Renderer::render_tile(std::size_t t, float* samples, RenderStats& st) const
 
 tracer::RayFile Renderer::kept_rays(const RenderStats& st) const {
   tracer::RayFile f;
-  const int secondary = o_.secondary_packet == 8 ? 8 : 1;
   for (std::size_t g = 0; g < st.generations.size(); ++g) {
     const GenerationStats& x = st.generations[g];
-    tracer::RaySection rays{g == 0 ? "eye" : "secondary", int(g + 1), false, g == 0 ? o_.eye_packet : secondary, x.kept};
-    tracer::RaySection shadow{"shadow", int(g + 1), !transparent_, secondary, x.kept_shadow};
+    tracer::RaySection rays{g == 0 ? "eye" : "secondary", int(g + 1), false, g == 0 ? o_.eye_packet : o_.packet_for(g, false), x.kept};
+    tracer::RaySection shadow{"shadow", int(g + 1), !transparent_, o_.packet_for(g, true), x.kept_shadow};
     for (auto* s : {&rays, &shadow})
       if (!s->rays.empty()) f.sections.push_back(std::move(*s));
   }

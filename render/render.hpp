@@ -53,6 +53,16 @@ struct RenderOptions {
   // direction-octant order, 8 rays of one octant as a packet (the hits go back to the batch's
   // order, so the image is the same bit for bit in every mode).
   int secondary_packet = 1;
+  // The shadow rays of the eye rays' hits (the first generation's): 1 or 8 as above; 0: as
+  // secondary_packet. A tile's eye hits lie side by side and their shadow rays to one light
+  // converge, so these are coherent where later generations' rays, from scattered hit points, may
+  // not be: each kind can take its own size.
+  int eye_shadow_packet = 0;
+  // The packet size of a generation's shadow rays (gen 0: the eye rays') or other secondary rays.
+  int packet_for(std::size_t gen, bool shadow) const {
+    const int p = shadow && gen == 0 && eye_shadow_packet != 0 ? eye_shadow_packet : secondary_packet;
+    return p == 8 ? 8 : 1;
+  }
   // The order of a batch traced in packets of 8: by direction octant, shadow rays then by their
   // light (stable: the batch's order within, which for a tile follows its image rows), or by the ray
   // sort's key (octant, then the Morton codes of origin, in the scene's box, and direction:
@@ -104,13 +114,14 @@ struct GenerationStats {
 
 // Ray and test counts. Box and primitive tests are those of every traversal (eye, reflection,
 // refraction, shadow and its continuations through transmitting occluders).
-// The seconds spent in the BVH (summed over threads; under MPI, this rank's own) for eye rays and
-// for the other rays, by which a run can choose each generation's packet size, and the time split
-// by generation and step.
+// The seconds spent in the BVH (summed over threads; under MPI, this rank's own) for eye rays, for
+// their shadow rays and for the other rays, by which a run can choose each kind's packet size, and
+// the time split by generation and step.
 struct RenderStats {
   std::uint64_t eye = 0, eye_hit = 0, reflect = 0, refract = 0, shadow = 0;
   bvh::TraceCounters cost;
-  double eye_trace_s = 0, secondary_trace_s = 0;
+  // eye_shadow_trace_s: the eye rays' shadow rays; secondary_trace_s: every other ray but the eye rays.
+  double eye_trace_s = 0, eye_shadow_trace_s = 0, secondary_trace_s = 0;
   double generate_s = 0;  // eye rays made
   std::vector<GenerationStats> generations;
   std::uint64_t rays() const { return eye + reflect + refract + shadow; }
@@ -121,7 +132,7 @@ struct RenderStats {
   void add(const RenderStats& o) {
     eye += o.eye; eye_hit += o.eye_hit; reflect += o.reflect; refract += o.refract; shadow += o.shadow;
     cost.add(o.cost);
-    eye_trace_s += o.eye_trace_s; secondary_trace_s += o.secondary_trace_s;
+    eye_trace_s += o.eye_trace_s; eye_shadow_trace_s += o.eye_shadow_trace_s; secondary_trace_s += o.secondary_trace_s;
     generate_s += o.generate_s;
     for (std::size_t g = 0; g < o.generations.size(); ++g) generation(g).add(o.generations[g]);
   }

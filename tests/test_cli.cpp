@@ -451,20 +451,24 @@ TEST(Cli, RenderChoosesTheFastestPacketSizesInTrialRenders) {
   EXPECT_EQ(j["trial_renders"], 3);
   const auto& trials = j["packet_choice"]["trials"];
   ASSERT_EQ(trials.size(), 3u);
-  std::map<int, double> eye, other;
+  std::map<int, double> eye, other, eye_shadow;
+  auto keep_least = [](std::map<int, double>& m, int size, double ms) { m[size] = m.count(size) ? std::min(m[size], ms) : ms; };
   for (const auto& t : trials) {
-    const int e = t["eye_packet"], o = t["secondary_packet"];
-    eye[e] = eye.count(e) ? std::min(eye[e], t["eye_trace_ms"].get<double>()) : t["eye_trace_ms"].get<double>();
-    other[o] = other.count(o) ? std::min(other[o], t["secondary_trace_ms"].get<double>()) : t["secondary_trace_ms"].get<double>();
+    keep_least(eye, t["eye_packet"], t["eye_trace_ms"].get<double>());
+    keep_least(other, t["secondary_packet"], t["secondary_trace_ms"].get<double>());
+    keep_least(eye_shadow, t["eye_shadow_packet"], t["eye_shadow_trace_ms"].get<double>());
   }
   EXPECT_EQ(eye.size(), 3u);
   EXPECT_EQ(other.size(), 2u);
+  EXPECT_EQ(eye_shadow.size(), 2u);
   auto least = [](const std::map<int, double>& m) {
     return std::min_element(m.begin(), m.end(), [](const auto& a, const auto& b) { return a.second < b.second; })->first;
   };
   EXPECT_EQ(j["eye_packet"].get<int>(), least(eye));
   EXPECT_EQ(j["secondary_packet"].get<int>(), least(other));
-  EXPECT_GT(other.at(1) + other.at(8), 0.0);  // shadow rays were traced and timed
+  EXPECT_EQ(j["eye_shadow_packet"].get<int>(), least(eye_shadow));  // chosen apart from the other rays'
+  EXPECT_GT(eye_shadow.at(1) + eye_shadow.at(8), 0.0);  // the eye rays' shadow rays were traced and timed
+  EXPECT_GT(other.at(1) + other.at(8), 0.0);
 
   r = run_in(s.dir, "render spd:balls:1 --width 16 -r 1 --warmup 0 --eye-packet 8 --secondary-packet 8 -o b.png --json -");
   ASSERT_EQ(r.status, 0) << r.err;
@@ -472,8 +476,17 @@ TEST(Cli, RenderChoosesTheFastestPacketSizesInTrialRenders) {
   EXPECT_EQ(j["trial_renders"], 0);
   EXPECT_EQ(j["eye_packet"], 8);
   EXPECT_EQ(j["secondary_packet"], 8);
+  EXPECT_EQ(j["eye_shadow_packet"], 8);  // as --secondary-packet
   EXPECT_EQ(j["packet_choice"]["eye"], "given");
   EXPECT_TRUE(j["packet_choice"]["trials"].empty());
+  // The eye rays' shadow rays given apart from the other rays.
+  r = run_in(s.dir, "render spd:balls:1 --width 16 -r 1 --warmup 0 --eye-packet 8 --secondary-packet 1 --eye-shadow-packet 8 -o b.png --json -");
+  ASSERT_EQ(r.status, 0) << r.err;
+  j = r.json();
+  EXPECT_EQ(j["trial_renders"], 0);
+  EXPECT_EQ(j["secondary_packet"], 1);
+  EXPECT_EQ(j["eye_shadow_packet"], 8);
+  EXPECT_EQ(j["packet_choice"]["eye_shadow"], "given");
   const Outcome wrong = run_in(s.dir, "render spd:balls:1 --eye-packet 32 -o b.png");
   EXPECT_EQ(wrong.status, 1);
   EXPECT_TRUE(has(wrong.err, "'32' is not a packet size here; choose auto, 1, 8, 16, 64")) << wrong.err;

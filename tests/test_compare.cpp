@@ -310,6 +310,9 @@ TEST(Compare, TraceRenderAccuracyKinds) {
   cb["secondary_packet"] = 1;
   const rb::app::Comparison same = rb::app::compare_results(rb::app::figures_of("render", ca), rb::app::figures_of("render", cb), {});
   EXPECT_EQ(same.better, 1u);  // the same packets: fewer tests is better
+  cb["eye_shadow_packet"] = 8;  // the eye rays' shadow rays in other packets: not paired either
+  const rb::app::Comparison shadow = rb::app::compare_results(rb::app::figures_of("render", ca), rb::app::figures_of("render", cb), {});
+  EXPECT_EQ(shadow.better + shadow.worse + shadow.changed, 0u);
 
   const json aa = {{"mode", "quick"}, {"seed", 1}, {"rows", {{{"family", "sphere"}, {"case", "far"}, {"method", "geometric"},
                                                               {"precision", "float"}, {"false_hit_ppm", 0.0}, {"false_miss_ppm", 10.0},

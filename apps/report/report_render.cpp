@@ -127,8 +127,8 @@ std::string render_time_table(int threads, std::initializer_list<const std::vect
                     "through the counting traversal. The last column divides the render's rate (all rays) by the primary-ray rate "
                     "of `raybench trace SCENE --rays primary --packet 8 --threads {} --count 262144 --no-embree -r 5` in the same "
                     "run: the ratio of the medians with its 95 % interval (the two samples measured apart: the Mann-Whitney "
-                    "interval). Packets: the eye rays' and the other rays' packet size, each the fastest in the trial renders.\n\n"
-                    "| scene | rays | packets (eye / others) | load ms | BVH ms | trace ms | Mrays/s | primary trace Mrays/s | "
+                    "interval). Packets: the eye rays', their shadow rays' and the other rays' packet size, each the fastest in the trial renders.\n\n"
+                    "| scene | rays | packets (eye / eye shadow / others) | load ms | BVH ms | trace ms | Mrays/s | primary trace Mrays/s | "
                     "render / primary | >= 0.5 |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---|\n", threads, threads);
   int met = 0, below = 0, undecided = 0, all = 0;
   for (const auto* group : groups)
@@ -141,8 +141,9 @@ std::string render_time_table(int threads, std::initializer_list<const std::vect
       else if (std::isfinite(r.ratio)) verdict = doc::kGoalUndecided;  // one sample a side (--quick), or a record without them
       if (verdict != doc::kGoalNotMeasured) ++all;
       met += verdict == doc::kGoalMet, below += verdict == doc::kGoalNotMet, undecided += verdict == doc::kGoalUndecided;
-      md += fmt::format("| {} | {} | {} / {} | {:.1f} | {:.1f} | {:.1f} | {:.2f} | {} | {} | {} |\n", j["scene"].get<std::string>(),
-                        u(j["total_rays"]), j["eye_packet"].get<int>(), j["secondary_packet"].get<int>(), j["load_ms"].get<double>(),
+      md += fmt::format("| {} | {} | {} / {} / {} | {:.1f} | {:.1f} | {:.1f} | {:.2f} | {} | {} | {} |\n", j["scene"].get<std::string>(),
+                        u(j["total_rays"]), j["eye_packet"].get<int>(), j.value("eye_shadow_packet", j["secondary_packet"].get<int>()),
+                        j["secondary_packet"].get<int>(), j["load_ms"].get<double>(),
                         j["build_ms"].get<double>(), j["trace_ms"].get<double>(), a, p.is_null() ? "-" : fmt::format("{:.2f}", p.get<double>()),
                         r.valid() ? stats::interval_text(r) : std::isfinite(r.ratio) ? fmt::format("{:.2f}", r.ratio) : "-",
                         doc::goal_cell(verdict));

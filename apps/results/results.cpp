@@ -169,9 +169,13 @@ void render_figures(const json& r, const std::string& section, std::vector<Figur
   if (std::isfinite(rays)) out.push_back(fig(section, n, "total_rays", "rays", 1, 0, false, rays));
   // The test counts follow the packet sizes, which a render may choose by timing trial renders: a
   // count pairs only with a run that traced in the same packets.
-  if (r.value("tests_counted", false) && std::isfinite(num(r, "box_tests")))
-    out.push_back(fig(section, fmt::format("{} packets {}/{}", n, r.value("eye_packet", 0), r.value("secondary_packet", 0)), "box_tests",
-                      "tests", 1, -1, false, num(r, "box_tests")));
+  // (A record without the eye rays' shadow packet traced them as the other secondary rays.)
+  if (r.value("tests_counted", false) && std::isfinite(num(r, "box_tests"))) {
+    const int sec = r.value("secondary_packet", 0), esh = r.value("eye_shadow_packet", sec);
+    const std::string sizes = esh == sec ? fmt::format("{}/{}", r.value("eye_packet", 0), sec)
+                                         : fmt::format("{}/{}/{}", r.value("eye_packet", 0), esh, sec);
+    out.push_back(fig(section, fmt::format("{} packets {}", n, sizes), "box_tests", "tests", 1, -1, false, num(r, "box_tests")));
+  }
 }
 
 void accuracy_figures(const json& rows, const std::string& section, std::vector<Figure>& out) {
