@@ -17,7 +17,7 @@ struct RenderRunOptions {
   bool progress = true;
   bool count_tests = false;     // one more render, untimed, counts box and primitive tests (--counts; on with --spd)
   int secondary_packet = 0;     // 1 or 8; 0: the faster in trial renders (apps/render_run.cpp)
-  int eye_shadow_packet = -1;   // the eye rays' shadow rays: 1 or 8; 0: the faster in trial renders; -1: as secondary_packet
+  int eye_shadow_packet = -1;   // the eye rays' shadow rays: 1, 8 or 16; 0: the fastest in trial renders; -1: as secondary_packet
   int eye_packet = 0;           // 1, 8, 16 or 64; 0: the fastest of 64, 16 and 8 in trial renders
   int tile = 16;                // tile side in samples (render::RenderOptions::tile)
   std::string secondary_order = "octant";  // octant | sfc (render::RenderOptions::secondary_order)

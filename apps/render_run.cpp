@@ -97,8 +97,9 @@ struct RenderTimes {
 // The warm-up renders and the trial renders first (not in the median), then the timed ones; the
 // image and the counts are those of the last render (every render computes the same image).
 // Packet sizes: given, or (0: auto) the fastest in this run. The trial renders after the warm-up
-// ones try the candidates (eye rays in packets of 64, 16 and 8; the eye rays' shadow rays, and
-// apart from them the other rays, one by one and in octant-ordered packets of 8), a candidate per
+// ones try the candidates (eye rays in packets of 64, 16 and 8; the eye rays' shadow rays one by
+// one and in octant-ordered packets of 8 and 16; apart from them the other rays one by one and in
+// packets of 8), a candidate per
 // render in turn, and each of the three kinds takes the size whose trace time was least (summed
 // over threads; under MPI each rank chooses from its own tiles). The kinds' rays do not depend on
 // the sizes, so each kind's choice is independent of the others'.
@@ -111,7 +112,7 @@ RenderTimes time_renders(const RenderRunOptions& o, const scene::Scene& s, const
   const std::vector<int> eye_sizes = o.eye_packet == 0 ? std::vector<int>{64, 16, 8} : std::vector<int>{o.eye_packet};
   const std::vector<int> sec_sizes = o.secondary_packet == 0 ? std::vector<int>{1, 8} : std::vector<int>{o.secondary_packet};
   const int eye_shadow = o.eye_shadow_packet < 0 ? o.secondary_packet : o.eye_shadow_packet;
-  const std::vector<int> esh_sizes = eye_shadow == 0 ? std::vector<int>{1, 8} : std::vector<int>{eye_shadow};
+  const std::vector<int> esh_sizes = eye_shadow == 0 ? std::vector<int>{1, 8, 16} : std::vector<int>{eye_shadow};
   const int trials = o.eye_packet == 0 || o.secondary_packet == 0 || eye_shadow == 0
                          ? int(std::max({eye_sizes.size(), sec_sizes.size(), esh_sizes.size()}))
                          : 0;

@@ -164,7 +164,7 @@ void Renderer::eye_rays(int x0, int y0, int x1, int y1, Work& w) const {
 }
 
 // RT_trace for a batch: the closest (or any) hit of every ray.
-// Secondary rays in packets are traced in octant order and their hits put back in the batch's
+// Secondary rays in packets (of 8, or 16) are traced in octant order and their hits put back in the batch's
 // order, so that shading (and the sum of each sample's terms) runs in the same order in every
 // mode: the image does not depend on the packet size (but where a ray meets two faces at the same
 // distance: which one wins can depend on the traversal order).
@@ -176,7 +176,7 @@ void Renderer::trace(Work& w, const std::vector<Ray<float>>& rays, bool any, boo
   to.any = any;
   to.lanes = kRenderLanes;
   w.order.clear();
-  if (secondary && to.packet == 8) {
+  if (secondary && to.packet >= 8) {
     if (o_.secondary_order == RenderOptions::Order::sfc) key_order(rays, key_, w.keys, w.order);
     else octant_order(rays, w.order, w.buckets, shadow ? w.light.data() : nullptr, shadow ? light_pos_.size() : 1);
   }

@@ -53,7 +53,8 @@ struct RenderOptions {
   // direction-octant order, 8 rays of one octant as a packet (the hits go back to the batch's
   // order, so the image is the same bit for bit in every mode).
   int secondary_packet = 1;
-  // The shadow rays of the eye rays' hits (the first generation's): 1 or 8 as above; 0: as
+  // The shadow rays of the eye rays' hits (the first generation's): 1, 8 or 16 (16 in octant order
+  // as 8; a triangle mesh's packets of 16 walk in 16 AVX-512 lanes where the CPU has them); 0: as
   // secondary_packet. A tile's eye hits lie side by side and their shadow rays to one light
   // converge, so these are coherent where later generations' rays, from scattered hit points, may
   // not be: each kind can take its own size.
@@ -61,7 +62,7 @@ struct RenderOptions {
   // The packet size of a generation's shadow rays (gen 0: the eye rays') or other secondary rays.
   int packet_for(std::size_t gen, bool shadow) const {
     const int p = shadow && gen == 0 && eye_shadow_packet != 0 ? eye_shadow_packet : secondary_packet;
-    return p == 8 ? 8 : 1;
+    return p == 8 || p == 16 ? p : 1;
   }
   // The order of a batch traced in packets of 8: by direction octant, shadow rays then by their
   // light (stable: the batch's order within, which for a tile follows its image rows), or by the ray

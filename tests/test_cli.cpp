@@ -460,14 +460,14 @@ TEST(Cli, RenderChoosesTheFastestPacketSizesInTrialRenders) {
   }
   EXPECT_EQ(eye.size(), 3u);
   EXPECT_EQ(other.size(), 2u);
-  EXPECT_EQ(eye_shadow.size(), 2u);
+  EXPECT_EQ(eye_shadow.size(), 3u);  // 1, 8 and 16
   auto least = [](const std::map<int, double>& m) {
     return std::min_element(m.begin(), m.end(), [](const auto& a, const auto& b) { return a.second < b.second; })->first;
   };
   EXPECT_EQ(j["eye_packet"].get<int>(), least(eye));
   EXPECT_EQ(j["secondary_packet"].get<int>(), least(other));
   EXPECT_EQ(j["eye_shadow_packet"].get<int>(), least(eye_shadow));  // chosen apart from the other rays'
-  EXPECT_GT(eye_shadow.at(1) + eye_shadow.at(8), 0.0);  // the eye rays' shadow rays were traced and timed
+  EXPECT_GT(eye_shadow.at(1) + eye_shadow.at(8) + eye_shadow.at(16), 0.0);  // the eye rays' shadow rays were traced and timed
   EXPECT_GT(other.at(1) + other.at(8), 0.0);
 
   r = run_in(s.dir, "render spd:balls:1 --width 16 -r 1 --warmup 0 --eye-packet 8 --secondary-packet 8 -o b.png --json -");
@@ -480,12 +480,12 @@ TEST(Cli, RenderChoosesTheFastestPacketSizesInTrialRenders) {
   EXPECT_EQ(j["packet_choice"]["eye"], "given");
   EXPECT_TRUE(j["packet_choice"]["trials"].empty());
   // The eye rays' shadow rays given apart from the other rays.
-  r = run_in(s.dir, "render spd:balls:1 --width 16 -r 1 --warmup 0 --eye-packet 8 --secondary-packet 1 --eye-shadow-packet 8 -o b.png --json -");
+  r = run_in(s.dir, "render spd:balls:1 --width 16 -r 1 --warmup 0 --eye-packet 8 --secondary-packet 1 --eye-shadow-packet 16 -o b.png --json -");
   ASSERT_EQ(r.status, 0) << r.err;
   j = r.json();
   EXPECT_EQ(j["trial_renders"], 0);
   EXPECT_EQ(j["secondary_packet"], 1);
-  EXPECT_EQ(j["eye_shadow_packet"], 8);
+  EXPECT_EQ(j["eye_shadow_packet"], 16);
   EXPECT_EQ(j["packet_choice"]["eye_shadow"], "given");
   const Outcome wrong = run_in(s.dir, "render spd:balls:1 --eye-packet 32 -o b.png");
   EXPECT_EQ(wrong.status, 1);

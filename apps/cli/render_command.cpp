@@ -37,10 +37,10 @@ class RenderCommand final : public Command {
         ->type_name("auto|1|8")
         ->default_str("auto");
     sub_->add_option("--eye-shadow-packet", rdo.eye_shadow_packet,
-                       "The eye rays' shadow rays alone (coherent: a\ntile's hit points towards one light): 1, 8 or\nauto, "
-                       "chosen apart from the other rays'\n(default: as --secondary-packet)")
-        ->transform(packet_size_choice({"auto", "1", "8"}))
-        ->type_name("auto|1|8");
+                       "The eye rays' shadow rays alone (coherent: a\ntile's hit points towards one light): 1, 8,\n16 "
+                       "or auto, chosen apart from the other\nrays' (default: as --secondary-packet)")
+        ->transform(packet_size_choice({"auto", "1", "8", "16"}))
+        ->type_name("auto|1|8|16");
     sub_->add_option("--secondary-order", rdo.secondary_order,
                      "Order of rays traced in packets of 8: octant\n(by direction octant, shadow rays then by\nlight, else as "
                      "made) or sfc (octant, then\nthe Morton codes of origin and direction; the\nimage does not change)")
