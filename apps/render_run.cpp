@@ -99,10 +99,9 @@ struct RenderTimes {
 // Packet sizes: given, or (0: auto) the fastest in this run. The trial renders after the warm-up
 // ones try the candidates (eye rays in packets of 64, 16 and 8; the eye rays' shadow rays one by
 // one and in octant-ordered packets of 8 and 16; apart from them the other rays one by one and in
-// packets of 8), a candidate per
-// render in turn, and each of the three kinds takes the size whose trace time was least (summed
-// over threads; under MPI each rank chooses from its own tiles). The kinds' rays do not depend on
-// the sizes, so each kind's choice is independent of the others'.
+// packets of 8), a candidate per render in turn, and each of the three kinds takes the size whose
+// trace time was least (summed over threads; under MPI each rank chooses from its own tiles). The
+// kinds' rays do not depend on the sizes, so each kind's choice is independent of the others'.
 // `ro` leaves with the packet sizes of the timed renders. Every one of these renders takes the plain
 // traversal; with ro.count_tests one more render, untimed, takes the counting one for the box and
 // primitive test counts (the image and the ray counts are the same).
@@ -437,8 +436,8 @@ std::string render_text(const json& j) {
     t += fmt::format("packets: eye rays {} ({}), their shadow rays {} ({}), reflection, refraction and later shadow rays {} ({})\n",
                      j["eye_packet"].get<int>(), pc["eye"].get<std::string>(), esh, pc.value("eye_shadow", pc["secondary"].get<std::string>()),
                      j["secondary_packet"].get<int>(), pc["secondary"].get<std::string>());
-    if ((j.value("secondary_packet", 1) == 8 || esh == 8) && j.contains("secondary_order"))
-      t += fmt::format("  packets of 8 in {} order (--secondary-order)\n",
+    if ((j.value("secondary_packet", 1) == 8 || esh >= 8) && j.contains("secondary_order"))
+      t += fmt::format("  secondary packets in {} order (--secondary-order)\n",
                        j["secondary_order"] == "sfc" ? "octant, origin and direction Morton" : "direction octant");
     for (const auto& tr : pc["trials"])
       t += fmt::format("  trial render: eye {:>2} -> {:.1f} ms, their shadow rays {} -> {:.1f} ms, others {} -> {:.1f} ms in the BVH\n",

@@ -164,10 +164,10 @@ void Renderer::eye_rays(int x0, int y0, int x1, int y1, Work& w) const {
 }
 
 // RT_trace for a batch: the closest (or any) hit of every ray.
-// Secondary rays in packets (of 8, or 16) are traced in octant order and their hits put back in the batch's
-// order, so that shading (and the sum of each sample's terms) runs in the same order in every
-// mode: the image does not depend on the packet size (but where a ray meets two faces at the same
-// distance: which one wins can depend on the traversal order).
+// Secondary rays in packets (of 8, or 16) are traced in octant order and their hits put back in
+// the batch's order, so that shading (and the sum of each sample's terms) runs in the same order
+// in every mode: the image does not depend on the packet size (but where a ray meets two faces at
+// the same distance: which one wins can depend on the traversal order).
 void Renderer::trace(Work& w, const std::vector<Ray<float>>& rays, bool any, bool secondary, bool shadow, RenderStats& st,
                      GenerationStats& g) const {
   const auto t0 = Clock::now();
