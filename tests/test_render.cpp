@@ -280,7 +280,8 @@ TEST(RenderPackets, EyePacketSizesGiveTheSameImage) {
   }
 }
 
-// Reflection, refraction and shadow rays one by one or in octant-ordered packets of 8: the hits go
+// Reflection, refraction and shadow rays one by one or in octant-ordered packets of 8 (the eye
+// rays' shadow rays also of 16, and in a size apart from the other rays'): the hits go
 // back to the batch's order before shading, so every sample sums its terms in the same order and
 // the image is the same bit for bit (glass scenes: refraction, total internal reflection and
 // shadow rays through transmitting occluders; a triangle mesh, whose packets of 16 walk in 16 lanes
