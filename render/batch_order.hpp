@@ -1,7 +1,7 @@
-// The order a batch of the renderer's rays is traced in when it goes in packets of 8 (render.cpp
-// Renderer::trace): the traversal takes 8 consecutive rays as one packet only when they share a
-// direction octant, so a batch is reordered, and the hits go back to the batch's order before
-// shading (the image does not depend on the order).
+// The order a batch of the renderer's rays is traced in when it goes in packets of 8 or 16
+// (render.cpp Renderer::trace): the traversal takes a packet's consecutive rays as one only when
+// they share a direction octant, so a batch is reordered, and the hits go back to the batch's
+// order before shading (the image does not depend on the order).
 #pragma once
 
 #include "core/ray.hpp"
