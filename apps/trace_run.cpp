@@ -203,7 +203,7 @@ void put_embree(json& j, const trace::EmbreeBuild& embree, const std::vector<tra
 
 // --order sorted: the sort's own time (median of 5, outside the rounds; inside every timed pass
 // too), and Embree's fastest mode on the sorted order with raybench over it round by round.
-void put_sorted(json& j, trace::ThreadScope& ts, const std::function<void()>& sort, const trace::EmbreeBuild& embree,
+void put_sorted(json& j, trace::ThreadScope& ts, const std::function<void()>& sort, const std::string& key, const trace::EmbreeBuild& embree,
                 const std::vector<trace::EmbreeMode>& modes, const Timings& tm, const std::vector<bvh::HitRec>& ours,
                 const std::vector<std::vector<bvh::HitRec>>& theirs_sorted, std::size_t n, bool any) {
   std::vector<double> sort_s;
@@ -214,7 +214,7 @@ void put_sorted(json& j, trace::ThreadScope& ts, const std::function<void()>& so
   }
   (void)ts;
   j["sort_ms"] = 1e3 * rb::median(sort_s);
-  j["sort_key"] = "direction octant, then the origin's Morton code (2^9 cells per axis of the scene's box), then the direction's (2^4 per axis)";
+  j["sort_key"] = key;
   if (!embree.ok) {
     j["embree_sorted"] = nullptr;
     return;
@@ -331,7 +331,10 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   tracer::RayOrder order;
   const scene::Bounds box = scene_.bounds();
   const Vec3f lo = accel_.to_frame(box.lo), hi = accel_.to_frame(box.hi);
-  auto sort = [&] { order.sort(rays, lo, hi, ts); };
+  // The key by how raybench traces the sorted rays (one by one, or in packets sharing an octant);
+  // Embree traces the same order.
+  const tracer::RayKey::Layout layout = tracer::RayKey::layout_for(o.packet);
+  auto sort = [&] { order.sort(rays, lo, hi, ts, layout); };
   std::vector<std::vector<bvh::HitRec>> sorted_hits(sorted ? 1 + modes.size() : 0), theirs_sorted(sorted ? modes.size() : 0);
   Engine mine{[&](std::size_t b, std::size_t e, bvh::HitRec* out) { accel_.trace(rays, b, e, out, to); }, &ours};
   if (sorted) {
@@ -430,7 +433,7 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
 
   put_embree(j, embree_, modes, tm, ours, theirs, n, any);
   j["order"] = o.order;
-  if (sorted) put_sorted(j, ts, sort, embree_, modes, tm, ours, theirs_sorted, n, any);
+  if (sorted) put_sorted(j, ts, sort, tracer::RayKey::describe(layout), embree_, modes, tm, ours, theirs_sorted, n, any);
   put_brute(j, accel_, ts, rays, ours, o.brute_rays, any);
   bar.done();
   return j;

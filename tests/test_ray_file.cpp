@@ -270,4 +270,65 @@ TEST(RayOrder, SortedStreamIsAPermutationWithTheSameHits) {
   EXPECT_EQ(order.order().size(), far.count);
 }
 
+// The key of single rays puts the origin first (octants mixed); that of packets the octant. Either
+// way the sorted stream is a permutation in key order whose hits, put back, are the given order's.
+TEST(RayOrder, SingleRaysSortByOriginFirstAndPacketsByOctant) {
+  using Layout = tracer::RayKey::Layout;
+  EXPECT_EQ(tracer::RayKey::layout_for(1), Layout::origin_first);
+  EXPECT_EQ(tracer::RayKey::layout_for(8), Layout::octant_first);
+  EXPECT_EQ(tracer::RayKey::layout_for(16), Layout::octant_first);
+  EXPECT_NE(tracer::RayKey::describe(Layout::origin_first), tracer::RayKey::describe(Layout::octant_first));
+  // A ray from the box's low corner pointing to -x-y-z (octant 7), and one from the high corner to
+  // +x+y+z (octant 0).
+  const Vec3f lo{-1, -1, -1}, hi{1, 1, 1};
+  const Vec3f o_low{-0.99f, -0.99f, -0.99f}, o_high{0.99f, 0.99f, 0.99f}, up{0.6f, 0.64f, 0.48f};
+  const tracer::RayKey origin_first(lo, hi, Layout::origin_first), octant_first(lo, hi, Layout::octant_first);
+  EXPECT_LT(origin_first(o_low, -up), origin_first(o_high, up)) << "the origin decides";
+  EXPECT_GT(octant_first(o_low, -up), octant_first(o_high, up)) << "the octant decides";
+  EXPECT_LT(origin_first(o_low, -up), origin_first(o_low, up)) << "then the direction";
+
+  const scene::Scene s = scene::load_scene("spd:balls:1");
+  const tracer::SceneAccel a = tracer::SceneAccel::build(s);
+  const scene::Bounds b = s.bounds();
+  const Vec3f flo = a.to_frame(b.lo), fhi = a.to_frame(b.hi);
+  const RaySoA rays = tracer::make_rays(s, a, tracer::RaySet::random, 5000, 5);
+  tracer::RayOrder order;
+  tracer::ThreadScope ts(2);
+  order.sort(rays, flo, fhi, ts, Layout::origin_first);
+  const std::size_t n = rays.count;
+  ASSERT_EQ(order.order().size(), n);
+  std::vector<std::uint32_t> seen(order.order());
+  std::sort(seen.begin(), seen.end());
+  for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(seen[i], i);
+  const RaySoA& sr = order.sorted();
+  const tracer::RayKey key(flo, fhi, Layout::origin_first);
+  int octant_changes = 0, last = -1;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t j = order.order()[i];
+    ASSERT_EQ(sr.ox[i], rays.ox[j]);
+    ASSERT_EQ(sr.ry[i], rays.ry[j]);
+    ASSERT_EQ(sr.tmin[i], rays.tmin[j]);
+    if (i > 0) {
+      const std::uint64_t k0 = key({sr.ox[i - 1], sr.oy[i - 1], sr.oz[i - 1]}, {sr.dx[i - 1], sr.dy[i - 1], sr.dz[i - 1]});
+      const std::uint64_t k1 = key({sr.ox[i], sr.oy[i], sr.oz[i]}, {sr.dx[i], sr.dy[i], sr.dz[i]});
+      ASSERT_LE(k0, k1) << "key order at " << i;
+      if (k0 == k1) {
+        ASSERT_LT(order.order()[i - 1], j) << "equal keys keep the stream's order";
+      }
+    }
+    const int oct = int(sr.dx[i] < 0) | int(sr.dy[i] < 0) << 1 | int(sr.dz[i] < 0) << 2;
+    octant_changes += oct != last;
+    last = oct;
+  }
+  EXPECT_GT(octant_changes, 100) << "octants mixed: the origin comes first";
+  tracer::TraceOptions to;  // single rays
+  std::vector<bvh::HitRec> given(rays.size()), sorted(rays.size()), back(rays.size());
+  a.trace(rays, 0, rays.size(), given.data(), to);
+  a.trace(sr, 0, sr.size(), sorted.data(), to);
+  order.unsort(sorted.data(), back.data(), ts);
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < n; ++i) differ += back[i].prim != given[i].prim || back[i].t != given[i].t;
+  EXPECT_EQ(differ, 0u);
+}
+
 }  // namespace

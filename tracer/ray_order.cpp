@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace rb::tracer {
 
@@ -39,30 +40,44 @@ constexpr int kIndexBits = 28, kDigitBits = 12, kPasses = 3, kBins = 1 << kDigit
 
 }  // namespace
 
-// Keys: octant (3 bits) | origin Morton code, 8 bits per axis (24) | direction Morton code, 3 bits
-// per axis (9); an origin's cell in [lo, hi] (clamped), a direction component's in [-1, 1].
-RayKey::RayKey(const Vec3f& lo, const Vec3f& hi) : lo_(lo) {
-  auto scale = [](float a, float b) { return b > a && std::isfinite(b - a) ? 256.0f / (b - a) : 0.0f; };
+// Keys (36 bits). octant_first: octant (3 bits) | origin Morton code, 8 bits per axis (24) |
+// direction Morton code, 3 bits per axis (9). origin_first: origin Morton code, 7 bits per axis
+// (21) | direction Morton code, 5 bits per axis (15). An origin's cell in [lo, hi] (clamped), a
+// direction component's in [-1, 1].
+RayKey::RayKey(const Vec3f& lo, const Vec3f& hi, Layout layout) : lo_(lo), layout_(layout) {
+  const float cells = layout == Layout::origin_first ? 128.0f : 256.0f;
+  auto scale = [&](float a, float b) { return b > a && std::isfinite(b - a) ? cells / (b - a) : 0.0f; };
   scale_ = {scale(lo.x, hi.x), scale(lo.y, hi.y), scale(lo.z, hi.z)};
 }
 
 std::uint64_t RayKey::operator()(const Vec3f& o, const Vec3f& d) const {
+  const bool first = layout_ == Layout::origin_first;
+  const std::uint32_t oc = first ? 128 : 256, dc = first ? 32 : 8;
+  const float ds = float(dc) * 0.5f;
+  const std::uint64_t om = kSpread.t[cell(o.x, lo_.x, scale_.x, oc)] | kSpread.t[cell(o.y, lo_.y, scale_.y, oc)] << 1 |
+                           kSpread.t[cell(o.z, lo_.z, scale_.z, oc)] << 2;
+  const std::uint64_t dm = kSpread.t[cell(d.x, -1.0f, ds, dc)] | kSpread.t[cell(d.y, -1.0f, ds, dc)] << 1 |
+                           kSpread.t[cell(d.z, -1.0f, ds, dc)] << 2;
+  if (first) return om << 15 | dm;
   const std::uint64_t oct = std::uint64_t(d.x < 0) | std::uint64_t(d.y < 0) << 1 | std::uint64_t(d.z < 0) << 2;
-  const std::uint64_t om = kSpread.t[cell(o.x, lo_.x, scale_.x, 256)] | kSpread.t[cell(o.y, lo_.y, scale_.y, 256)] << 1 |
-                           kSpread.t[cell(o.z, lo_.z, scale_.z, 256)] << 2;
-  const std::uint64_t dm = kSpread.t[cell(d.x, -1.0f, 4.0f, 8)] | kSpread.t[cell(d.y, -1.0f, 4.0f, 8)] << 1 |
-                           kSpread.t[cell(d.z, -1.0f, 4.0f, 8)] << 2;
   return oct << 33 | om << 9 | dm;
 }
 
-void RayOrder::sort(const RaySoA& in, const Vec3f& lo, const Vec3f& hi, ThreadScope& ts) {
+std::string RayKey::describe(Layout layout) {
+  return layout == Layout::origin_first
+             ? "the origin's Morton code (2^7 cells per axis of the scene's box), then the direction's (2^5 per axis)"
+             : "direction octant, then the origin's Morton code (2^8 cells per axis of the scene's box), then the "
+               "direction's (2^3 per axis)";
+}
+
+void RayOrder::sort(const RaySoA& in, const Vec3f& lo, const Vec3f& hi, ThreadScope& ts, RayKey::Layout layout) {
   const std::size_t n = in.count;
   if (n >= (std::size_t(1) << kIndexBits)) throw std::length_error("RayOrder: more than 2^28 rays");
   keys_.resize(n);
   tmp_keys_.resize(n);
   order_.resize(n);
   const std::size_t chunks = (n + kChunk - 1) / kChunk;
-  const RayKey key(lo, hi);
+  const RayKey key(lo, hi, layout);
   ts.parallel_for(chunks, 1, [&](std::size_t c) {
     for (std::size_t i = c * kChunk, e = std::min(n, i + kChunk); i < e; ++i)
       keys_[i] = key({in.ox[i], in.oy[i], in.oz[i]}, {in.dx[i], in.dy[i], in.dz[i]}) << kIndexBits | std::uint64_t(i);

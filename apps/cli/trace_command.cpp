@@ -39,8 +39,9 @@ class TraceCommand final : public Command {
         ->transform(count_up_to(std::size_t(1) << 28, "rays"))->capture_default_str();
     sub_->add_option("--seed", to.seed, "Seed of the ray set")->capture_default_str();
     sub_->add_option("--order", to.order,
-                     "given: the ray set's order; sorted: every pass\nsorts the rays into coherent groups first (octant,\n"
-                     "origin, direction) and puts the hits back, both\ntimed; Embree then traces both orders")
+                     "given: the ray set's order; sorted: every pass\nsorts the rays into coherent groups first (single\n"
+                     "rays by origin, then direction; packets by\noctant first) and puts the hits back, both\ntimed; Embree then "
+                     "traces both orders")
         ->check(one_of({"given", "sorted"}))
         ->capture_default_str();
     sub_->add_option("--isa", to.isa,

@@ -83,21 +83,12 @@ struct TracedMesh {
 
 // The incoherent rows again as sorted streams (`raybench trace --order sorted`): diffuse and random
 // single rays, the sort and the hits put back inside every timed pass, Embree on both orders. Single
-// rays: a sorted group of 8 shares its octant and would walk as a packet, which costs diverging
-// rays more nodes than it saves; one ray after another, a sorted stream's rays find the nodes the
-// previous ray brought into the cache.
+// rays, sorted by origin first: one ray after another finds the nodes the previous ray brought into
+// the cache (packets would need the octant first, and cost these diverging rays more nodes than
+// they save).
 std::string trace_sorted_rows(TracingRun& x, const std::string& label, const json& mrows, const std::function<TraceSession&()>& sess) {
   constexpr int kPacket = 1;
-  std::string md = fmt::format("Sorted streams (`--order sorted --packet {}`): every pass sorts the rays (direction octant, then the "
-                               "origin's and the direction's Morton codes) and puts the hits back in the given order, inside the timed "
-                               "pass; Embree traces the given order and the sorted one (sorting in its own passes), with its single-ray "
-                               "call. The goal's ratio is raybench sorted over Embree's best mode on the given order, round by round. "
-                               "Single rays: sorted groups of 8 share their octant, so packets of 8 would walk them as packets, which "
-                               "costs these diverging rays more nodes than it saves (on the height field, 65 box tests per ray against "
-                               "47); one after another, a ray finds the nodes the previous one brought into the cache.\n\n"
-                               "| rays | threads | raybench given | raybench sorted | sort ms | Embree given | Embree sorted | "
-                               "sorted / Embree given [95 %] | sorted / Embree sorted [95 %] |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
-                               kPacket);
+  std::string rows, key;
   for (const char* set : {"diffuse", "random"})
     for (int th : {1, 2}) {
       if (x.o.quick && (th == 2 || std::string(set) == "random")) continue;  // the layout only
@@ -110,13 +101,26 @@ std::string trace_sorted_rows(TracingRun& x, const std::string& label, const jso
         if (r["ray_set"] == set && r["packet"] == kPacket && r["threads"] == th) given = r;
       const json& es = j["embree_sorted"];
       const stats::RatioInterval vs = es.is_null() ? stats::RatioInterval{} : stats::interval_from_json(es["vs_embree_sorted"]);
-      md += fmt::format("| {} | {} | {} | {} | {:.2f} | {} | {} | {} | {} |\n", set, th, given.is_null() ? "-" : f2(given["mrays_per_s"]),
+      if (key.empty() && j.contains("sort_key")) key = j["sort_key"].get<std::string>();
+      rows += fmt::format("| {} | {} | {} | {} | {:.2f} | {} | {} | {} | {} |\n", set, th, given.is_null() ? "-" : f2(given["mrays_per_s"]),
                         f2(j["mrays_per_s"]), j["sort_ms"].get<double>(), f2(j["embree_mrays_per_s"]),
                         es.is_null() ? "-" : f2(es["mrays_per_s"]), vs_embree(j),
                         vs.valid() ? stats::interval_text(vs) : es.is_null() ? "-" : ratio(j["mrays_per_s"], es["mrays_per_s"]));
       x.sorted.push_back(j);
     }
-  return md + "\n";
+  return fmt::format("Sorted streams (`--order sorted --packet {}`): every pass sorts the rays by {} and puts the hits back in the "
+                     "given order, inside the timed pass; Embree traces the given order and the sorted one (sorting in its own "
+                     "passes), with its single-ray call. The goal's ratio is raybench sorted over Embree's best mode on the given "
+                     "order, round by round. Single rays, one after another: a ray finds the nodes near its origin that the previous "
+                     "rays brought into the cache. The direction's octant first would split every region of origins into eight "
+                     "passes over the tree; it is the key for packets of 8 or 16 (`--packet 8`), whose rays must share an octant, "
+                     "and on these diverging rays packets cost more nodes than they save (on the height field, 65 box tests per ray "
+                     "against 47). The diffuse rays' given order is already coherent (they leave the primary hits of 4x4 pixel "
+                     "tiles in Z order), so sorting them buys the traversal little and costs the sort.\n\n"
+                     "| rays | threads | raybench given | raybench sorted | sort ms | Embree given | Embree sorted | "
+                     "sorted / Embree given [95 %] | sorted / Embree sorted [95 %] |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+                     kPacket, key.empty() ? "a key of origin and direction" : key) +
+         rows + "\n";
 }
 
 // One mesh of the matrix: its builds at one and two threads, a row per ray set, packet size and
