@@ -7,8 +7,9 @@
 //    axis of a box (the scene's: origins outside it are clamped), then the Morton code of its
 //    direction quantised to 2^5 cells per axis. A ray one after another finds the nodes near its
 //    origin in the cache where the previous rays left them; the direction's octant first would
-//    split every region of origins into eight passes over the tree (on the 202k dragon that order
-//    traced random rays 7 % slower than the unsorted stream, and this one 13 % faster);
+//    split every region of origins into eight passes over the tree (on the 202k dragon's random
+//    rays, one run each, that order traced 7 % slower than the unsorted stream and this one 13 %
+//    faster: docs/DESIGN.md, "Sorted streams");
 //  - in packets of 8 or 16 (octant_first): the direction octant (3 bits: the traversal takes
 //    consecutive rays as one packet only when they share it), then the origin's Morton code,
 //    2^8 cells per axis, then the direction's, 2^3 cells per axis.
