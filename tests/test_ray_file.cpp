@@ -211,6 +211,27 @@ TEST(RayFile, MovedIntoAnotherFrameTheWorldRaysStay) {
   EXPECT_NEAR(r.tmax, 10.0f, 1e-5f);
 }
 
+// The sorted stream holds every ray of the stream once (order() is a permutation of 0..n-1).
+void expect_sorted_permutation(const tracer::RayOrder& order, std::size_t n) {
+  ASSERT_EQ(order.order().size(), n);
+  std::vector<std::uint32_t> seen(order.order());
+  std::sort(seen.begin(), seen.end());
+  for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(seen[i], i);
+}
+
+// How many of the stream's rays get another hit (primitive or t) traced in sorted order and put
+// back than traced in the given order.
+std::size_t sorted_hits_that_differ(const tracer::SceneAccel& a, const RaySoA& rays, const tracer::RayOrder& order,
+                                    const tracer::TraceOptions& to, tracer::ThreadScope& ts) {
+  std::vector<bvh::HitRec> given(rays.size()), sorted(rays.size()), back(rays.size());
+  a.trace(rays, 0, rays.size(), given.data(), to);
+  a.trace(order.sorted(), 0, order.sorted().size(), sorted.data(), to);
+  order.unsort(sorted.data(), back.data(), ts);
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < rays.count; ++i) differ += back[i].prim != given[i].prim || back[i].t != given[i].t;
+  return differ;
+}
+
 // A sorted stream is a permutation of the rays, grouped by direction octant, with origins in one
 // cell of the key's grid next to each other; traced sorted and put back, its hits are the given
 // order's, bit for bit (closest hits), and the order is the same on 1 and 2 threads.
@@ -229,10 +250,7 @@ TEST(RayOrder, SortedStreamIsAPermutationWithTheSameHits) {
     order2.sort(rays, a.to_frame(b.lo), a.to_frame(b.hi), ts);
     EXPECT_EQ(order.order(), order2.order()) << "the order depends on the rays alone";
     const std::size_t n = rays.count;
-    ASSERT_EQ(order.order().size(), n);
-    std::vector<std::uint32_t> seen(order.order());
-    std::sort(seen.begin(), seen.end());
-    for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(seen[i], i);
+    expect_sorted_permutation(order, n);
     const RaySoA& sr = order.sorted();
     ASSERT_EQ(sr.size(), rays.size());
     int octant_changes = 0, last = -1;
@@ -250,13 +268,7 @@ TEST(RayOrder, SortedStreamIsAPermutationWithTheSameHits) {
     for (std::size_t i = n; i < rays.size(); ++i) EXPECT_GT(sr.tmin[i], sr.tmax[i]) << "padding stays invalid";
     tracer::TraceOptions to;
     to.packet = 8;
-    std::vector<bvh::HitRec> given(rays.size()), sorted(rays.size()), back(rays.size());
-    a.trace(rays, 0, rays.size(), given.data(), to);
-    a.trace(sr, 0, sr.size(), sorted.data(), to);
-    order.unsort(sorted.data(), back.data(), ts);
-    std::size_t differ = 0;
-    for (std::size_t i = 0; i < n; ++i) differ += back[i].prim != given[i].prim || back[i].t != given[i].t;
-    EXPECT_EQ(differ, 0u) << tracer::ray_set_name(set);
+    EXPECT_EQ(sorted_hits_that_differ(a, rays, order, to, ts), 0u) << tracer::ray_set_name(set);
   }
   // Origins far outside the key's box (and a huge box) clamp to its cells: sorted, nothing lost.
   RaySoA far;
@@ -296,10 +308,7 @@ TEST(RayOrder, SingleRaysSortByOriginFirstAndPacketsByOctant) {
   tracer::ThreadScope ts(2);
   order.sort(rays, flo, fhi, ts, Layout::origin_first);
   const std::size_t n = rays.count;
-  ASSERT_EQ(order.order().size(), n);
-  std::vector<std::uint32_t> seen(order.order());
-  std::sort(seen.begin(), seen.end());
-  for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(seen[i], i);
+  expect_sorted_permutation(order, n);
   const RaySoA& sr = order.sorted();
   const tracer::RayKey key(flo, fhi, Layout::origin_first);
   int octant_changes = 0, last = -1;
@@ -321,14 +330,7 @@ TEST(RayOrder, SingleRaysSortByOriginFirstAndPacketsByOctant) {
     last = oct;
   }
   EXPECT_GT(octant_changes, 100) << "octants mixed: the origin comes first";
-  tracer::TraceOptions to;  // single rays
-  std::vector<bvh::HitRec> given(rays.size()), sorted(rays.size()), back(rays.size());
-  a.trace(rays, 0, rays.size(), given.data(), to);
-  a.trace(sr, 0, sr.size(), sorted.data(), to);
-  order.unsort(sorted.data(), back.data(), ts);
-  std::size_t differ = 0;
-  for (std::size_t i = 0; i < n; ++i) differ += back[i].prim != given[i].prim || back[i].t != given[i].t;
-  EXPECT_EQ(differ, 0u);
+  EXPECT_EQ(sorted_hits_that_differ(a, rays, order, tracer::TraceOptions{}, ts), 0u) << "single rays";
 }
 
 }  // namespace
