@@ -44,30 +44,41 @@ constexpr int kIndexBits = 28, kDigitBits = 12, kPasses = 3, kBins = 1 << kDigit
 // direction Morton code, 3 bits per axis (9). origin_first: origin Morton code, 7 bits per axis
 // (21) | direction Morton code, 5 bits per axis (15). An origin's cell in [lo, hi] (clamped), a
 // direction component's in [-1, 1].
+namespace {
+struct KeyBits {
+  int origin, direction;  // per axis
+};
+constexpr KeyBits key_bits(RayKey::Layout layout) {
+  return layout == RayKey::Layout::origin_first ? KeyBits{7, 5} : KeyBits{8, 3};
+}
+}  // namespace
+
 RayKey::RayKey(const Vec3f& lo, const Vec3f& hi, Layout layout) : lo_(lo), layout_(layout) {
-  const float cells = layout == Layout::origin_first ? 128.0f : 256.0f;
+  const float cells = float(1u << key_bits(layout).origin);
   auto scale = [&](float a, float b) { return b > a && std::isfinite(b - a) ? cells / (b - a) : 0.0f; };
   scale_ = {scale(lo.x, hi.x), scale(lo.y, hi.y), scale(lo.z, hi.z)};
 }
 
 std::uint64_t RayKey::operator()(const Vec3f& o, const Vec3f& d) const {
-  const bool first = layout_ == Layout::origin_first;
-  const std::uint32_t oc = first ? 128 : 256, dc = first ? 32 : 8;
+  const KeyBits bits = key_bits(layout_);
+  const std::uint32_t oc = 1u << bits.origin, dc = 1u << bits.direction;
   const float ds = float(dc) * 0.5f;
   const std::uint64_t om = kSpread.t[cell(o.x, lo_.x, scale_.x, oc)] | kSpread.t[cell(o.y, lo_.y, scale_.y, oc)] << 1 |
                            kSpread.t[cell(o.z, lo_.z, scale_.z, oc)] << 2;
   const std::uint64_t dm = kSpread.t[cell(d.x, -1.0f, ds, dc)] | kSpread.t[cell(d.y, -1.0f, ds, dc)] << 1 |
                            kSpread.t[cell(d.z, -1.0f, ds, dc)] << 2;
-  if (first) return om << 15 | dm;
+  const std::uint64_t key = om << (3 * bits.direction) | dm;
+  if (layout_ == Layout::origin_first) return key;
   const std::uint64_t oct = std::uint64_t(d.x < 0) | std::uint64_t(d.y < 0) << 1 | std::uint64_t(d.z < 0) << 2;
-  return oct << 33 | om << 9 | dm;
+  return oct << (3 * (bits.origin + bits.direction)) | key;
 }
 
 std::string RayKey::describe(Layout layout) {
-  return layout == Layout::origin_first
-             ? "the origin's Morton code (2^7 cells per axis of the scene's box), then the direction's (2^5 per axis)"
-             : "direction octant, then the origin's Morton code (2^8 cells per axis of the scene's box), then the "
-               "direction's (2^3 per axis)";
+  const KeyBits bits = key_bits(layout);
+  const std::string codes = "the origin's Morton code (2^" + std::to_string(bits.origin) +
+                            " cells per axis of the scene's box), then the direction's (2^" + std::to_string(bits.direction) +
+                            " per axis)";
+  return layout == Layout::origin_first ? codes : "direction octant, then " + codes;
 }
 
 void RayOrder::sort(const RaySoA& in, const Vec3f& lo, const Vec3f& hi, ThreadScope& ts, RayKey::Layout layout) {
