@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -154,7 +155,7 @@ TEST(PlanarRandom, PolygonsAgainstDoubleReference) {
   }
   const auto s = PolygonSoA::build(polys);
   EXPECT_EQ(s.degenerate, 0u);
-  std::size_t checked = 0, hits = 0;
+  std::size_t checked = 0, hits = 0, edges_checked = 0;
   for (std::size_t j = 0; j < s.size(); ++j) {
     if (s.id[j] == UINT32_MAX) continue;
     const auto& P = polys[s.id[j]];
@@ -167,6 +168,12 @@ TEST(PlanarRandom, PolygonsAgainstDoubleReference) {
       const Vec3f o = rand3(g, -5, 5), target = rand3(g, -1.6f, 1.6f);
       const Ray<float> r = make_ray(o, target - o);
       const Hit<float> h = intersect_polygon(r, pr);
+      // The edges-in-lanes form (single rays, polygons of kEdgeLanes or more vertices) answers as
+      // the kernel does, bit for bit.
+      const Hit<float> he = intersect_polygon_edges(r, s, j);
+      ASSERT_EQ(he.mask, h.mask) << "polygon " << s.id[j] << " ray " << k;
+      ASSERT_EQ(std::bit_cast<std::uint32_t>(he.t), std::bit_cast<std::uint32_t>(h.t));
+      edges_checked += P.size() >= kEdgeLanes;
       // Reference: the plane of the float data in double (n, D as stored), the point in double.
       const double den = dot(n, to_double(r.d));
       if (std::abs(den) < 1e-3) continue;
@@ -188,6 +195,50 @@ TEST(PlanarRandom, PolygonsAgainstDoubleReference) {
   }
   EXPECT_GT(checked, 2500u);
   EXPECT_GT(hits, 400u);
+  EXPECT_GT(edges_checked, 1500u);
+  // Eight rays in lanes (packets): each lane as the 8-lane kernel answers it, rays that reach the
+  // plane and rays that do not mixed in one batch.
+  std::size_t lanes_in = 0;
+  for (std::size_t j = 0; j < s.size(); ++j) {
+    if (s.id[j] == UINT32_MAX) continue;
+    for (int k = 0; k < 40; ++k) {
+      alignas(kSimdAlign) float f[11][8];
+      for (int l = 0; l < 8; ++l) {
+        const Vec3f o = rand3(g, -5, 5), target = rand3(g, -1.6f, 1.6f);
+        const Ray<float> r = make_ray(o, target - o);
+        const float v[11] = {r.o.x, r.o.y, r.o.z, r.d.x, r.d.y, r.d.z, r.rd.x, r.rd.y, r.rd.z, r.tmin, r.tmax};
+        for (int c = 0; c < 11; ++c) f[c][l] = v[c];
+      }
+      auto at = [&](int c) { return load<f8>(f[c]); };
+      const Ray<f8> r{{at(0), at(1), at(2)}, {at(3), at(4), at(5)}, {at(6), at(7), at(8)}, at(9), at(10)};
+      const Hit<f8> h = intersect_polygon(r, s.broadcast<f8>(j)), he = intersect_polygon_edges(r, s, j);
+      for (int l = 0; l < 8; ++l) {
+        ASSERT_EQ(lane_mask<f8>(he.mask, l), lane_mask<f8>(h.mask, l)) << "polygon " << s.id[j] << " lane " << l;
+        ASSERT_EQ(std::bit_cast<std::uint32_t>(lane(he.t, l)), std::bit_cast<std::uint32_t>(lane(h.t, l)));
+        lanes_in += lane_mask<f8>(h.mask, l) && polys[s.id[j]].size() >= kEdgeLanes;
+      }
+    }
+  }
+  EXPECT_GT(lanes_in, 200u);
+  // Rays through every vertex and every edge's midpoint: points on the boundary, where the crossing
+  // answer rests on exact ties, take the same side in both forms.
+  std::size_t boundary = 0;
+  for (std::size_t j = 0; j < s.size(); ++j) {
+    if (s.id[j] == UINT32_MAX) continue;
+    const auto& P = polys[s.id[j]];
+    const auto pr = s.broadcast<float>(j);
+    for (std::size_t k = 0; k < P.size(); ++k) {
+      const Vec3f o = rand3(g, -5, 5);
+      for (const Vec3f target : {P[k], (P[k] + P[(k + 1) % P.size()]) * 0.5f}) {
+        const Ray<float> r = make_ray(o, target - o);
+        const Hit<float> h = intersect_polygon(r, pr), he = intersect_polygon_edges(r, s, j);
+        ASSERT_EQ(he.mask, h.mask) << "polygon " << s.id[j] << " vertex " << k;
+        ASSERT_EQ(std::bit_cast<std::uint32_t>(he.t), std::bit_cast<std::uint32_t>(h.t));
+        boundary += h.mask;
+      }
+    }
+  }
+  EXPECT_GT(boundary, 100u);
 }
 
 TEST(PlanarRandom, BoxAsHalfspacesAndSlabsAgreesWithBoxKernel) {

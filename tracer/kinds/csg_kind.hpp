@@ -84,15 +84,17 @@ struct CsgKind {
     }
     return any;
   }
+  // Each group of the packet against the leaf's trees in slot order (the groups are independent:
+  // the order of the two loops changes no hit), the group's rays copied once.
   template <bool Any>
   static void packet(const Batch& b, std::size_t base, bvh::PacketRays& p) {
-    for (std::size_t j = base; j < base + 8 && j < b.id.size(); ++j) {
-      const std::uint32_t sid = b.id[j];
-      if (sid == UINT32_MAX) continue;
-      for (int q = 0; q < p.n; ++q) {
-        const int k = p.list[q];
-        if (none_of<f8>(p.active[k])) continue;
-        Ray<f8> rr = p.r[k];
+    for (int q = 0; q < p.n; ++q) {
+      const int k = p.list[q];
+      Ray<f8> rr = p.r[k];
+      for (std::size_t j = base; j < base + 8 && j < b.id.size(); ++j) {
+        const std::uint32_t sid = b.id[j];
+        if (sid == UINT32_MAX) continue;
+        if (none_of<f8>(p.active[k])) break;
         rr.tmax = p.tbest[k];
         f8 tag;
         const Hit<f8> hit = csg_hit8(*b.trees[sid], rr, tag);

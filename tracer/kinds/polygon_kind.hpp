@@ -100,9 +100,10 @@ struct PolygonKind {
     for (std::size_t j = 0; j < b.id.size(); ++j)
       if (b.id[j] != UINT32_MAX) b.slot[j] = slot_of[p++];
   }
-  // One ray against the 8 slots from `base`: one polygon at a time (scalar), the closest within h.t
-  // (a tie by `bvh::nearer`). The kernel rounds every product on its own, so the scalar
-  // instantiation gives the bits of the 8-lane one that packets run.
+  // One ray against the 8 slots from `base`: one polygon at a time (scalar; a polygon of
+  // kEdgeLanes or more vertices with its edges in lanes), the closest within h.t (a tie by
+  // `bvh::nearer`). The kernel rounds every product on its own, so the scalar instantiation gives
+  // the bits of the 8-lane one that packets run.
   static bool single(const Batch& b, std::size_t base, const Ray<float>& r, bvh::Closest& h) {
     bool any = false;
     Ray<float> rr = r;
@@ -110,7 +111,7 @@ struct PolygonKind {
     for (std::size_t j = base; j < base + 8; ++j) {
       const std::uint32_t slot = b.slot[j];
       if (slot == UINT32_MAX) continue;
-      const Hit<float> hp = intersect_polygon(rr, b.soa.broadcast<float>(slot));
+      const Hit<float> hp = intersect_polygon_edges(rr, b.soa, slot);
       if (hp.mask && bvh::nearer(hp.t, code(id, b.id[j]), h)) {
         rr.tmax = hp.t;
         h = {hp.t, code(id, b.id[j])};
@@ -119,18 +120,19 @@ struct PolygonKind {
     }
     return any;
   }
+  // Each group of the packet against the leaf's polygons in slot order (the groups are
+  // independent: the order of the two loops changes no hit), the group's rays copied once.
   template <bool Any>
   static void packet(const Batch& b, std::size_t base, bvh::PacketRays& p) {
-    for (std::size_t j = base; j < base + 8; ++j) {
-      const std::uint32_t slot = b.slot[j];
-      if (slot == UINT32_MAX) continue;
-      const PolygonRef<f8> poly = b.soa.broadcast<f8>(slot);
-      for (int q = 0; q < p.n; ++q) {
-        const int k = p.list[q];
-        if (none_of<f8>(p.active[k])) continue;
-        Ray<f8> rr = p.r[k];
+    for (int q = 0; q < p.n; ++q) {
+      const int k = p.list[q];
+      Ray<f8> rr = p.r[k];
+      for (std::size_t j = base; j < base + 8; ++j) {
+        const std::uint32_t slot = b.slot[j];
+        if (slot == UINT32_MAX) continue;
+        if (none_of<f8>(p.active[k])) break;
         rr.tmax = p.tbest[k];
-        const Hit<f8> hit = intersect_polygon(rr, poly);
+        const Hit<f8> hit = intersect_polygon_edges(rr, b.soa, slot);
         bvh::packet_update<Any>(p, k, hit.mask, hit.t, code(id, b.id[j]));
       }
     }
