@@ -43,7 +43,7 @@ struct PrimGroups {
   RB_INLINE P<F> load(std::size_t i) const {
     P<F> p;
     auto t = p.fields();
-    [&]<std::size_t... I>(std::index_sequence<I...>) { ((std::get<I>(t) = rb::load<F>(field(I, i))), ...); }(std::make_index_sequence<kFields>{});
+    [&]<std::size_t... I>(std::index_sequence<I...>) RB_INLINE_LAMBDA { ((std::get<I>(t) = rb::load<F>(field(I, i))), ...); }(std::make_index_sequence<kFields>{});
     return p;
   }
   // Slot i in every lane of F.
@@ -51,7 +51,7 @@ struct PrimGroups {
   RB_INLINE P<F> broadcast(std::size_t i) const {
     P<F> p;
     auto t = p.fields();
-    [&]<std::size_t... I>(std::index_sequence<I...>) { ((std::get<I>(t) = F(*field(I, i))), ...); }(std::make_index_sequence<kFields>{});
+    [&]<std::size_t... I>(std::index_sequence<I...>) RB_INLINE_LAMBDA { ((std::get<I>(t) = F(*field(I, i))), ...); }(std::make_index_sequence<kFields>{});
     return p;
   }
 

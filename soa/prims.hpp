@@ -79,7 +79,7 @@ template <class F, class Src, class Dst>
 RB_INLINE void cast_fields(Src& p, Dst& q) {
   auto src = p.fields();
   auto dst = q.fields();
-  [&]<std::size_t... I>(std::index_sequence<I...>) {
+  [&]<std::size_t... I>(std::index_sequence<I...>) RB_INLINE_LAMBDA {
     ((std::get<I>(dst) = F(std::get<I>(src))), ...);
   }(std::make_index_sequence<std::tuple_size_v<decltype(src)>>{});
 }
