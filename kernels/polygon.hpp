@@ -19,13 +19,14 @@
 //                        each vertex a broadcast scalar;
 //   primitives in lanes: PolygonSoA::load<F>(j): 8 polygons of one axis group, the loop runs to
 //                        the group's largest count, each vertex step one aligned load.
-// A 144-vertex concave polygon (SPD gears) is 145 edge steps of 4+- 2* 2 cmp per lane.
 //   edges in lanes:      intersect_polygon_edges(r, soa, j): a polygon of at least kEdgeLanes
 //                        vertices, its edges eight at a time for each ray that reaches its plane
 //                        (the polygon's vertices also stored in a run of their own, PolygonSoA::ex,
 //                        ey); the crossing count's parity is that of the per-edge answers, which
 //                        are polygon_contains' own. What the tracer takes, for single rays and
-//                        packets: a lone ray against a 144-vertex polygon was 145 scalar steps.
+//                        packets.
+// A 144-vertex concave polygon (SPD gears) is 145 edge steps of 4+- 2* 2 cmp per lane: one ray at
+// a time, 145 scalar steps; with its edges in lanes, 18 steps of eight edges.
 // [u,v] is not defined for a polygon by the lecture: 0.
 #pragma once
 
