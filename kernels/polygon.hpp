@@ -201,6 +201,15 @@ RB_INLINE bool polygon_plane_point(const Ray<F>& r, const PolygonRef<F>& p, mask
   return true;
 }
 
+// One edge (x0, y0) -> (x1, y1), relative to the point, whose ends lie above the half-line's line
+// where c0, c1 are set: whether it flips the point's inside answer (it straddles the line and
+// crosses it on the +x' side). Every crossing test's per-edge arithmetic.
+template <class F>
+RB_INLINE mask_t<F> edge_flips(const F& x0, const F& y0, const mask_t<F>& c0, const F& x1, const F& y1, const mask_t<F>& c1) {
+  const mask_t<F> cross = vrounded(y1 * (x0 - x1)) >= vrounded(x1 * (y0 - y1));  // 2+- 2* 1 cmp
+  return mask_xor<F>(c0, c1) & mask_not<F>(mask_xor<F>(cross, c1));
+}
+
 // Crossing test of the point (pa, pb) against the polygon's projected boundary.
 template <class F>
 RB_INLINE mask_t<F> polygon_contains(const PolygonRef<F>& p, const F& pa, const F& pb) {
@@ -211,9 +220,7 @@ RB_INLINE mask_t<F> polygon_contains(const PolygonRef<F>& p, const F& pa, const 
   for (std::uint32_t i = 1; i <= p.edges; ++i) {
     const F x1 = p.vx(i) - pa, y1 = p.vy(i) - pb;   // 2+-
     const mask_t<F> c1 = y1 >= z;                   // 1 cmp
-    const mask_t<F> cross = vrounded(y1 * (x0 - x1)) >= vrounded(x1 * (y0 - y1));  // 2+- 2* 1 cmp
-    const mask_t<F> flip = mask_xor<F>(c0, c1) & mask_not<F>(mask_xor<F>(cross, c1));
-    inside = mask_xor<F>(inside, flip);
+    inside = mask_xor<F>(inside, edge_flips<F>(x0, y0, c0, x1, y1, c1));
     x0 = x1; y0 = y1; c0 = c1;
   }
   return inside;
@@ -229,19 +236,15 @@ RB_INLINE Hit<F> intersect_polygon(const Ray<F>& r, const PolygonRef<F>& p) {
 }
 
 // The crossing test of the point (pa, pb) against `edges` edges of a run (PolygonSoA::run), eight
-// edges at a time: each edge's straddle and crossing answers are polygon_contains' (the same
-// differences and separately rounded products), and the point is inside when an odd number of
-// edges flip it.
+// edges at a time: each edge's answer is polygon_contains' (edge_flips on the same differences),
+// and the point is inside when an odd number of edges flip it.
 RB_INLINE bool polygon_contains_edges(const float* x, const float* y, std::uint32_t edges, float pa, float pb) {
   const f8 a(pa), b(pb), z(0.0f);
   unsigned flips = 0;
   for (std::uint32_t i = 0; i < edges; i += 8) {
     const f8 x0 = f8::load_unaligned(x + i) - a, y0 = f8::load_unaligned(y + i) - b;
     const f8 x1 = f8::load_unaligned(x + i + 1) - a, y1 = f8::load_unaligned(y + i + 1) - b;
-    const f8_mask c0 = y0 >= z, c1 = y1 >= z;
-    const f8_mask cross = vrounded(y1 * (x0 - x1)) >= vrounded(x1 * (y0 - y1));
-    const f8_mask flip = mask_xor<f8>(c0, c1) & mask_not<f8>(mask_xor<f8>(cross, c1));
-    flips += unsigned(std::popcount(lanes::bits(flip)));
+    flips += unsigned(std::popcount(lanes::bits(edge_flips<f8>(x0, y0, y0 >= z, x1, y1, y1 >= z))));
   }
   return (flips & 1u) != 0;
 }

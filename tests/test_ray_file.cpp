@@ -211,6 +211,9 @@ TEST(RayFile, MovedIntoAnotherFrameTheWorldRaysStay) {
   EXPECT_NEAR(r.tmax, 10.0f, 1e-5f);
 }
 
+// The direction octant of sorted row i (a component below zero sets its bit).
+int octant_of(const RaySoA& r, std::size_t i) { return int(r.dx[i] < 0) | int(r.dy[i] < 0) << 1 | int(r.dz[i] < 0) << 2; }
+
 // The sorted stream holds every ray of the stream once (order() is a permutation of 0..n-1).
 void expect_sorted_permutation(const tracer::RayOrder& order, std::size_t n) {
   ASSERT_EQ(order.order().size(), n);
@@ -259,7 +262,7 @@ TEST(RayOrder, SortedStreamIsAPermutationWithTheSameHits) {
       ASSERT_EQ(sr.ox[i], rays.ox[j]);
       ASSERT_EQ(sr.dz[i], rays.dz[j]);
       ASSERT_EQ(sr.tmax[i], rays.tmax[j]);
-      const int oct = int(sr.dx[i] < 0) | int(sr.dy[i] < 0) << 1 | int(sr.dz[i] < 0) << 2;
+      const int oct = octant_of(sr, i);
       EXPECT_GE(oct, last) << "octants in order";
       octant_changes += oct != last;
       last = oct;
@@ -325,7 +328,7 @@ TEST(RayOrder, SingleRaysSortByOriginFirstAndPacketsByOctant) {
         ASSERT_LT(order.order()[i - 1], j) << "equal keys keep the stream's order";
       }
     }
-    const int oct = int(sr.dx[i] < 0) | int(sr.dy[i] < 0) << 1 | int(sr.dz[i] < 0) << 2;
+    const int oct = octant_of(sr, i);
     octant_changes += oct != last;
     last = oct;
   }
