@@ -6,6 +6,7 @@
 #pragma once
 
 #include "core/num.hpp"
+#include "core/ray.hpp"
 #include "core/spawn.hpp"
 
 #include <immintrin.h>
@@ -194,5 +195,38 @@ struct Group<f8> {
 RB_INLINE d4 lo_d4(const f8& x) { return d4(_mm256_cvtps_pd(_mm256_castps256_ps128(x))); }
 RB_INLINE d4 hi_d4(const f8& x) { return d4(_mm256_cvtps_pd(_mm256_extractf128_ps(x, 1))); }
 RB_INLINE f8 join_f8(const d4& lo, const d4& hi) { return f8(_mm256_set_m128(_mm256_cvtpd_ps(hi), _mm256_cvtpd_ps(lo))); }
+
+// ---- rays made eight at a time -------------------------------------------------------------------
+// make_ray (core/ray.hpp) for eight rays from t = 0 without end, origins and directions in double as
+// two 4-lane halves: lane l of the result is make_ray(o[l], d[l]) bit for bit, invalid rays included
+// (|d| with the same fused multiply-adds, the same correctly rounded square root and divisions).
+// The renderer's eye rays: made one at a time, their square root and six divisions in a row cost
+// about as much as tracing them.
+RB_INLINE Ray<f8> make_rays(const Vec3<d4> (&o)[2], const Vec3<d4> (&d)[2]) {
+  const d4 inf(std::numeric_limits<double>::infinity());
+  auto finite = [&](const d4& x) { return vabs(x) < inf; };  // false for NaN
+  Vec3<d4> u[2];
+  unsigned good = 0;
+  for (int h = 0; h < 2; ++h) {
+    const d4 len = vsqrt(dot_fma(d[h], d[h]));
+    const d4_mask ok = finite(o[h].x) && finite(o[h].y) && finite(o[h].z) && finite(d[h].x) && finite(d[h].y) &&
+                       finite(d[h].z) && finite(len) && len > d4(0.0);
+    good |= bits(ok) << (4 * h);
+    u[h] = {d[h].x / len, d[h].y / len, d[h].z / len};
+  }
+  auto join = [](const Vec3<d4>& lo, const Vec3<d4>& hi) {
+    return Vec3<f8>{join_f8(lo.x, hi.x), join_f8(lo.y, hi.y), join_f8(lo.z, hi.z)};
+  };
+  const f8_mask valid = of(good);
+  const f8 zero(0.0f), one(1.0f), finf(std::numeric_limits<float>::infinity());
+  const Vec3<f8> dir = join(u[0], u[1]);
+  Ray<f8> r;
+  r.o = vselect3(valid, join(o[0], o[1]), Vec3<f8>{zero, zero, zero});
+  r.d = vselect3(valid, dir, Vec3<f8>{zero, zero, one});
+  r.rd = vselect3(valid, Vec3<f8>{one / dir.x, one / dir.y, one / dir.z}, Vec3<f8>{finf, finf, one});
+  r.tmin = vselect(valid, zero, finf);
+  r.tmax = vselect(valid, f8(std::numeric_limits<float>::max()), -finf);
+  return r;
+}
 
 }  // namespace rb::lanes

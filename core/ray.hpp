@@ -54,8 +54,10 @@ RB_INLINE Vec3<F> hit_point(const Ray<F>& r, const F& t) { return r.at(t); }
 
 // Builds a validated ray from user input (any float type). See the contract above.
 template <class T = float>
-inline Ray<float> make_ray(Vec3<T> o, Vec3<T> d, T tmin = T(0), T tmax = std::numeric_limits<T>::infinity()) {
-  const double len = std::sqrt(double(d.x) * double(d.x) + double(d.y) * double(d.y) + double(d.z) * double(d.z));
+RB_INLINE Ray<float> make_ray(Vec3<T> o, Vec3<T> d, T tmin = T(0), T tmax = std::numeric_limits<T>::infinity()) {
+  // |d| with its fused multiply-adds spelled out (dot_fma): the same bits as lanes::make_rays under
+  // any -ffp-contract.
+  const double len = std::sqrt(dot_fma(to_double(d), to_double(d)));
   Ray<float> r;
   const bool ok = finite3(o) && finite3(d) && std::isfinite(len) && len > 0.0 && !std::isnan(tmin) &&
                   !std::isnan(tmax) && tmin <= tmax && !std::isinf(tmin);

@@ -1,6 +1,7 @@
 #include "render/render.hpp"
 
 #include "bvh/traverse.hpp"
+#include "core/lanes.hpp"
 #include "render/batch_order.hpp"
 #include "render/hit_lanes.hpp"
 #include "render/optics.hpp"
@@ -150,20 +151,46 @@ Renderer::Renderer(const scene::Scene& s, const tracer::SceneAccel& a, const Ren
 }
 
 // Eye rays, row-major in the tile: neighbours on a row (and the rows below them) form a packet. NFF's hither plane is for
-// scan converters: not used.
+// scan converters: not used. Made eight at a time (each the frame_ray of its direction, bit for bit)
+// straight into the SoA batch the first trace() takes, then copied to w.rays for shading.
 void Renderer::eye_rays(int x0, int y0, int x1, int y1, Work& w) const {
+  const std::size_t tw = std::size_t(x1 - x0), n = tw * std::size_t(y1 - y0), padded = round_up(std::max<std::size_t>(n, 1), kPadLanes);
   w.rays.clear();
   w.path.clear();
-  w.rays.reserve(std::size_t(x1 - x0) * std::size_t(y1 - y0));
-  for (int y = y0; y < y1; ++y)
-    for (int x = x0; x < x1; ++x) {
-      const Vec3d d = view_.dir((x0_ + double(x)) * step_, -(y0_ + double(y)) * step_);
-      w.rays.push_back(a_.frame_ray(view_.from, d));
-      w.path.push_back({std::uint32_t(y * gw_ + x), 1, Vec3f{1, 1, 1}});
+  RaySoA& soa = w.soa;
+  for (auto* a : {&soa.ox, &soa.oy, &soa.oz, &soa.dx, &soa.dy, &soa.dz, &soa.rx, &soa.ry, &soa.rz, &soa.tmin, &soa.tmax})
+    a->resize(padded);
+  soa.count = n;
+  const Vec3d from = view_.from - a_.origin();
+  const Vec3<d4> o[2] = {Vec3<d4>::from(from), Vec3<d4>::from(from)};
+  for (std::size_t i = 0; i < padded; i += 8) {
+    alignas(kSimdAlign) double d[3][8];
+    for (std::size_t l = 0; l < 8; ++l) {
+      const std::size_t k = std::min(i + l, n - 1);  // (padding lanes: replaced below)
+      const int x = x0 + int(k % tw), y = y0 + int(k / tw);
+      const Vec3d v = view_.dir((x0_ + double(x)) * step_, -(y0_ + double(y)) * step_);
+      d[0][l] = v.x, d[1][l] = v.y, d[2][l] = v.z;
+      if (i + l < n) w.path.push_back({std::uint32_t(y * gw_ + x), 1, Vec3f{1, 1, 1}});
     }
+    const Vec3<d4> dir[2] = {{load<d4>(&d[0][0]), load<d4>(&d[1][0]), load<d4>(&d[2][0])},
+                             {load<d4>(&d[0][4]), load<d4>(&d[1][4]), load<d4>(&d[2][4])}};
+    soa.store_packet(i, lanes::make_rays(o, dir));
+  }
+  const Ray<float> invalid = make_ray(Vec3f{0, 0, 0}, Vec3f{0, 0, 0});
+  for (std::size_t k = n; k < padded; ++k) {
+    soa.ox[k] = invalid.o.x, soa.oy[k] = invalid.o.y, soa.oz[k] = invalid.o.z;
+    soa.dx[k] = invalid.d.x, soa.dy[k] = invalid.d.y, soa.dz[k] = invalid.d.z;
+    soa.rx[k] = invalid.rd.x, soa.ry[k] = invalid.rd.y, soa.rz[k] = invalid.rd.z;
+    soa.tmin[k] = invalid.tmin, soa.tmax[k] = invalid.tmax;
+  }
+  // (Shading reads each ray as one record: the same Ray read back from the SoA's arrays at that
+  // point would be written to memory field by field and read whole, a store-forwarding stall per hit.)
+  w.rays.resize(n);
+  for (std::size_t k = 0; k < n; ++k) w.rays[k] = soa.get(k);
 }
 
-// RT_trace for a batch: the closest (or any) hit of every ray.
+// RT_trace for a batch: the closest (or any) hit of every ray (the eye rays, not `secondary`, are in
+// the SoA batch already: eye_rays() made them there).
 // Secondary rays in packets (of 8, or 16) are traced in octant order and their hits put back in
 // the batch's order, so that shading (and the sum of each sample's terms) runs in the same order
 // in every mode: the image does not depend on the packet size (but where a ray meets two faces at
@@ -181,7 +208,7 @@ void Renderer::trace(Work& w, const std::vector<Ray<float>>& rays, bool any, boo
     else octant_order(rays, w.order, w.buckets, shadow ? w.light.data() : nullptr, shadow ? light_pos_.size() : 1);
   }
   const bool sorted = !w.order.empty();
-  fill(w.soa, rays, sorted ? w.order.data() : nullptr);
+  if (secondary) fill(w.soa, rays, sorted ? w.order.data() : nullptr);
   std::uint64_t coherent = 0, groups = 0;
   for (std::size_t i = 0; i < w.soa.size(); i += 8, ++groups) coherent += bvh::shared_octant(w.soa, i, 8);
   (shadow ? g.shadow_groups : g.groups) += groups;

@@ -50,6 +50,14 @@ struct RaySoA {
   }
   template <class F>
   RB_INLINE Ray<F> broadcast(std::size_t i) const { return Ray<F>::broadcast(get(i)); }
+  // Writes the lanes of r into rays i .. i + lanes - 1 (i a multiple of the lanes, below size()).
+  template <class F>
+  RB_INLINE void store_packet(std::size_t i, const Ray<F>& r) {
+    store(&ox[i], r.o.x), store(&oy[i], r.o.y), store(&oz[i], r.o.z);
+    store(&dx[i], r.d.x), store(&dy[i], r.d.y), store(&dz[i], r.d.z);
+    store(&rx[i], r.rd.x), store(&ry[i], r.rd.y), store(&rz[i], r.rd.z);
+    store(&tmin[i], r.tmin), store(&tmax[i], r.tmax);
+  }
 
  private:
   std::vector<avec<float>*> arrays() { return {&ox, &oy, &oz, &dx, &dy, &dz, &rx, &ry, &rz, &tmin, &tmax}; }

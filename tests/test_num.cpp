@@ -1,6 +1,8 @@
 // The number-type layer and Counted: counting rules, minps semantics, lane access, counting
 // inside TBB worker threads.
 #include "core/counted.hpp"
+#include "core/lanes.hpp"
+#include "core/ray.hpp"
 #include "core/spawn.hpp"
 #include "core/vec3.hpp"
 
@@ -8,7 +10,9 @@
 #include <oneapi/tbb/parallel_for.h>
 #include <oneapi/tbb/task_arena.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <random>
 
@@ -162,6 +166,43 @@ TEST(Num, LoadsStoresAndLanes) {
   EXPECT_EQ(lanes_v<cf8>, 8);
 }
 
+// make_rays: every lane the scalar make_ray's bits, on rays of every scale (origins and directions
+// in double, some beyond float's range) and on the invalid ones (NaN and infinite components, a zero
+// direction).
+TEST(Num, RaysMadeInLanesAreTheScalarRays) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::uniform_int_distribution<int> e(-60, 60);
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+  const double odd[] = {0.0, -0.0, inf, -inf, nan, 1e-320, 1e300};
+  auto value = [&] { return rng() % 16 == 0 ? odd[rng() % 7] : std::ldexp(u(rng), e(rng)); };
+  auto bits = [](float x) { return std::bit_cast<std::uint32_t>(x); };
+  int invalid = 0, valid = 0;
+  for (int round = 0; round < 4000; ++round) {
+    alignas(32) double in[6][8];  // o, d per lane
+    for (int l = 0; l < 8; ++l) {
+      for (int c = 0; c < 6; ++c) in[c][l] = value();
+      if (round % 5 == 0) in[3][l] = in[4][l] = in[5][l] = rng() % 2 ? 0.0 : -0.0;
+    }
+    Vec3<d4> o[2], d[2];
+    for (int h = 0; h < 2; ++h) {
+      o[h] = {load<d4>(&in[0][4 * h]), load<d4>(&in[1][4 * h]), load<d4>(&in[2][4 * h])};
+      d[h] = {load<d4>(&in[3][4 * h]), load<d4>(&in[4][4 * h]), load<d4>(&in[5][4 * h])};
+    }
+    const Ray<f8> r = lanes::make_rays(o, d);
+    for (int l = 0; l < 8; ++l) {
+      const Ray<float> s = make_ray(Vec3d{in[0][l], in[1][l], in[2][l]}, Vec3d{in[3][l], in[4][l], in[5][l]});
+      (s.tmin > s.tmax ? invalid : valid) += 1;
+      const float got[11] = {lane(r.o.x, l), lane(r.o.y, l), lane(r.o.z, l), lane(r.d.x, l), lane(r.d.y, l), lane(r.d.z, l),
+                             lane(r.rd.x, l), lane(r.rd.y, l), lane(r.rd.z, l), lane(r.tmin, l), lane(r.tmax, l)};
+      const float want[11] = {s.o.x, s.o.y, s.o.z, s.d.x, s.d.y, s.d.z, s.rd.x, s.rd.y, s.rd.z, s.tmin, s.tmax};
+      for (int c = 0; c < 11; ++c) ASSERT_EQ(bits(got[c]), bits(want[c])) << "round " << round << " lane " << l << " field " << c;
+    }
+  }
+  // Both kinds exercised: valid rays, and invalid ones (zero directions, NaN and infinite components).
+  EXPECT_GT(invalid, 5000);
+  EXPECT_GT(valid, 10000);
+}
+
 }  // namespace
 }  // namespace rb
-
