@@ -26,23 +26,6 @@ namespace {
 
 constexpr int kMaxCrossings = 16;  // transmitting occluders followed per shadow ray
 
-// Writes rays into a RaySoA in one go (RaySoA::push appends one at a time), padded to 8 lanes with
-// invalid rays; with `order`, ray order[i] goes to slot i.
-void fill(RaySoA& soa, const std::vector<Ray<float>>& rays, const std::uint32_t* order = nullptr) {
-  const std::size_t n = rays.size(), padded = round_up(std::max<std::size_t>(n, 1), kPadLanes);
-  for (auto* a : {&soa.ox, &soa.oy, &soa.oz, &soa.dx, &soa.dy, &soa.dz, &soa.rx, &soa.ry, &soa.rz, &soa.tmin, &soa.tmax})
-    a->resize(padded);
-  const Ray<float> invalid = make_ray(Vec3f{0, 0, 0}, Vec3f{0, 0, 0});
-  for (std::size_t i = 0; i < padded; ++i) {
-    const Ray<float>& r = i < n ? rays[order ? order[i] : i] : invalid;
-    soa.ox[i] = r.o.x; soa.oy[i] = r.o.y; soa.oz[i] = r.o.z;
-    soa.dx[i] = r.d.x; soa.dy[i] = r.d.y; soa.dz[i] = r.d.z;
-    soa.rx[i] = r.rd.x; soa.ry[i] = r.rd.y; soa.rz[i] = r.rd.z;
-    soa.tmin[i] = r.tmin; soa.tmax[i] = r.tmax;
-  }
-  soa.count = n;
-}
-
 // A ray of the ray tree waiting to be traced: the sample it adds to and its weight there.
 struct PathRay {
   std::uint32_t sample;
@@ -77,7 +60,8 @@ struct Renderer::Work {
   std::vector<bvh::HitRec> hits, sorted_hits;
   std::vector<std::uint32_t> order;  // the order of a batch traced in packets
   std::vector<std::uint64_t> keys;    // its sort keys (RenderOptions::Order::sfc)
-  std::vector<std::size_t> buckets;   // the octant order's counts
+  std::vector<std::uint32_t> bucket;  // the octant order's buckets per ray
+  std::vector<std::size_t> buckets;   // and where each begins
   std::vector<std::uint32_t> light;   // the light of each shadow ray being traced
   std::vector<float> pass;
   std::vector<std::uint32_t> live, more_live;
@@ -154,16 +138,15 @@ Renderer::Renderer(const scene::Scene& s, const tracer::SceneAccel& a, const Ren
 // scan converters: not used. Made eight at a time (each the frame_ray of its direction, bit for bit)
 // straight into the SoA batch the first trace() takes, then copied to w.rays for shading.
 void Renderer::eye_rays(int x0, int y0, int x1, int y1, Work& w) const {
-  const std::size_t tw = std::size_t(x1 - x0), n = tw * std::size_t(y1 - y0), padded = round_up(std::max<std::size_t>(n, 1), kPadLanes);
+  const std::size_t tw = std::size_t(x1 - x0), n = tw * std::size_t(y1 - y0);
   w.rays.clear();
   w.path.clear();
   RaySoA& soa = w.soa;
-  for (auto* a : {&soa.ox, &soa.oy, &soa.oz, &soa.dx, &soa.dy, &soa.dz, &soa.rx, &soa.ry, &soa.rz, &soa.tmin, &soa.tmax})
-    a->resize(padded);
-  soa.count = n;
+  resize_batch(soa, n);
+  if (n == 0) return;  // (no tile is empty)
   const Vec3d from = view_.from - a_.origin();
   const Vec3<d4> o[2] = {Vec3<d4>::from(from), Vec3<d4>::from(from)};
-  for (std::size_t i = 0; i < padded; i += 8) {
+  for (std::size_t i = 0; i < soa.size(); i += 8) {
     alignas(kSimdAlign) double d[3][8];
     for (std::size_t l = 0; l < 8; ++l) {
       const std::size_t k = std::min(i + l, n - 1);  // (padding lanes: replaced below)
@@ -176,13 +159,7 @@ void Renderer::eye_rays(int x0, int y0, int x1, int y1, Work& w) const {
                              {load<d4>(&d[0][4]), load<d4>(&d[1][4]), load<d4>(&d[2][4])}};
     soa.store_packet(i, lanes::make_rays(o, dir));
   }
-  const Ray<float> invalid = make_ray(Vec3f{0, 0, 0}, Vec3f{0, 0, 0});
-  for (std::size_t k = n; k < padded; ++k) {
-    soa.ox[k] = invalid.o.x, soa.oy[k] = invalid.o.y, soa.oz[k] = invalid.o.z;
-    soa.dx[k] = invalid.d.x, soa.dy[k] = invalid.d.y, soa.dz[k] = invalid.d.z;
-    soa.rx[k] = invalid.rd.x, soa.ry[k] = invalid.rd.y, soa.rz[k] = invalid.rd.z;
-    soa.tmin[k] = invalid.tmin, soa.tmax[k] = invalid.tmax;
-  }
+  pad_batch(soa);
   // (Shading reads each ray as one record: the same Ray read back from the SoA's arrays at that
   // point would be written to memory field by field and read whole, a store-forwarding stall per hit.)
   w.rays.resize(n);
@@ -203,12 +180,13 @@ void Renderer::trace(Work& w, const std::vector<Ray<float>>& rays, bool any, boo
   to.any = any;
   to.lanes = kRenderLanes;
   w.order.clear();
-  if (secondary && to.packet >= 8) {
-    if (o_.secondary_order == RenderOptions::Order::sfc) key_order(rays, key_, w.keys, w.order);
-    else octant_order(rays, w.order, w.buckets, shadow ? w.light.data() : nullptr, shadow ? light_pos_.size() : 1);
+  if (secondary && to.packet >= 8 && o_.secondary_order == RenderOptions::Order::octant) {
+    octant_pack(rays, w.soa, w.order, w.bucket, w.buckets, shadow ? w.light.data() : nullptr, shadow ? light_pos_.size() : 1);
+  } else if (secondary) {
+    if (to.packet >= 8) key_order(rays, key_, w.keys, w.order);
+    fill(w.soa, rays, w.order.empty() ? nullptr : w.order.data());
   }
   const bool sorted = !w.order.empty();
-  if (secondary) fill(w.soa, rays, sorted ? w.order.data() : nullptr);
   std::uint64_t coherent = 0, groups = 0;
   for (std::size_t i = 0; i < w.soa.size(); i += 8, ++groups) coherent += bvh::shared_octant(w.soa, i, 8);
   (shadow ? g.shadow_groups : g.groups) += groups;
