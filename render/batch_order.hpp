@@ -23,11 +23,6 @@ void octant_pack(const std::vector<Ray<float>>& rays, RaySoA& soa, std::vector<s
                  std::vector<std::uint32_t>& bucket, std::vector<std::size_t>& start, const std::uint32_t* group = nullptr,
                  std::size_t groups = 1);
 
-// `soa` sized for n rays (count n, the arrays padded to a multiple of 8 lanes), and its rows from
-// count on filled with the invalid ray.
-void resize_batch(RaySoA& soa, std::size_t n);
-void pad_batch(RaySoA& soa);
-
 // The rays written into `soa` (padded to 8 lanes with invalid rays); with `order`, ray order[i] into
 // slot i.
 void fill(RaySoA& soa, const std::vector<Ray<float>>& rays, const std::uint32_t* order = nullptr);

@@ -142,24 +142,24 @@ void Renderer::eye_rays(int x0, int y0, int x1, int y1, Work& w) const {
   w.rays.clear();
   w.path.clear();
   RaySoA& soa = w.soa;
-  resize_batch(soa, n);
-  if (n == 0) return;  // (no tile is empty)
+  soa.resize(n);
   const Vec3d from = view_.from - a_.origin();
   const Vec3<d4> o[2] = {Vec3<d4>::from(from), Vec3<d4>::from(from)};
   for (std::size_t i = 0; i < soa.size(); i += 8) {
     alignas(kSimdAlign) double d[3][8];
     for (std::size_t l = 0; l < 8; ++l) {
-      const std::size_t k = std::min(i + l, n - 1);  // (padding lanes: replaced below)
-      const int x = x0 + int(k % tw), y = y0 + int(k / tw);
-      const Vec3d v = view_.dir((x0_ + double(x)) * step_, -(y0_ + double(y)) * step_);
+      Vec3d v{0, 0, 0};  // padding lanes: a zero direction, which makes the invalid ray
+      if (const std::size_t k = i + l; k < n) {
+        const int x = x0 + int(k % tw), y = y0 + int(k / tw);
+        v = view_.dir((x0_ + double(x)) * step_, -(y0_ + double(y)) * step_);
+        w.path.push_back({std::uint32_t(y * gw_ + x), 1, Vec3f{1, 1, 1}});
+      }
       d[0][l] = v.x, d[1][l] = v.y, d[2][l] = v.z;
-      if (i + l < n) w.path.push_back({std::uint32_t(y * gw_ + x), 1, Vec3f{1, 1, 1}});
     }
     const Vec3<d4> dir[2] = {{load<d4>(&d[0][0]), load<d4>(&d[1][0]), load<d4>(&d[2][0])},
                              {load<d4>(&d[0][4]), load<d4>(&d[1][4]), load<d4>(&d[2][4])}};
     soa.store_packet(i, lanes::make_rays(o, dir));
   }
-  pad_batch(soa);
   // (Shading reads each ray as one record: the same Ray read back from the SoA's arrays at that
   // point would be written to memory field by field and read whole, a store-forwarding stall per hit.)
   w.rays.resize(n);

@@ -50,6 +50,20 @@ struct RaySoA {
   }
   template <class F>
   RB_INLINE Ray<F> broadcast(std::size_t i) const { return Ray<F>::broadcast(get(i)); }
+  // Room for n rays in one go (push appends one at a time): count n, the arrays padded to whole
+  // 8-lane groups with the invalid ray; rows below n are then written with set or store_packet.
+  void resize(std::size_t n) {
+    for (auto* a : arrays()) a->resize(round_up(std::max<std::size_t>(n, 1), kPadLanes));
+    count = n;
+    const Ray<float> invalid = make_ray(Vec3f{0, 0, 0}, Vec3f{0, 0, 0});
+    for (std::size_t i = n; i < size(); ++i) set(i, invalid);
+  }
+  RB_INLINE void set(std::size_t i, const Ray<float>& r) {
+    ox[i] = r.o.x, oy[i] = r.o.y, oz[i] = r.o.z;
+    dx[i] = r.d.x, dy[i] = r.d.y, dz[i] = r.d.z;
+    rx[i] = r.rd.x, ry[i] = r.rd.y, rz[i] = r.rd.z;
+    tmin[i] = r.tmin, tmax[i] = r.tmax;
+  }
   // Writes the lanes of r into rays i .. i + lanes - 1 (i a multiple of the lanes, below size()).
   template <class F>
   RB_INLINE void store_packet(std::size_t i, const Ray<F>& r) {
