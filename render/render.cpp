@@ -136,7 +136,8 @@ Renderer::Renderer(const scene::Scene& s, const tracer::SceneAccel& a, const Ren
 
 // Eye rays, row-major in the tile: neighbours on a row (and the rows below them) form a packet. NFF's hither plane is for
 // scan converters: not used. Made eight at a time (each the frame_ray of its direction, bit for bit)
-// straight into the SoA batch the first trace() takes, then copied to w.rays for shading.
+// straight into the SoA batch the first trace() takes; those that hit are copied to w.rays for
+// shading after it (hit_rays).
 void Renderer::eye_rays(int x0, int y0, int x1, int y1, Work& w) const {
   const std::size_t tw = std::size_t(x1 - x0), n = tw * std::size_t(y1 - y0);
   w.rays.clear();
@@ -145,14 +146,15 @@ void Renderer::eye_rays(int x0, int y0, int x1, int y1, Work& w) const {
   soa.resize(n);
   const Vec3d from = view_.from - a_.origin();
   const Vec3<d4> o[2] = {Vec3<d4>::from(from), Vec3<d4>::from(from)};
+  int x = x0, y = y0;  // the pixel of ray i + l
   for (std::size_t i = 0; i < soa.size(); i += 8) {
     alignas(kSimdAlign) double d[3][8];
     for (std::size_t l = 0; l < 8; ++l) {
       Vec3d v{0, 0, 0};  // padding lanes: a zero direction, which makes the invalid ray
-      if (const std::size_t k = i + l; k < n) {
-        const int x = x0 + int(k % tw), y = y0 + int(k / tw);
+      if (i + l < n) {
         v = view_.dir((x0_ + double(x)) * step_, -(y0_ + double(y)) * step_);
         w.path.push_back({std::uint32_t(y * gw_ + x), 1, Vec3f{1, 1, 1}});
+        if (++x == x1) x = x0, ++y;
       }
       d[0][l] = v.x, d[1][l] = v.y, d[2][l] = v.z;
     }
@@ -160,10 +162,16 @@ void Renderer::eye_rays(int x0, int y0, int x1, int y1, Work& w) const {
                              {load<d4>(&d[0][4]), load<d4>(&d[1][4]), load<d4>(&d[2][4])}};
     soa.store_packet(i, lanes::make_rays(o, dir));
   }
-  // (Shading reads each ray as one record: the same Ray read back from the SoA's arrays at that
-  // point would be written to memory field by field and read whole, a store-forwarding stall per hit.)
   w.rays.resize(n);
-  for (std::size_t k = 0; k < n; ++k) w.rays[k] = soa.get(k);
+}
+
+// The eye rays that hit, copied from the SoA batch to the records shading reads (a miss only adds
+// the background). Shading reads each ray as one record: the same Ray read back from the SoA's
+// arrays there would be written to memory field by field and read whole, a store-forwarding stall
+// per hit; copied in a loop of their own, the stores are done before shading reads them.
+void Renderer::hit_rays(Work& w) const {
+  for (std::size_t k = 0; k < w.rays.size(); ++k)
+    if (w.hits[k].prim != bvh::kNoPrim) w.rays[k] = w.soa.get(k);
 }
 
 // RT_trace for a batch: the closest (or any) hit of every ray (the eye rays, not `secondary`, are in
@@ -388,6 +396,11 @@ void Renderer::render_tile(std::size_t t, float* samples, RenderStats& st) const
     w.gen = gen;
     g.rays += w.rays.size();
     trace(w, w.rays, false, gen > 0, false, st, g);
+    if (gen == 0) {
+      const auto tc = Clock::now();
+      hit_rays(w);
+      st.generate_s += seconds_since(tc);
+    }
     for (std::size_t i = 0; i < w.rays.size(); ++i) g.hits += w.hits[i].prim != bvh::kNoPrim;
     const auto t1 = Clock::now();
     shade(samples, w, st);

@@ -182,6 +182,7 @@ class Renderer {
 
   // The steps of one generation (RT_trace / RT_shade), in the order render_tile runs them.
   void eye_rays(int x0, int y0, int x1, int y1, Work& w) const;                                // spawn the first generation
+  void hit_rays(Work& w) const;                                                                // its hits' rays, for shading
   void trace(Work& w, const std::vector<Ray<float>>& rays, bool any, bool secondary, bool shadow, RenderStats& st,
              GenerationStats& g) const;                                                        // RT_trace
   void shade(float* samples, Work& w, RenderStats& st) const;                                  // RT_shade: local light, next generation

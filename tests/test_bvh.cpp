@@ -376,10 +376,10 @@ void expect_same_surface(const kinds::Surface& a, const kinds::Surface& b, const
 
 }  // namespace
 
-// What shading asks of every hit, kept or shortened where it costs most: a polygon's unit normal
-// and extent from its batch (computed once from all its vertices), a triangle's extent with one
-// square root, a sphere's normal normalised once. Each gives the bits of the long way, so images
-// do not change.
+// What shading asks of every hit, kept or shortened where it costs most: a polygon's unit normal,
+// geometric normal and extent from its batch (computed once from all its vertices), a triangle's
+// extent with one square root, a sphere's, a triangle's and a torus' normal normalised once. Each
+// gives the bits of the long way, so images do not change.
 TEST(Surface, ShortcutsGiveTheLongWaysBits) {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -405,12 +405,67 @@ TEST(Surface, ShortcutsGiveTheLongWaysBits) {
       EXPECT_EQ(kinds::PolygonKind::extent(q, i), slow_extent) << s.name << " polygon " << i;
     }
   }
-  // Triangles: the bunny's and a tessellated teapot's.
+  // Triangles: the bunny's and a tessellated teapot's; each hit at a point off its centre, with
+  // the normal normalised once against unit_d, then unit_or of the result.
   for (const scene::Scene& s : {scene::load_scene(std::string(RB_SOURCE_DIR) + "/data/meshes/stanford-bunny.obj"), scene::generate_spd("teapot", 1)}) {
     kinds::HitQuery q;
     q.scene = &s;
-    for (std::uint32_t i = 0; i < s.triangles.size(); ++i)
+    q.ray = make_ray(Vec3f{0, 0, 0}, Vec3f{0.3f, -0.9f, 0.1f});
+    for (std::uint32_t i = 0; i < s.triangles.size(); ++i) {
       ASSERT_EQ(kinds::TriangleKind::extent(q, i), kinds::TriangleKind::feature(s, i).extent) << s.name << " triangle " << i;
+      const auto& t = s.triangles[i];
+      const Vec3d a = s.verts[t.v[0]], b = s.verts[t.v[1]], c = s.verts[t.v[2]];
+      q.p = (a + b + c) * (1.0 / 3.0) + (b - a) * (0.2 * u(rng)) + Vec3d{1e-4, -3e-4, 2e-4};
+      const kinds::Surface got = kinds::TriangleKind::surface(q, i);
+      const Vec3d n = kinds::detail::unit_d(cross(b - a, c - a));
+      const Vec3d p = kinds::detail::onto_plane(q.p, n, a);
+      const Vec3f ng = kinds::detail::unit_or(n, -q.ray.d);
+      for (int k = 0; k < 3; ++k) {
+        ASSERT_EQ(std::bit_cast<std::uint64_t>(got.p[k]), std::bit_cast<std::uint64_t>(p[k])) << s.name << " triangle " << i;
+        ASSERT_EQ(std::bit_cast<std::uint32_t>(got.ng[k]), std::bit_cast<std::uint32_t>(ng[k])) << s.name << " triangle " << i;
+      }
+    }
+  }
+  // A degenerate triangle (its vertices on a line) has no normal: the one against the ray.
+  {
+    scene::Scene s;
+    s.verts = {{0, 0, 0}, {1, 1, 1}, {2, 2, 2}};
+    s.triangles.push_back({{0, 1, 2}, 0});
+    kinds::HitQuery q;
+    q.scene = &s;
+    q.ray = make_ray(Vec3f{0, 0, 0}, Vec3f{0.3f, -0.9f, 0.1f});
+    q.p = {1, 1, 1};
+    const kinds::Surface got = kinds::TriangleKind::surface(q, 0);
+    EXPECT_TRUE(got.ng.x == -q.ray.d.x && got.ng.y == -q.ray.d.y && got.ng.z == -q.ray.d.z);
+  }
+  // Tori: points around the tube (and on its centre circle), against unit_d and unit_or of the
+  // vector from the tube's centre.
+  {
+    scene::Scene s;
+    s.tori.push_back({{3.0, -1.5, 6400000.25}, {0.2, 1.0, -0.3}, 2.0, 0.5, 0});
+    for (int k = 0; k < 400; ++k) {
+      kinds::HitQuery q;
+      q.scene = &s;
+      q.ray = make_ray(Vec3f{0, 0, 0}, Vec3f{0.6f, 0.0f, -0.8f});
+      const auto& t = s.tori[0];
+      const Vec3d w = kinds::TorusKind::unit_axis(t);
+      const Vec3d e = kinds::detail::unit_d(cross(w, Vec3d{1, 0, 0}));
+      const double phi = 6.283185307179586 * u(rng);
+      const Vec3d radial = e * std::cos(phi) + cross(w, e) * std::sin(phi);
+      const Vec3d off{u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5};
+      q.p = t.c + radial * t.R + (k == 0 ? Vec3d{0, 0, 0} : off * (2.0 * t.r));
+      const kinds::Surface got = kinds::TorusKind::surface(q, 0);
+      const Vec3d rel = q.p - t.c;
+      const Vec3d rad = rel - w * dot(rel, w);
+      const double rl = std::sqrt(dot(rad, rad));
+      const Vec3d ring = rl > 0 ? t.c + rad * (t.R / rl) : t.c;
+      const Vec3d n = kinds::detail::unit_d(q.p - ring);
+      kinds::Surface want;
+      want.p = rl > 0 && dot(n, n) > 0 ? ring + n * t.r : q.p;
+      want.ng = want.ns = kinds::detail::unit_or(q.p - ring, -q.ray.d);
+      want.mat = t.mat;
+      expect_same_surface(got, want, "torus point " + std::to_string(k));
+    }
   }
   // Spheres: points around the centre (and at it), against unit_d and unit_or of the radial vector.
   scene::Scene s;

@@ -7,6 +7,8 @@
 #include "bvh/hit.hpp"
 #include "kernels/polygon.hpp"
 
+#include <cmath>
+#include <limits>
 #include <vector>
 
 namespace rb::kinds {
@@ -68,17 +70,23 @@ struct PolygonKind {
     std::vector<std::uint32_t> slot;  // per leaf slot: its slot in soa (UINT32_MAX: padding)
     SlotIds id;                       // per leaf slot: the scene index (UINT32_MAX: padding)
     // Per scene index, what every hit on the polygon needs and each would otherwise recompute from
-    // all its vertices: the unit normal (Newell's, in double) and the extent.
+    // all its vertices: the unit normal (Newell's, in double), the geometric normal in float (NaN
+    // where the polygon has none) and the extent.
     std::vector<Vec3d> unit_normal;
+    std::vector<Vec3f> ng;
     std::vector<double> extent;
     std::size_t bytes() const {
       return soa.bytes() + (slot.size() + id.size()) * sizeof(std::uint32_t) + unit_normal.size() * sizeof(Vec3d) +
-             extent.size() * sizeof(double);
+             ng.size() * sizeof(Vec3f) + extent.size() * sizeof(double);
     }
   };
   static Vec3d unit_normal(const Scene& s, std::uint32_t i) {
     const auto& pg = s.polygons[i];
     return detail::unit_d(newell_normal(s.poly_verts.data() + pg.first, pg.count));
+  }
+  static Vec3f geometric_normal(const Vec3d& unit_normal) {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    return detail::unit_or(unit_normal, Vec3f{nan, nan, nan});
   }
   // ids: the scene index of every leaf slot (UINT32_MAX for padding), in leaf order.
   static void build(Batch& b, const Scene& s, SlotIds ids, const Vec3d& origin, int /*method*/, bool /*f64*/,
@@ -87,8 +95,13 @@ struct PolygonKind {
     for (std::uint32_t p : ids)
       if (p != UINT32_MAX) polys.push_back(vertices(s, p, origin));
     b.unit_normal.resize(s.polygons.size());
+    b.ng.resize(s.polygons.size());
     b.extent.resize(s.polygons.size());
-    for (std::uint32_t i = 0; i < s.polygons.size(); ++i) b.unit_normal[i] = unit_normal(s, i), b.extent[i] = feature(s, i).extent;
+    for (std::uint32_t i = 0; i < s.polygons.size(); ++i) {
+      b.unit_normal[i] = unit_normal(s, i);
+      b.ng[i] = geometric_normal(b.unit_normal[i]);
+      b.extent[i] = feature(s, i).extent;
+    }
     b.id = std::move(ids);
     b.slot.assign(b.id.size(), UINT32_MAX);
     if (polys.empty()) return;
@@ -161,9 +174,11 @@ struct PolygonKind {
     const Vec3d* v = s.poly_verts.data() + pg.first;
     Surface h;
     const auto* b = static_cast<const Batch*>(q.batch);
-    const Vec3d n = b && i < b->unit_normal.size() ? b->unit_normal[i] : unit_normal(s, i);
+    const bool kept = b && i < b->unit_normal.size();
+    const Vec3d n = kept ? b->unit_normal[i] : unit_normal(s, i);
     h.p = detail::onto_plane(q.p, n, v[0]);
-    h.ng = detail::unit_or(n, -q.ray.d);
+    const Vec3f ng = kept ? b->ng[i] : geometric_normal(n);
+    h.ng = std::isnan(ng.x) ? -q.ray.d : ng;
     h.ns = s.poly_normals.empty() ? h.ng : detail::interpolate(v, s.poly_normals.data() + pg.first, pg.count, q.p, h.ng);
     h.mat = pg.mat;
     return h;

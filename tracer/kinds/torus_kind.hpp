@@ -79,9 +79,13 @@ struct TorusKind {
     const double rl = std::sqrt(dot(radial, radial));
     const Vec3d ring = rl > 0 ? t.c + radial * (t.R / rl) : t.c;  // the tube's centre nearest to p
     Surface h;
-    const Vec3d n = detail::unit_d(q.p - ring);
+    // The tube's radial direction normalised once (as the sphere's).
+    const Vec3d v = q.p - ring;
+    const double l = std::sqrt(dot(v, v));
+    const bool unit = l > 0.0 && std::isfinite(l);
+    const Vec3d n = unit ? v * (1.0 / l) : v;
     h.p = rl > 0 && dot(n, n) > 0 ? ring + n * t.r : q.p;
-    h.ng = h.ns = detail::unit_or(q.p - ring, -q.ray.d);
+    h.ng = h.ns = unit ? to_float(n) : -q.ray.d;
     h.mat = t.mat;
     return h;
   }

@@ -92,9 +92,14 @@ struct TriangleKind {
     const auto& tr = s.triangles.at(i);
     const Vec3d v[3] = {s.verts[tr.v[0]], s.verts[tr.v[1]], s.verts[tr.v[2]]};
     Surface h;
-    const Vec3d n = detail::unit_d(cross(v[1] - v[0], v[2] - v[0]));
+    // The normal normalised once: the plane the point is projected onto and the geometric normal
+    // (detail::unit_d, then unit_or of its result, without a second square root).
+    const Vec3d c = cross(v[1] - v[0], v[2] - v[0]);
+    const double l = std::sqrt(dot(c, c));
+    const bool unit = l > 0.0 && std::isfinite(l);
+    const Vec3d n = unit ? c * (1.0 / l) : c;
     h.p = detail::onto_plane(q.p, n, v[0]);
-    h.ng = detail::unit_or(n, -q.ray.d);
+    h.ng = unit ? to_float(n) : -q.ray.d;
     if (s.vert_normals.empty()) {
       h.ns = h.ng;
     } else {
