@@ -85,7 +85,12 @@ RenderOptions spd_options(const scene::Scene& s, int width, int height, int dept
 Vec3f surface_color(const scene::Material& m, const Vec3d& p) {
   if (!(m.checker > 0)) return m.color;
   const double c = double(m.checker);
-  const auto cell = [&](double x) { return static_cast<long long>(std::floor(x / c)); };
+  // Beyond 2^62 cells (and for NaN) a cell counts as even, as every double that large is: no
+  // overflowing cast.
+  const auto cell = [&](double x) {
+    const double f = std::floor(x / c);
+    return std::fabs(f) < 0x1p62 ? static_cast<long long>(f) : 0LL;
+  };
   const long long parity = cell(p.x) + cell(p.y) + cell(p.z);
   return (parity & 1) ? m.color2 : m.color;
 }

@@ -11,6 +11,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -219,6 +220,23 @@ TEST(RenderInput, AbsurdSizesAreRejected) {
   o.width = 8;
   o.depth = 0;
   EXPECT_THROW(Renderer(s, a, o), std::invalid_argument);
+}
+
+// The checker's cells: parity of the cells' sum, odd cells in color2; points far beyond any cell
+// count (2^62 cells and more, where every double is even) and NaN count as even, with no
+// overflowing conversion.
+TEST(RenderInput, CheckerCellsNearAndFar) {
+  scene::Material m;
+  m.checker = 2;
+  m.color = {1, 0, 0};
+  m.color2 = {0, 0, 1};
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const struct { Vec3d p; bool odd; } cases[] = {
+      {{0.5, 0.5, 0.5}, false}, {{2.5, 0.5, 0.5}, true}, {{-0.5, 0.5, 0.5}, true}, {{-2.5, 3.0, 0.5}, true},
+      {{0x1p70, 0.5, 0.5}, false}, {{0x1p70, 2.5, 0.5}, true}, {{-1e300, 0.5, -1.0}, true}, {{nan, 0.5, 0.5}, false},
+      {{nan, 2.5, 0.5}, true}, {{std::numeric_limits<double>::infinity(), 0.5, 0.5}, false}};
+  for (const auto& c : cases)
+    expect_vec(surface_color(m, c.p), c.odd ? m.color2 : m.color, 0);
 }
 
 TEST(RenderInput, EmptySceneIsBackground) {
