@@ -8,6 +8,7 @@
 #include "core/par.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <stdexcept>
 #include <string>
@@ -351,6 +352,18 @@ Ray<float> SceneAccel::frame_ray(const Vec3d& o, const Vec3d& d, double tmin, do
   return make_ray(o - plan_.origin, d, tmin, tmax);
 }
 
+namespace {
+// Each kind's surface rule by Kind, called so that the Surface is built in place where the caller
+// keeps it (a rule picked in a fold over the kinds was built in a temporary and copied whole: wide
+// loads of fields just written one by one, a store-forwarding stall per hit).
+using SurfaceRule = kinds::Surface (*)(const kinds::HitQuery&, std::uint32_t);
+template <class... K>
+constexpr std::array<SurfaceRule, sizeof...(K)> surface_rules(const kinds::KindList<K...>*) {
+  return {&K::surface...};
+}
+constexpr auto kSurfaceRules = surface_rules(static_cast<const AllKinds*>(nullptr));
+}  // namespace
+
 kinds::Surface SceneAccel::surface(const bvh::HitRec& h, const Ray<float>& r) const {
   const std::uint32_t prim = h.prim;
   kinds::HitQuery q;
@@ -362,7 +375,7 @@ kinds::Surface SceneAccel::surface(const bvh::HitRec& h, const Ray<float>& r) co
   q.aux = h.aux;
   const Kind k = kinds::kind_of(prim);
   q.batch = table_.batch[std::size_t(k)];
-  kinds::Surface sf = AllKinds::at<kinds::Surface>(k, [&]<class K>() { return K::surface(q, kinds::index_of(prim)); });
+  kinds::Surface sf = kSurfaceRules[std::size_t(k)](q, kinds::index_of(prim));
   // A primitive stored in float lies within a few roundings of its coordinates (and, for placed
   // ones, of its map's) from the double surface sf.p is on: 8 u (|p| + its extent), frame units,
   // u = 2^-24; one stored in double within as many double roundings (u = 2^-53).
