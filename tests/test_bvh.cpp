@@ -489,6 +489,19 @@ TEST(Surface, ShortcutsGiveTheLongWaysBits) {
     }
 }
 
+// A miss has no surface: the empty one (zero point and normals, material 0), not a call through
+// the kinds' table with a kind that is not there.
+TEST(Surface, AMissHasTheEmptySurface) {
+  const scene::Scene s = scene::lecture_scene("checkerboard");
+  const tracer::SceneAccel a = tracer::SceneAccel::build(s);
+  const Ray<float> r = make_ray(Vec3f{0, 0, 0}, Vec3f{0.3f, -0.9f, 0.1f});
+  const kinds::Surface sf = a.surface({std::numeric_limits<float>::infinity(), bvh::kNoPrim}, r);
+  EXPECT_TRUE(sf.p.x == 0 && sf.p.y == 0 && sf.p.z == 0);
+  EXPECT_TRUE(sf.ng.x == 0 && sf.ng.y == 0 && sf.ng.z == 0 && sf.ns.x == 0 && sf.ns.y == 0 && sf.ns.z == 0);
+  EXPECT_EQ(sf.mat, 0u);
+  EXPECT_EQ(sf.err, 0.0);
+}
+
 // A CSG hit carries the leaf its surface is on (HitRec::aux, the tag of the closest-hit query), so
 // shading does not run the tree's query again. The surface from the carried leaf has the material and
 // the normal (to float rounding: the query run again may round t differently where contraction

@@ -374,6 +374,7 @@ kinds::Surface SceneAccel::surface(const bvh::HitRec& h, const Ray<float>& r) co
   q.p = world_point(r, h.t);
   q.aux = h.aux;
   const Kind k = kinds::kind_of(prim);
+  if (std::size_t(k) >= kSurfaceRules.size()) return {};  // a miss, or a code of no kind
   q.batch = table_.batch[std::size_t(k)];
   kinds::Surface sf = kSurfaceRules[std::size_t(k)](q, kinds::index_of(prim));
   // A primitive stored in float lies within a few roundings of its coordinates (and, for placed

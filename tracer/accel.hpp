@@ -70,7 +70,7 @@ class SceneAccel {
     return plan_.origin + to_double(r.o) + to_double(r.d) * double(t);
   }
   // The surface of the hit h (its primitive, bvh::prim_code, at h.t, with what the kernel kept in
-  // h.aux) of the frame ray r.
+  // h.aux) of the frame ray r; for a miss (bvh::kNoPrim) the empty Surface (zero normals).
   kinds::Surface surface(const bvh::HitRec& h, const Ray<float>& r) const;
   // Where a secondary ray leaving the surface along `dir` (unit, frame = world directions) starts,
   // by the plan's spawn scheme: the hit point in frame coordinates moved off the surface on the
