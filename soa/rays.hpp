@@ -55,8 +55,7 @@ struct RaySoA {
   void resize(std::size_t n) {
     for (auto* a : arrays()) a->resize(round_up(std::max<std::size_t>(n, 1), kPadLanes));
     count = n;
-    const Ray<float> invalid = make_ray(Vec3f{0, 0, 0}, Vec3f{0, 0, 0});
-    for (std::size_t i = n; i < size(); ++i) set(i, invalid);
+    for (std::size_t i = n; i < size(); ++i) set(i, invalid());
   }
   RB_INLINE void set(std::size_t i, const Ray<float>& r) {
     ox[i] = r.o.x, oy[i] = r.o.y, oz[i] = r.o.z;
@@ -84,9 +83,10 @@ struct RaySoA {
   void trim_padding() {
     for (auto* a : arrays()) a->resize(count);
   }
+  // The padding rows' ray: the invalid ray (make_ray of a zero direction), a defined miss.
+  static Ray<float> invalid() { return make_ray(Vec3f{0, 0, 0}, Vec3f{0, 0, 0}); }
   void pad() {
-    const Ray<float> invalid = make_ray(Vec3f{0, 0, 0}, Vec3f{0, 0, 0});
-    while (ox.size() % kPadLanes) put(invalid);
+    while (ox.size() % kPadLanes) put(invalid());
   }
 };
 
