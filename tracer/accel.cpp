@@ -366,35 +366,41 @@ constexpr auto kSurfaceRules = surface_rules(static_cast<const AllKinds*>(nullpt
 
 kinds::Surface SceneAccel::surface(const bvh::HitRec& h, const Ray<float>& r) const {
   const std::uint32_t prim = h.prim;
-  kinds::HitQuery q;
-  q.scene = scene_;
-  q.origin = plan_.origin;
-  q.ray = r;
-  q.t = h.t;
-  q.p = world_point(r, h.t);
-  q.aux = h.aux;
   const Kind k = kinds::kind_of(prim);
   if (std::size_t(k) >= kSurfaceRules.size()) return {};  // a miss, or a code of no kind
-  q.batch = table_.batch[std::size_t(k)];
-  kinds::Surface sf = kSurfaceRules[std::size_t(k)](q, kinds::index_of(prim));
-  // A primitive stored in float lies within a few roundings of its coordinates (and, for placed
-  // ones, of its map's) from the double surface sf.p is on: 8 u (|p| + its extent), frame units,
-  // u = 2^-24; one stored in double within as many double roundings (u = 2^-53).
-  // The primitive's extent: the kind's own shortcut where it has one (kept in its batch, or fewer
-  // square roots), else its feature's.
-  const double ext = AllKinds::at<double>(k, [&]<class K>() {
-    if constexpr (requires { K::extent(q, 0u); }) return K::extent(q, kinds::index_of(prim));
-    else return K::feature(*scene_, kinds::index_of(prim)).extent;
-  });
-  const Vec3d pf = sf.p - plan_.origin;
-  const bool apart = stored_apart(k, kinds::index_of(prim));
-  const double u = plan_.kinds[std::size_t(k)].f64_storage || (apart && !plan_.kinds[std::size_t(k)].split_local) ? 0x1p-53 : 0x1p-24;
-  // In a local frame, the coordinates rounded are those relative to the leaf's origin (at most the
-  // batch's reach): the double error of its deep leaves is far below that bound.
-  const double mag = apart && plan_.kinds[std::size_t(k)].split_local ? apart_reach(k)
-                                                                       : std::max({std::fabs(pf.x), std::fabs(pf.y), std::fabs(pf.z)});
-  sf.err = 8 * u * (mag + (std::isfinite(ext) ? ext : 0.0));
-  return sf;
+  // The hit's surface, built where the caller keeps it: one named Surface returned from a body with
+  // no other return, so that the rule writes it in place (with the miss's return beside it, the
+  // compiler built it in a temporary and copied it whole: wide loads of fields the rule had just
+  // written one by one, a store-forwarding stall per hit).
+  return [&] {
+    kinds::HitQuery q;
+    q.scene = scene_;
+    q.origin = plan_.origin;
+    q.ray = r;
+    q.t = h.t;
+    q.p = world_point(r, h.t);
+    q.aux = h.aux;
+    q.batch = table_.batch[std::size_t(k)];
+    kinds::Surface sf = kSurfaceRules[std::size_t(k)](q, kinds::index_of(prim));
+    // A primitive stored in float lies within a few roundings of its coordinates (and, for placed
+    // ones, of its map's) from the double surface sf.p is on: 8 u (|p| + its extent), frame units,
+    // u = 2^-24; one stored in double within as many double roundings (u = 2^-53).
+    // The primitive's extent: the kind's own shortcut where it has one (kept in its batch, or fewer
+    // square roots), else its feature's.
+    const double ext = AllKinds::at<double>(k, [&]<class K>() {
+      if constexpr (requires { K::extent(q, 0u); }) return K::extent(q, kinds::index_of(prim));
+      else return K::feature(*scene_, kinds::index_of(prim)).extent;
+    });
+    const Vec3d pf = sf.p - plan_.origin;
+    const bool apart = stored_apart(k, kinds::index_of(prim));
+    const double u = plan_.kinds[std::size_t(k)].f64_storage || (apart && !plan_.kinds[std::size_t(k)].split_local) ? 0x1p-53 : 0x1p-24;
+    // In a local frame, the coordinates rounded are those relative to the leaf's origin (at most
+    // the batch's reach): the double error of its deep leaves is far below that bound.
+    const double mag = apart && plan_.kinds[std::size_t(k)].split_local ? apart_reach(k)
+                                                                         : std::max({std::fabs(pf.x), std::fabs(pf.y), std::fabs(pf.z)});
+    sf.err = 8 * u * (mag + (std::isfinite(ext) ? ext : 0.0));
+    return sf;
+  }();
 }
 
 SceneAccel::SpawnBase SceneAccel::spawn_base(const kinds::Surface& sf) const {
