@@ -15,22 +15,32 @@ namespace rb::app {
 
 using nlohmann::json;
 
-json trace_rays_alone(const tracer::SceneAccel& accel, const tracer::RayFile& f, int threads, int repetitions, double min_time,
-                      int lanes, const std::function<void(double)>& progress) {
-  constexpr std::size_t kChunk = 256;  // a multiple of every packet size
-  const std::size_t k_sections = f.sections.size();
-  std::vector<RaySoA> soa(k_sections);
-  for (std::size_t k = 0; k < k_sections; ++k) {
-    soa[k].reserve(f.sections[k].rays.size());
-    for (const auto& r : f.sections[k].rays) soa[k].push(r);
+struct RaysAlone::State {
+  static constexpr std::size_t kChunk = 256;  // a multiple of every packet size
+  const tracer::SceneAccel& accel;
+  const tracer::RayFile& f;
+  int threads, lanes;
+  std::vector<RaySoA> soa;
+  std::vector<std::vector<bvh::HitRec>> out;
+  std::vector<double> section_s;  // over the timed passes
+  trace::ThreadScope ts;
+  std::vector<double> seconds;
+  std::vector<int> passes;
+  int timed_passes = 0;
+  double min_time = 0;
+
+  State(const tracer::SceneAccel& a, const tracer::RayFile& file, int t, int l)
+      : accel(a), f(file), threads(t), lanes(l), soa(file.sections.size()), out(file.sections.size()),
+        section_s(file.sections.size(), 0.0), ts(t) {
+    for (std::size_t k = 0; k < f.sections.size(); ++k) {
+      soa[k].reserve(f.sections[k].rays.size());
+      for (const auto& r : f.sections[k].rays) soa[k].push(r);
+    }
   }
-  std::vector<std::vector<bvh::HitRec>> out(k_sections);
-  std::vector<double> section_s(k_sections, 0.0);
-  trace::ThreadScope ts(threads);
   // One pass: every section traced in turn, each with its packet size and query; its seconds.
-  auto pass = [&](bool count) {
+  double pass(bool count) {
     double total = 0;
-    for (std::size_t k = 0; k < k_sections; ++k) {
+    for (std::size_t k = 0; k < f.sections.size(); ++k) {
       tracer::TraceOptions to;
       to.packet = f.sections[k].packet;
       to.any = f.sections[k].any;
@@ -41,47 +51,67 @@ json trace_rays_alone(const tracer::SceneAccel& accel, const tracer::RayFile& f,
       total += s;
     }
     return total;
-  };
-  pass(false);  // untimed: caches, pages, the threads' start
-  std::vector<double> seconds;
-  std::vector<int> passes;
-  int timed_passes = 0;
-  for (int r = 0; r < std::max(1, repetitions); ++r) {
-    double sum = 0;
-    int p = 0;
-    do {
-      sum += pass(true);
-      ++p;
-    } while (sum < min_time && p < 1000);
-    seconds.push_back(sum / p);
-    passes.push_back(p);
-    timed_passes += p;
-    if (progress) progress(double(r + 1) / std::max(1, repetitions));
   }
-  const std::size_t n = f.rays();
-  const stats::Summary sm = stats::summarize(seconds);
-  json secs = json::array();
-  for (std::size_t k = 0; k < k_sections; ++k) {
-    const tracer::RaySection& s = f.sections[k];
+};
+
+RaysAlone::RaysAlone(const tracer::SceneAccel& accel, const tracer::RayFile& f, int threads, int lanes)
+    : s_(std::make_unique<State>(accel, f, threads, lanes)) {
+  s_->pass(false);  // untimed: caches, pages, the threads' start
+}
+
+RaysAlone::~RaysAlone() = default;
+
+double RaysAlone::repetition(double min_time) {
+  State& st = *s_;
+  double sum = 0;
+  int p = 0;
+  do {
+    sum += st.pass(true);
+    ++p;
+  } while (sum < min_time && p < 1000);
+  st.seconds.push_back(sum / p);
+  st.passes.push_back(p);
+  st.timed_passes += p;
+  st.min_time = min_time;
+  return sum / p;
+}
+
+json RaysAlone::figures() const {
+  const State& st = *s_;
+  const std::size_t n = st.f.rays();
+  const stats::Summary sm = stats::summarize(st.seconds);
+  nlohmann::json secs = nlohmann::json::array();
+  for (std::size_t k = 0; k < st.f.sections.size(); ++k) {
+    const tracer::RaySection& s = st.f.sections[k];
     std::size_t hits = 0;
-    for (std::size_t i = 0; i < s.rays.size(); ++i) hits += out[k][i].prim != bvh::kNoPrim;
-    const double ms = 1e3 * section_s[k] / std::max(1, timed_passes);
+    for (std::size_t i = 0; i < s.rays.size(); ++i) hits += st.out[k][i].prim != bvh::kNoPrim;
+    const double ms = 1e3 * st.section_s[k] / std::max(1, st.timed_passes);
     tracer::TraceOptions to;
     to.packet = s.packet;
-    to.lanes = lanes;
+    to.lanes = st.lanes;
     secs.push_back({{"kind", s.kind}, {"generation", s.generation}, {"query", s.any ? "any" : "closest"}, {"packet", s.packet},
-                    {"lanes", accel.group_lanes(to)}, {"rays", s.rays.size()}, {"hits", hits}, {"ms", ms},
+                    {"lanes", st.accel.group_lanes(to)}, {"rays", s.rays.size()}, {"hits", hits}, {"ms", ms},
                     {"mrays_per_s", ms > 0 ? double(s.rays.size()) / (ms * 1e3) : 0.0}});
   }
   return {{"rays", n},
-          {"threads", threads},
-          {"seconds", seconds},
-          {"passes", passes},
-          {"min_time", min_time},
+          {"threads", st.threads},
+          {"seconds", st.seconds},
+          {"passes", st.passes},
+          {"min_time", st.min_time},
           {"ms", 1e3 * sm.median},
           {"mrays_per_s", sm.median > 0 ? double(n) / sm.median / 1e6 : 0.0},
-          {"cv", std::isfinite(sm.cv) ? json(sm.cv) : json(nullptr)},
+          {"cv", std::isfinite(sm.cv) ? nlohmann::json(sm.cv) : nlohmann::json(nullptr)},
           {"sections", secs}};
+}
+
+json trace_rays_alone(const tracer::SceneAccel& accel, const tracer::RayFile& f, int threads, int repetitions, double min_time,
+                      int lanes, const std::function<void(double)>& progress) {
+  RaysAlone alone(accel, f, threads, lanes);
+  for (int r = 0; r < std::max(1, repetitions); ++r) {
+    alone.repetition(min_time);
+    if (progress) progress(double(r + 1) / std::max(1, repetitions));
+  }
+  return alone.figures();
 }
 
 json run_trace_file(const std::string& scene, const std::string& file, const std::string& model, int threads, int repetitions,

@@ -26,9 +26,12 @@ struct RenderRunOptions {
   int repetitions = 1;          // timed renders; the median is quoted (the command line: 5)
   double min_time = 0;          // seconds a timed repetition lasts at least: renders repeated within it (the command line: 0.1)
   // One more render, untimed, keeps the rays it traces: written to `rays_out` ("": not written) and,
-  // with `trace_alone`, traced alone (apps/rays_alone.hpp) as often as the render was timed.
+  // with `trace_alone`, traced alone (apps/rays_alone.hpp) after each timed repetition, as long.
   std::string rays_out;
   bool trace_alone = false;     // (the command line: on; --no-trace-alone)
+  // > 0: about this many primary rays of the scene (tracer::RaySet::primary, 8-ray packets, the
+  // closest hit) traced after each timed repetition, as long: render / primary in paired rounds.
+  std::size_t primary_rays = 0;
 };
 
 }  // namespace rb::app

@@ -7,6 +7,7 @@
 #include "apps/rays_alone.hpp"
 #include "apps/results/stats.hpp"
 #include "tracer/parallel.hpp"
+#include "tracer/ray_sets.hpp"
 #include "scene/sources.hpp"
 #ifdef RB_HAVE_MPI
 #include "render/mpi.hpp"
@@ -20,6 +21,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 #include <utility>
 
@@ -88,7 +90,8 @@ struct RenderTimes {
   render::RenderStats st;
   json trial_rows = json::array();
   json machine_load;
-  json alone;  // the render's rays traced alone (o.trace_alone), null otherwise
+  json alone;    // the render's rays traced alone (o.trace_alone), null otherwise
+  json primary;  // the scene's primary rays traced (o.primary_rays), null otherwise
   int trials = 0;
   int ranks = 1;
   bool rank0 = true;
@@ -138,10 +141,11 @@ RenderTimes time_renders(const RenderRunOptions& o, const scene::Scene& s, const
   ProgressBar bar(fmt::format("render {}", o.scene), show ? ProgressBar::Mode::automatic : ProgressBar::Mode::off);
   const bool count = ro.count_tests;
   ro.count_tests = false;
-  const int warmup = std::max(0, o.warmup), untimed = warmup + trials;
+  const int warmup = std::max(0, o.warmup), untimed = warmup + trials, reps = std::max(1, o.repetitions);
   // Keeping the rays needs every tile in this process.
   const bool keep = (o.trace_alone || !o.rays_out.empty()) && out.ranks == 1;
-  const int timed_end = untimed + std::max(1, o.repetitions), runs = timed_end + (count ? 1 : 0) + (keep ? 2 : 0);
+  const bool alone = keep && o.trace_alone, primary = o.primary_rays > 0 && out.ranks == 1;
+  const int runs = untimed + (keep ? 1 : 0) + reps * (1 + (alone ? 1 : 0) + (primary ? 1 : 0)) + (count ? 1 : 0);
   int run = 0;
   auto progress = [&](std::size_t done, std::size_t total) {
     bar.update((double(run) + double(done) / double(std::max<std::size_t>(1, total))) / double(runs));
@@ -156,26 +160,12 @@ RenderTimes time_renders(const RenderRunOptions& o, const scene::Scene& s, const
     return render::render_tiles(r, out.samples, o.threads, 0, 1, progress);
   };
   const LoadWatch watch;
-  for (run = 0; run < timed_end; ++run) {
-    const bool trial = run >= warmup && run < untimed;
+  for (run = 0; run < untimed; ++run) {
+    const bool trial = run >= warmup;
     const std::size_t e = std::size_t(run - warmup) % eye_sizes.size(), k = std::size_t(run - warmup) % sec_sizes.size(),
                       q = std::size_t(run - warmup) % esh_sizes.size();
     if (trial) ro.eye_packet = eye_sizes[e], ro.secondary_packet = sec_sizes[k], ro.eye_shadow_packet = esh_sizes[q];
-    if (run == untimed && trials > 0) {
-      ro.eye_packet = fastest(eye_sizes, eye_s);
-      ro.secondary_packet = fastest(sec_sizes, sec_s);
-      ro.eye_shadow_packet = fastest(esh_sizes, esh_s);
-    }
-    const auto t1 = std::chrono::steady_clock::now();
     out.st = render_once();
-    if (run >= untimed) {
-      // A timed repetition renders the image again until it has lasted o.min_time: a short render
-      // is timed over several, not one at the clock's and the scheduler's mercy.
-      int passes = 1;
-      for (; ms_since(t1) < 1e3 * o.min_time && passes < 1000; ++passes) out.st = render_once();
-      out.trace_seconds.push_back(ms_since(t1) / 1e3 / passes);
-      out.passes.push_back(passes);
-    }
     if (trial) {
       eye_s[e] = std::min(eye_s[e], out.st.eye_trace_s);
       sec_s[k] = std::min(sec_s[k], out.st.secondary_trace_s);
@@ -188,29 +178,80 @@ RenderTimes time_renders(const RenderRunOptions& o, const scene::Scene& s, const
                                 {"secondary_trace_ms", 1e3 * out.st.secondary_trace_s}});
     }
   }
+  if (trials > 0) {
+    ro.eye_packet = fastest(eye_sizes, eye_s);
+    ro.secondary_packet = fastest(sec_sizes, sec_s);
+    ro.eye_shadow_packet = fastest(esh_sizes, esh_s);
+  }
+  // The rays of one render with the chosen packets, kept (untimed) before the timed renders, so that
+  // tracing them alone can alternate with the renders.
+  tracer::RayFile kept;
+  std::unique_ptr<RaysAlone> rays_alone;
+  if (keep) {
+    ro.keep_rays = true;
+    const render::RenderStats st = render_once();
+    ro.keep_rays = false;
+    kept = render::Renderer(s, accel, ro).kept_rays(st);
+    kept.scene = o.scene;
+    kept.model = o.model;
+    kept.origin = accel.plan().origin;
+    if (!o.rays_out.empty()) tracer::write_ray_file(o.rays_out, kept);
+    // At the render's own width (render::kRenderLanes).
+    if (alone) rays_alone = std::make_unique<RaysAlone>(accel, kept, o.threads, render::kRenderLanes);
+    ++run;
+  }
+  // The scene's primary rays (the trace command's primary set, 8-ray packets, the closest hit),
+  // the cheapest rays there are, timed after each render as its rays alone are.
+  tracer::RayFile primary_rays;
+  std::unique_ptr<RaysAlone> primary_alone;
+  if (primary) {
+    const RaySoA r = tracer::make_rays(s, accel, tracer::RaySet::primary, o.primary_rays, 1);
+    tracer::RaySection eye{"eye", 1, false, 8, {}};
+    eye.rays.reserve(r.count);
+    for (std::size_t i = 0; i < r.count; ++i) eye.rays.push_back(r.get(i));
+    primary_rays.sections.push_back(std::move(eye));
+    primary_alone = std::make_unique<RaysAlone>(accel, primary_rays, o.threads, render::kRenderLanes);
+  }
+  std::vector<double> alone_seconds, primary_seconds;
+  for (int rep = 0; rep < reps; ++rep, ++run) {
+    // A timed repetition renders the image again until it has lasted o.min_time: a short render
+    // is timed over several, not one at the clock's and the scheduler's mercy.
+    const auto t1 = std::chrono::steady_clock::now();
+    out.st = render_once();
+    int passes = 1;
+    for (; ms_since(t1) < 1e3 * o.min_time && passes < 1000; ++passes) out.st = render_once();
+    out.trace_seconds.push_back(ms_since(t1) / 1e3 / passes);
+    out.passes.push_back(passes);
+    if (rays_alone) {  // then its rays alone, in the same stretch of the machine's time
+      ++run;
+      progress(0, 1);
+      alone_seconds.push_back(rays_alone->repetition(o.min_time));
+    }
+    if (primary_alone) {
+      ++run;
+      progress(0, 1);
+      primary_seconds.push_back(primary_alone->repetition(o.min_time));
+    }
+  }
   if (count) {
     ro.count_tests = true;
     out.st.cost = render_once().cost;
   }
-  if (keep) {
-    ++run;
-    ro.keep_rays = true;
-    const render::RenderStats kept = render_once();
-    ro.keep_rays = false;
-    tracer::RayFile f = render::Renderer(s, accel, ro).kept_rays(kept);
-    f.scene = o.scene;
-    f.model = o.model;
-    f.origin = accel.plan().origin;
-    if (!o.rays_out.empty()) tracer::write_ray_file(o.rays_out, f);
-    ++run;
-    if (o.trace_alone) {
-      // At the render's own width (render::kRenderLanes).
-      out.alone = trace_rays_alone(accel, f, o.threads, o.repetitions, o.min_time, render::kRenderLanes,
-                                   [&](double x) { progress(std::size_t(1e3 * x), 1000); });
-      // The render's rate over the rate of the same rays traced alone, counted as the render counts
-      // them: the traced-alone seconds over the render's, a ratio of medians with its interval.
-      out.alone["render_over_alone"] = stats::interval_json(stats::unpaired_ratio(out.alone["seconds"].get<std::vector<double>>(), out.trace_seconds));
-    }
+  if (rays_alone) {
+    out.alone = rays_alone->figures();
+    // The render's rate over the rate of the same rays traced alone, counted as the render counts
+    // them: the traced-alone seconds over the render's, repetition by repetition (each pair timed
+    // back to back), a ratio of medians with its interval.
+    out.alone["render_over_alone"] = stats::interval_json(stats::paired_ratio(alone_seconds, out.trace_seconds));
+  }
+  if (primary_alone) {
+    out.primary = primary_alone->figures();
+    // The render's rate per ray over the primary rays' rate: the rounds' time ratios (primary over
+    // render, each pair back to back) scaled by the rays each traced.
+    stats::RatioInterval r = stats::paired_ratio(primary_seconds, out.trace_seconds);
+    const double per = double(out.st.rays()) / double(std::max<std::size_t>(1, primary_rays.rays()));
+    r.ratio *= per, r.lo *= per, r.hi *= per;
+    out.primary["render_over_primary"] = stats::interval_json(r);
   }
   out.machine_load = watch.json();
   bar.done();
@@ -343,6 +384,7 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
   j["time_split"] = time_split(st);
   if (!o.rays_out.empty() && rt.ranks == 1) j["rays_file"] = o.rays_out;
   if (!rt.alone.is_null()) j["alone"] = rt.alone;
+  if (!rt.primary.is_null()) j["primary"] = rt.primary;
   else if (o.trace_alone) j["alone"] = {{"skipped", "under MPI a rank renders only its own tiles"}};
   j["time_split"]["render_ms"] = 1e3 * rt.trace_seconds.back();  // the render the split is of: the last timed one
   if (!o.out.empty()) j["image"] = o.out;
@@ -462,6 +504,14 @@ std::string render_text(const json& j) {
                                 "tracing alone takes over the render's time: 1 would be a render that only traces)",
                                 a["rays"].get<std::size_t>(), a["sections"].size(), a["ms"].get<double>(), a["mrays_per_s"].get<double>(),
                                 stats::interval_text(stats::interval_from_json(a["render_over_alone"]))),
+                    80, "  ");
+  }
+  if (j.contains("primary") && j["primary"].contains("ms")) {
+    const json& p = j["primary"];
+    t += wrap_words(fmt::format("the scene's primary rays (--primary-rays, 8-ray packets, the closest hit): {} rays, {:.1f} ms "
+                                "per pass, {:.2f} Mrays/s; render / primary {} per ray (each timed render followed by them)",
+                                p["rays"].get<std::size_t>(), p["ms"].get<double>(), p["mrays_per_s"].get<double>(),
+                                stats::interval_text(stats::interval_from_json(p["render_over_primary"]))),
                     80, "  ");
   }
   if (j.contains("rays_file")) t += fmt::format("wrote the rays traced to {}\n", j["rays_file"].get<std::string>());

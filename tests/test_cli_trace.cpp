@@ -165,11 +165,13 @@ TEST(Cli, TraceComparesWithEmbreesBestModeAndEmbreesTree) {
 
 // A render's own rays: `render --rays-out` writes them, `trace --rays FILE` traces them alone, each
 // section with the render's packet size and query, and meets what the render met; the render's JSON
-// gives the same rays traced alone with render / alone (their time over the render's).
+// gives the same rays traced alone with render / alone (their time over the render's), and with
+// --primary-rays the scene's primary rays with render / primary, both from paired rounds (each
+// timed render followed by the others).
 TEST(Cli, RenderRaysTracedAloneByTrace) {
   Scratch s("trace-rays");
   const Outcome r = run_in(s.dir, "render lecture:nine_red_balls --width 32 -r 2 --warmup 0 --min-time 0 --eye-packet 16 "
-                                  "--secondary-packet 8 -o a.png --rays-out a.rays --json r.json");
+                                  "--secondary-packet 8 -o a.png --rays-out a.rays --primary-rays 1000 --json r.json");
   ASSERT_EQ(r.status, 0) << r.err;
   const nlohmann::json rj = nlohmann::json::parse(slurp(s / "r.json"));
   const auto& alone = rj["alone"];
@@ -177,6 +179,17 @@ TEST(Cli, RenderRaysTracedAloneByTrace) {
   EXPECT_EQ(alone["seconds"].size(), 2u);
   EXPECT_TRUE(alone["render_over_alone"]["ratio"].is_number()) << alone;
   EXPECT_GT(alone["render_over_alone"]["ratio"].get<double>(), 0.0);
+  EXPECT_EQ(alone["render_over_alone"]["rounds"], 2) << alone;
+  EXPECT_TRUE(has(alone["render_over_alone"]["method"].get<std::string>(), "paired rounds")) << alone;
+  const auto& primary = rj["primary"];
+  ASSERT_TRUE(primary.contains("render_over_primary")) << rj;
+  EXPECT_EQ(primary["seconds"].size(), 2u);
+  EXPECT_EQ(primary["render_over_primary"]["rounds"], 2) << primary;
+  EXPECT_GT(primary["render_over_primary"]["ratio"].get<double>(), 0.0);
+  // About 1000 rays: the primary set's image of about that many pixels.
+  EXPECT_GT(primary["rays"].get<std::size_t>(), 800u);
+  EXPECT_LT(primary["rays"].get<std::size_t>(), 1200u);
+  EXPECT_TRUE(has(r.out, "render / primary")) << r.out;
   EXPECT_EQ(rj["rays_file"], "a.rays");
   const Outcome t = run_in(s.dir, "trace lecture:nine_red_balls --rays a.rays -r 2 --min-time 0 --json t.json");
   ASSERT_EQ(t.status, 0) << t.err;

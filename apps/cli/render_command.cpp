@@ -62,8 +62,13 @@ class RenderCommand final : public Command {
            "Write the rays one more render traces (each\ngeneration's rays and shadow rays, as traced)\nto FILE, "
            "for `raybench trace SCENE --rays FILE`");
     sub_->add_flag("!--no-trace-alone", rdo.trace_alone,
-                   "Skip tracing the render's own rays alone (by\ndefault they are, after one more render, as\noften as the "
-                   "render was timed: the share of\nthe render that is tracing)");
+                   "Skip tracing the render's own rays alone (by\ndefault one more render keeps them and each\ntimed render "
+                   "is followed by as long a time\ntracing them alone: the share of the render\nthat is tracing)");
+    sub_->add_option("--primary-rays", rdo.primary_rays,
+                     "Also trace about N primary rays of the scene\n(8-ray packets, the closest hit) after each\ntimed render, "
+                     "as long: the render's rate per\nray against the cheapest rays' (0: not)")
+        ->check(CLI::Range(std::size_t(0), std::size_t(1) << 26))
+        ->capture_default_str();
     json_option("Write the result as JSON to FILE\n(no FILE: stdout instead of the summary)");
     history_option();
     sub_->footer(

@@ -7,7 +7,6 @@
 #include "apps/report/report_doc.hpp"
 #include "apps/report/report_sections.hpp"
 #include "apps/results/stats.hpp"
-#include "apps/trace_run.hpp"
 #include "scene/csg_scene.hpp"
 #include "scene/sources.hpp"
 
@@ -96,10 +95,16 @@ std::string render_spd_tables(const std::vector<json>& spd) {
   return md;
 }
 
-// A render's rate per ray over its scene's primary-ray tracing rate: the ratio of medians with the
-// 95 % interval of two samples measured apart (the timed renders against the timed traces); with one
-// sample a side (--quick) or from a record without the samples, the ratio alone, which decides nothing.
+// A render's rate per ray over its scene's primary-ray tracing rate: from the render's paired rounds
+// (`raybench render --primary-rays`: primary.render_over_primary); in a record of an older report,
+// the ratio of medians with the 95 % interval of two samples measured apart (the timed renders
+// against the timed traces); with one sample a side (--quick) or from a record without the samples,
+// the ratio alone, which decides nothing.
 stats::RatioInterval render_over_primary(const json& j) {
+  if (j.contains("primary") && j["primary"].contains("render_over_primary")) {
+    const stats::RatioInterval r = stats::interval_from_json(j["primary"]["render_over_primary"]);
+    if (std::isfinite(r.ratio)) return r;
+  }
   auto rates = [](const json& secs, double rays) {
     std::vector<double> v;
     for (const auto& x : secs)
@@ -122,12 +127,13 @@ stats::RatioInterval render_over_primary(const json& j) {
 std::string render_time_table(int threads, std::initializer_list<const std::vector<json>*> groups, json& summary) {
   std::string md;
   md += fmt::format("\n### Time and throughput ({} threads)\n\nPreprocessing is the scene's generation and the BVH build; tracing "
-                    "is every ray of the image (eye, reflection, refraction, shadow) through the plain traversal, the median of 5 "
+                    "is every ray of the image (eye, reflection, refraction, shadow) through the plain traversal, the median of 6 "
                     "timed renders, each repeated until it lasted 0.1 s; the test counts above come from one more render, untimed, "
-                    "through the counting traversal. The last column divides the render's rate (all rays) by the primary-ray rate "
-                    "of `raybench trace SCENE --rays primary --packet 8 --threads {} --count 262144 --no-embree -r 5` in the same "
-                    "run: the ratio of the medians with its 95 % interval (the two samples measured apart: the Mann-Whitney "
-                    "interval). Packets: the eye rays', their shadow rays' and the other rays' packet size, each the fastest in the trial renders.\n\n"
+                    "through the counting traversal. The last column divides the render's rate (all rays) by the rate of the scene's "
+                    "primary rays (as many as the image has pixels, `raybench trace`'s primary set, in 8-ray packets on {} threads), "
+                    "each timed render followed by those rays traced for as long (`raybench render SCENE --primary-rays N`): the "
+                    "median of the rounds' ratios with its 95 % interval (the sign test's), paired rounds that a change of the "
+                    "machine's load falls on alike. Packets: the eye rays', their shadow rays' and the other rays' packet size, each the fastest in the trial renders.\n\n"
                     "| scene | rays | packets (eye / eye shadow / others) | load ms | BVH ms | trace ms | Mrays/s | primary trace Mrays/s | "
                     "render / primary | >= 0.5 |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---|\n", threads, threads);
   int met = 0, below = 0, undecided = 0, all = 0;
@@ -165,12 +171,13 @@ std::string render_alone_table(std::initializer_list<const std::vector<json>*> g
   std::string md =
       "\n### The render against its own rays traced alone\n\n"
       "One more render, untimed, keeps every ray it traces (each generation's rays and shadow rays, in the order and the "
-      "packets it traced them, shadow rays past transmitting occluders included); then those rays are traced alone, section "
-      "by section with the render's packet size and query and nothing else (no ray making, packing or shading), as often and "
-      "as long as the render was timed (`raybench render SCENE --rays-out FILE`, then `raybench trace SCENE --rays FILE`, "
-      "does the same from a file). render / alone is the time tracing alone takes over the render's time (the render's rate "
-      "over the rate of its own rays traced alone, both counted as the render counts them), with the 95 % interval of the two "
-      "samples measured apart; 1 would be a render that does nothing but trace.\n\n"
+      "packets it traced them, shadow rays past transmitting occluders included); then each timed repetition of the render "
+      "is followed by one as long of those rays traced alone, section by section with the render's packet size and query and "
+      "nothing else (no ray making, packing or shading): paired rounds, so a change of the machine's load falls on both sides "
+      "(`raybench render SCENE --rays-out FILE`, then `raybench trace SCENE --rays FILE`, traces a file's rays alone). "
+      "render / alone is the time tracing alone takes over the render's time (the render's rate over the rate of its own rays "
+      "traced alone, both counted as the render counts them): the median of the rounds' ratios with its 95 % interval (the "
+      "sign test's); 1 would be a render that does nothing but trace.\n\n"
       "| scene | render ms | rays traced alone | alone ms | alone Mrays/s | render / alone | >= 0.8 |\n|---|---:|---:|---:|---:|---:|---|\n";
   int met = 0, below = 0, undecided = 0, all = 0;
   for (const auto* group : groups)
@@ -262,9 +269,12 @@ std::string report_section_render(const ReportOptions& o, Record& rec, const fs:
     ro.width = ro.height = size;
     ro.warmup = 1;  // so that the first trial render of the packet sizes does not pay the cold start
     ro.count_tests = true;  // the tables' test counts, from one more render (untimed)
-    ro.repetitions = 5;     // the ratio to primary tracing gets its interval from 5 against 5
+    // Paired rounds: each timed render followed by its own rays traced alone and by the scene's
+    // primary rays, each as long; 6 rounds give the ratios' sign-test intervals 96.9 % coverage.
+    ro.repetitions = 6;
     ro.min_time = 0.1;
-    ro.trace_alone = alone;  // its own rays traced alone, as often as the render was timed
+    ro.trace_alone = alone;
+    ro.primary_rays = std::size_t(size) * std::size_t(size);
     if (o.quick) {  // the layout only: one render, the usual packet sizes, no trials
       ro.repetitions = 1;
       ro.min_time = 0;
@@ -273,20 +283,8 @@ std::string report_section_render(const ReportOptions& o, Record& rec, const fs:
       ro.secondary_packet = 8;
     }
     json j = run_render(ro, nullptr);
-    TraceRunOptions t;
-    t.scene = src;
-    t.ray_set = "primary";
-    t.threads = threads;
-    t.packet = 8;
-    t.count = std::size_t(size) * std::size_t(size);
-    t.repetitions = o.quick ? 1 : 5;
-    t.min_time = o.quick ? 0.0 : 0.1;
-    t.brute_rays = 0;
-    t.embree = false;
-    const json tj = run_trace(t, false);
-    j["trace_primary_mrays_per_s"] = tj["mrays_per_s"];
-    j["trace_primary_rays"] = tj["rays"];
-    j["trace_primary_seconds"] = tj["seconds"];
+    j["trace_primary_mrays_per_s"] = j["primary"]["mrays_per_s"];
+    j["trace_primary_rays"] = j["primary"]["rays"];
     j["png"] = png;
     return j;
   };
