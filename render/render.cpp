@@ -64,6 +64,7 @@ struct Renderer::Work {
   std::vector<std::size_t> buckets;   // and where each begins
   std::vector<std::uint32_t> light;   // the light of each shadow ray being traced
   std::vector<float> pass;
+  avec<double> dx, dy, dz;  // the eye rays' directions (world), before they are made
   std::vector<std::uint32_t> live, more_live;
   RaySoA soa;
   HitLanes lanes;  // the generation's hits, shaded in lanes
@@ -142,30 +143,30 @@ Renderer::Renderer(const scene::Scene& s, const tracer::SceneAccel& a, const Ren
 // Eye rays, row-major in the tile: neighbours on a row (and the rows below them) form a packet. NFF's hither plane is for
 // scan converters: not used. Made eight at a time (each the frame_ray of its direction, bit for bit)
 // straight into the SoA batch the first trace() takes; those that hit are copied to w.rays for
-// shading after it (hit_rays).
+// shading after it (hit_rays). The directions are computed one by one into arrays first and read
+// as lanes in a loop of their own: read right after they were written, each 4-lane load would wait
+// for four stores to reach the cache (a store-forwarding stall per half packet).
 void Renderer::eye_rays(int x0, int y0, int x1, int y1, Work& w) const {
   const std::size_t tw = std::size_t(x1 - x0), n = tw * std::size_t(y1 - y0);
   w.rays.clear();
   w.path.clear();
   RaySoA& soa = w.soa;
   soa.resize(n);
+  for (auto* a : {&w.dx, &w.dy, &w.dz}) a->resize(soa.size());
+  std::size_t i = 0;
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x, ++i) {
+      const Vec3d v = view_.dir((x0_ + double(x)) * step_, -(y0_ + double(y)) * step_);
+      w.dx[i] = v.x, w.dy[i] = v.y, w.dz[i] = v.z;
+      w.path.push_back({std::uint32_t(y * gw_ + x), 1, Vec3f{1, 1, 1}});
+    }
+  for (; i < soa.size(); ++i) w.dx[i] = w.dy[i] = w.dz[i] = 0.0;  // padding: a zero direction, the invalid ray
   const Vec3d from = view_.from - a_.origin();
   const Vec3<d4> o[2] = {Vec3<d4>::from(from), Vec3<d4>::from(from)};
-  int x = x0, y = y0;  // the pixel of ray i + l
-  for (std::size_t i = 0; i < soa.size(); i += 8) {
-    alignas(kSimdAlign) double d[3][8];
-    for (std::size_t l = 0; l < 8; ++l) {
-      Vec3d v{0, 0, 0};  // padding lanes: a zero direction, which makes the invalid ray
-      if (i + l < n) {
-        v = view_.dir((x0_ + double(x)) * step_, -(y0_ + double(y)) * step_);
-        w.path.push_back({std::uint32_t(y * gw_ + x), 1, Vec3f{1, 1, 1}});
-        if (++x == x1) x = x0, ++y;
-      }
-      d[0][l] = v.x, d[1][l] = v.y, d[2][l] = v.z;
-    }
-    const Vec3<d4> dir[2] = {{load<d4>(&d[0][0]), load<d4>(&d[1][0]), load<d4>(&d[2][0])},
-                             {load<d4>(&d[0][4]), load<d4>(&d[1][4]), load<d4>(&d[2][4])}};
-    soa.store_packet(i, lanes::make_rays(o, dir));
+  for (std::size_t k = 0; k < soa.size(); k += 8) {
+    const Vec3<d4> dir[2] = {{load<d4>(&w.dx[k]), load<d4>(&w.dy[k]), load<d4>(&w.dz[k])},
+                             {load<d4>(&w.dx[k + 4]), load<d4>(&w.dy[k + 4]), load<d4>(&w.dz[k + 4])}};
+    soa.store_packet(k, lanes::make_rays(o, dir));
   }
   w.rays.resize(n);
 }
