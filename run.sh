@@ -312,15 +312,15 @@ case "${1:-}" in
     build release --target raybench
     # Profile-guided optimisation first (its own builds and paired rounds; section "Profile-guided
     # optimisation"), unless --no-pgo or a --quick report; the report folder may be named by --out.
-    out=report pgo_on=1 args=() prev=""
+    out=report pgo_on=1 args=() want_out=0
     for a in "$@"; do
+      if [ $want_out = 1 ]; then out=$a; want_out=0; continue; fi
       case "$a" in
         --no-pgo) pgo_on=0; continue ;;
         --quick) pgo_on=0 ;;
-        --out=*) out=${a#--out=} ;;
+        --out=*) out=${a#--out=}; continue ;;
+        -o | --out) want_out=1; continue ;;
       esac
-      case "$prev" in -o | --out) out=$a ;; esac
-      prev=$a
       args+=("$a")
     done
     if [ $pgo_on = 1 ]; then
@@ -328,7 +328,7 @@ case "${1:-}" in
       rm -f "$out/pgo.md"
       PGO_REPORT_DIR=$out pgo || echo "[pgo] failed (above): the report's PGO section says it was not measured" >&2
     fi
-    ./build/release/apps/raybench report --out report "${args[@]}"
+    ./build/release/apps/raybench report --out "$out" "${args[@]}"
     ;;
   test)
     setup

@@ -384,8 +384,9 @@ json run_render(const RenderRunOptions& o, const render::MpiSession* mpi) {
   j["time_split"] = time_split(st);
   if (!o.rays_out.empty() && rt.ranks == 1) j["rays_file"] = o.rays_out;
   if (!rt.alone.is_null()) j["alone"] = rt.alone;
-  if (!rt.primary.is_null()) j["primary"] = rt.primary;
   else if (o.trace_alone) j["alone"] = {{"skipped", "under MPI a rank renders only its own tiles"}};
+  if (!rt.primary.is_null()) j["primary"] = rt.primary;
+  else if (o.primary_rays > 0) j["primary"] = {{"skipped", "under MPI a rank renders only its own tiles"}};
   j["time_split"]["render_ms"] = 1e3 * rt.trace_seconds.back();  // the render the split is of: the last timed one
   if (!o.out.empty()) j["image"] = o.out;
   if (const auto f = haines_figures(spd_name(o.scene))) {

@@ -190,6 +190,15 @@ TEST(Cli, RenderRaysTracedAloneByTrace) {
   EXPECT_GT(primary["rays"].get<std::size_t>(), 800u);
   EXPECT_LT(primary["rays"].get<std::size_t>(), 1200u);
   EXPECT_TRUE(has(r.out, "render / primary")) << r.out;
+  // Without --primary-rays: the rays alone as before, and no primary rays.
+  const Outcome plain = run_in(s.dir, "render lecture:nine_red_balls --width 16 -r 2 --warmup 0 --min-time 0 -o b.png --json b.json");
+  ASSERT_EQ(plain.status, 0) << plain.err;
+  const nlohmann::json bj = nlohmann::json::parse(slurp(s / "b.json"));
+  ASSERT_TRUE(bj["alone"].contains("render_over_alone")) << bj["alone"];
+  EXPECT_EQ(bj["alone"]["render_over_alone"]["rounds"], 2);
+  EXPECT_FALSE(bj.contains("primary")) << bj["primary"];
+  EXPECT_TRUE(has(plain.out, "render / alone")) << plain.out;
+  EXPECT_FALSE(has(plain.out, "render / primary")) << plain.out;
   EXPECT_EQ(rj["rays_file"], "a.rays");
   const Outcome t = run_in(s.dir, "trace lecture:nine_red_balls --rays a.rays -r 2 --min-time 0 --json t.json");
   ASSERT_EQ(t.status, 0) << t.err;
