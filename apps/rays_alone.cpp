@@ -80,7 +80,7 @@ json RaysAlone::figures() const {
   const State& st = *s_;
   const std::size_t n = st.f.rays();
   const stats::Summary sm = stats::summarize(st.seconds);
-  nlohmann::json secs = nlohmann::json::array();
+  json secs = json::array();
   for (std::size_t k = 0; k < st.f.sections.size(); ++k) {
     const tracer::RaySection& s = st.f.sections[k];
     std::size_t hits = 0;
@@ -100,7 +100,7 @@ json RaysAlone::figures() const {
           {"min_time", st.min_time},
           {"ms", 1e3 * sm.median},
           {"mrays_per_s", sm.median > 0 ? double(n) / sm.median / 1e6 : 0.0},
-          {"cv", std::isfinite(sm.cv) ? nlohmann::json(sm.cv) : nlohmann::json(nullptr)},
+          {"cv", std::isfinite(sm.cv) ? json(sm.cv) : json(nullptr)},
           {"sections", secs}};
 }
 
