@@ -189,7 +189,7 @@ TEST(Cli, RenderRaysTracedAloneByTrace) {
   // About 1000 rays: the primary set's image of about that many pixels.
   EXPECT_GT(primary["rays"].get<std::size_t>(), 800u);
   EXPECT_LT(primary["rays"].get<std::size_t>(), 1200u);
-  EXPECT_TRUE(has(r.out, "render / primary")) << r.out;
+  EXPECT_TRUE(has(r.out, "the scene's primary rays")) << r.out;  // a paragraph's first words: never wrapped
   // Without --primary-rays: the rays alone as before, and no primary rays.
   const Outcome plain = run_in(s.dir, "render lecture:nine_red_balls --width 16 -r 2 --warmup 0 --min-time 0 -o b.png --json b.json");
   ASSERT_EQ(plain.status, 0) << plain.err;
@@ -197,8 +197,8 @@ TEST(Cli, RenderRaysTracedAloneByTrace) {
   ASSERT_TRUE(bj["alone"].contains("render_over_alone")) << bj["alone"];
   EXPECT_EQ(bj["alone"]["render_over_alone"]["rounds"], 2);
   EXPECT_FALSE(bj.contains("primary")) << bj["primary"];
-  EXPECT_TRUE(has(plain.out, "render / alone")) << plain.out;
-  EXPECT_FALSE(has(plain.out, "render / primary")) << plain.out;
+  EXPECT_TRUE(has(plain.out, "the same rays traced alone")) << plain.out;
+  EXPECT_FALSE(has(plain.out, "the scene's primary rays")) << plain.out;
   EXPECT_EQ(rj["rays_file"], "a.rays");
   const Outcome t = run_in(s.dir, "trace lecture:nine_red_balls --rays a.rays -r 2 --min-time 0 --json t.json");
   ASSERT_EQ(t.status, 0) << t.err;
