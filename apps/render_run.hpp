@@ -29,6 +29,7 @@ std::optional<HainesFigures> haines_figures(const std::string& spd_name);
 
 // Renders; on MPI rank 0 (or without MPI) returns the result and writes the PNG. `mpi` may be null.
 nlohmann::json run_render(const RenderRunOptions& o, const render::MpiSession* mpi = nullptr);
+// The summary the terminal shows, from run_render's JSON (apps/render_text.cpp).
 std::string render_text(const nlohmann::json& j);
 
 }  // namespace rb::app
