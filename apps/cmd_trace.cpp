@@ -40,9 +40,16 @@ int run_trace_command(const TraceRunOptions& opt, const JsonOut& out, bool model
     }
   std::string warn;
   o.threads = resolve_threads(o.threads, &warn);
-  if (!tracer::is_ray_set_name(o.ray_set)) return run_trace_file_command(o, model_given ? o.model : "", out, warn);
-  std::cerr << fmt::format("raybench trace {}: {} rays, {} thread(s) of {} hardware threads, {} warm-up + {} timed run(s) per engine\n",
-                           o.scene, o.ray_set, o.threads, hardware_threads(), o.warmup, o.repetitions);
+  if (!tracer::is_ray_set_name(o.ray_set)) {
+    if (o.threads_beside > 0) {
+      std::cerr << error_line("trace", o.ray_set, "--threads-beside times a ray set (primary, shadow, diffuse or random), not a ray file") << "\n";
+      return kExitError;
+    }
+    return run_trace_file_command(o, model_given ? o.model : "", out, warn);
+  }
+  std::cerr << fmt::format("raybench trace {}: {} rays, {} thread(s){} of {} hardware threads, {} warm-up + {} timed run(s) per engine\n",
+                           o.scene, o.ray_set, o.threads, o.threads_beside > 0 ? fmt::format(" and {} beside", o.threads_beside) : "",
+                           hardware_threads(), o.warmup, o.repetitions);
   if (!warn.empty()) std::cerr << wrap_words(warn);
   nlohmann::json j;
   try {

@@ -2,6 +2,7 @@
 // a header of its own so that the command line (apps/cli/) does not parse the tracer.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -36,6 +37,11 @@ struct TraceRunOptions {
   // (16 AVX-512 lanes where the binary and the CPU have them), "avx2" (8 lanes), "avx512" (16; an
   // error where they cannot run) or "both" (auto, with the 8-lane walk timed beside it).
   std::string isa = "auto";
+  // Thread scaling: raybench also on this many threads (0: not), timed in the same rounds, so that
+  // the speed-up of these threads over `threads` is a paired ratio with its interval. The builds
+  // then run on the larger count (Embree's device limits the process's threads to its own).
+  int threads_beside = 0;
+  int build_threads() const { return std::max(threads, threads_beside); }
 };
 
 }  // namespace rb::app

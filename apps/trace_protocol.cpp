@@ -12,7 +12,7 @@ Timings time_engines(trace::ThreadScope& ts, std::size_t n, const Engine& ours, 
   // Seconds per pass over the ray set, of `passes` passes in a row.
   auto per_pass = [&](const Engine& e, int passes) {
     double sum = 0;
-    for (const double x : trace::time_runs(ts, e.trace, n, *e.out, passes, tile, {}, e.before, e.after)) sum += x;
+    for (const double x : trace::time_runs(e.scope ? *e.scope : ts, e.trace, n, *e.out, passes, tile, {}, e.before, e.after)) sum += x;
     return sum / passes;
   };
   Timings t;

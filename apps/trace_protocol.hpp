@@ -18,6 +18,7 @@ struct Engine {
   std::vector<bvh::HitRec>* out;
   std::function<void()> before = {}, after = {};  // inside each timed pass (a sorted stream: the sort, the hits put back)
   int group = 0;  // Embree's modes: 0 on the given order, 1 on the sorted order (each group's slow modes left out apart)
+  trace::ThreadScope* scope = nullptr;  // the threads it runs on (none: the run's)
 };
 
 // What the timing protocol measured, in seconds per pass over the ray set.

@@ -15,11 +15,13 @@
 #include <fmt/format.h>
 
 #include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <chrono>
 #include <limits>
+#include <optional>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -363,9 +365,25 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   if (widths && sorted) throw std::invalid_argument("--isa both times the given order: leave --order at given");
   std::vector<bvh::HitRec> out8;
   const Engine width_engine{[&](std::size_t b, std::size_t e, bvh::HitRec* out) { accel_.trace(rays, b, e, out, to8); }, &out8};
+  // --threads-beside: the same packets on another thread count, timed in the same rounds.
+  std::optional<trace::ThreadScope> other_threads;
+  std::vector<bvh::HitRec> out_threads;
+  Engine threads_engine{[&](std::size_t b, std::size_t e, bvh::HitRec* out) { accel_.trace(rays, b, e, out, to); }, &out_threads};
+  if (o.threads_beside > 0 && o.threads_beside != o.threads) {
+    if (sorted) throw std::invalid_argument("--threads-beside times the given order: leave --order at given");
+    other_threads.emplace(o.threads_beside);
+    threads_engine.scope = &*other_threads;
+    // A limit on the process's threads set elsewhere (Embree's device keeps one for the threads it
+    // was made with) would quietly run fewer.
+    const std::size_t cap = tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
+    if (cap < std::size_t(std::max(o.threads, o.threads_beside)))
+      throw std::invalid_argument(fmt::format("--threads-beside {}: this process may run only {} thread(s) (the builds ran on fewer)",
+                                              o.threads_beside, cap));
+  }
   std::vector<const Engine*> beside;
   if (sah_) beside.push_back(&sah_engine);
   if (widths) beside.push_back(&width_engine);
+  if (other_threads) beside.push_back(&threads_engine);
   // The machine around the runs: its load average before and after, and the CPU time the
   // hypervisor took from this guest while they ran.
   const LoadWatch watch;
@@ -423,13 +441,27 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
     // The same packets in 8 lanes, timed in the same rounds: its rate and the 16-lane walk's
     // speed over it (median of the rounds' ratios, 95 % interval), and the rays whose hits differ.
     json& w = j["lanes8"];
-    const std::vector<double>& s8 = tm.beside.back();
+    const std::vector<double>& s8 = tm.beside[(sah_ ? 1 : 0)];
     w["mrays_per_s"] = double(n) / rb::median(s8) / 1e6;
     w["seconds"] = s8;
     put_spread(w, "", s8, n);
     w["speedup_16_over_8"] = stats::interval_json(stats::paired_ratio(s8, secs));
     w["mismatches"] = tracer::compare(ours, out8, n, any).mismatches;
   }
+
+  if (other_threads) {
+    // The same packets on the other thread count, same rounds: its rate, and its speed-up over this
+    // run's threads (median of the rounds' ratios, 95 % interval); its hits must be these.
+    json& w = j["threads_beside"];
+    const std::vector<double>& st = tm.beside.back();
+    w["threads"] = o.threads_beside;
+    w["mrays_per_s"] = double(n) / rb::median(st) / 1e6;
+    w["seconds"] = st;
+    put_spread(w, "", st, n);
+    w["speedup"] = stats::interval_json(stats::paired_ratio(secs, st));
+    w["mismatches"] = tracer::compare(ours, out_threads, n, any).mismatches;
+  }
+  j["build_threads"] = o.build_threads();
 
   put_embree(j, embree_, modes, tm, ours, theirs, n, any);
   j["order"] = o.order;
@@ -479,10 +511,10 @@ json run_trace(const TraceRunOptions& o, bool progress) {
   json builds;
   if (o.builds > 1) {
     ProgressBar bar(fmt::format("trace {} builds", o.scene), progress ? ProgressBar::Mode::automatic : ProgressBar::Mode::off);
-    builds = time_builds(s, o.scene, o.threads, o.builds, true, o.embree, o.model, o.builder, [&](double f) { bar.update(f); });
+    builds = time_builds(s, o.scene, o.build_threads(), o.builds, true, o.embree, o.model, o.builder, [&](double f) { bar.update(f); });
     bar.done();
   }
-  TraceSession session(std::move(s), o.scene, o.threads, o.embree, o.model, o.builder);
+  TraceSession session(std::move(s), o.scene, o.build_threads(), o.embree, o.model, o.builder);
   json j = session.run(o, progress);
   j["load_ms"] = load_ms;
   j["builds"] = 1;

@@ -79,6 +79,13 @@ std::string trace_text(const json& j) {
                      w["mrays_per_s"].get<double>(), stats::interval_text(stats::interval_from_json(w["speedup_16_over_8"])),
                      w["mismatches"].get<std::size_t>());
   }
+  if (j.contains("threads_beside")) {
+    const json& w = j["threads_beside"];
+    o += fmt::format("           on {} thread(s), same rounds: {:.2f} Mrays/s;\n"
+                     "           {} thread(s) over {}: {}; {} ray(s) with other hits\n",
+                     w["threads"].get<int>(), w["mrays_per_s"].get<double>(), w["threads"].get<int>(), j["threads"].get<int>(),
+                     stats::interval_text(stats::interval_from_json(w["speedup"])), w["mismatches"].get<std::size_t>());
+  }
   if (j.contains("sah_tree") && j["sah_tree"].contains("mrays_per_s")) {
     const json& t = j["sah_tree"];
     o += fmt::format("tree       the tree above is Embree's builder's ({}); raybench's SAH tree through the same traversal:\n",

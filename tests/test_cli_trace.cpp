@@ -103,6 +103,33 @@ TEST(Cli, TraceNamesTheLanesItsPacketsWalkedIn) {
   }
 }
 
+// --threads-beside: the rays also traced on another thread count in the same rounds, with the same
+// hits, and the speed-up as a paired ratio; the builds ran on the larger count. A ray file and a
+// sorted stream are refused by name.
+TEST(Cli, TraceTimesAnotherThreadCountInTheSameRounds) {
+  Scratch s("trace_threads");
+  std::ofstream(s / "oct.obj") << kOctahedron;
+  const Outcome r = run_in(s.dir, "trace oct.obj --count 512 -r 3 --warmup 1 --threads 1 --threads-beside 2 --packet 8 --json t.json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(slurp(s / "t.json"));
+  ASSERT_TRUE(j.contains("threads_beside")) << j.dump();
+  const nlohmann::json& w = j["threads_beside"];
+  EXPECT_EQ(w["threads"], 2);
+  EXPECT_EQ(w["seconds"].size(), 3u);
+  EXPECT_EQ(w["mismatches"], 0);
+  EXPECT_EQ(w["speedup"]["rounds"], 3);
+  EXPECT_GT(w["speedup"]["ratio"].get<double>(), 0.0);
+  EXPECT_EQ(j["threads"], 1);
+  EXPECT_EQ(j["build_threads"], 2);
+  EXPECT_TRUE(has(r.out, "2 thread(s) over 1: ")) << r.out;
+  const Outcome same = run_in(s.dir, "trace oct.obj --count 512 -r 1 --warmup 0 --threads 2 --threads-beside 2 --no-embree --json t.json");
+  ASSERT_EQ(same.status, 0) << same.err;
+  EXPECT_FALSE(nlohmann::json::parse(slurp(s / "t.json")).contains("threads_beside")) << "the same count is no second engine";
+  const Outcome sorted = run_in(s.dir, "trace oct.obj --count 512 -r 1 --threads-beside 2 --order sorted --no-embree");
+  EXPECT_NE(sorted.status, 0);
+  EXPECT_TRUE(has(sorted.err, "--threads-beside times the given order")) << sorted.err;
+}
+
 TEST(Cli, TraceTimesManyBuildsAsTheReportDoes) {
   Scratch s("trace-builds");
   std::ofstream(s / "oct.obj") << kOctahedron;

@@ -6,9 +6,12 @@
 // work through it.
 //
 // The thread count is real: TBB's default would give an arena of 64 slots only as many workers as
-// the machine has hardware threads, so the scope also raises (or lowers) TBB's allowed parallelism
-// to `threads` while it lives (tbb::global_control; while several scopes live, the smallest
-// applies). `--threads 64` on a 2-core machine runs 64 threads, oversubscribed.
+// the machine has hardware threads, so a scope of more threads than that also raises TBB's allowed
+// parallelism to `threads` while it lives (tbb::global_control). `--threads 64` on a 2-core machine
+// runs 64 threads, oversubscribed. A scope of fewer threads needs no such limit (its arena has that
+// many slots, the calling thread in one of them), so scopes of different sizes can live together
+// and time their loops in the same rounds: one and two threads alternating, say (while several
+// raised limits live, the smallest applies).
 #pragma once
 
 #include "core/fpenv.hpp"
@@ -16,20 +19,21 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/global_control.h>
+#include <tbb/info.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cstddef>
+#include <optional>
 
 namespace rb::tracer {
 
 class ThreadScope {
  public:
   explicit ThreadScope(int threads)
-      : threads_(std::max(1, threads)),
-        limit_(tbb::global_control::max_allowed_parallelism, std::size_t(threads_)),
-        arena_(threads_) {
+      : threads_(std::max(1, threads)), arena_(threads_) {
+    if (threads_ > tbb::info::default_concurrency()) limit_.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(threads_));
 #if RB_TSAN
     saved_concurrency_ = par::concurrency();
     par::concurrency() = threads_;
@@ -47,8 +51,11 @@ class ThreadScope {
   template <class Fn>
   void run(Fn&& f) {
 #if RB_TSAN
-    set_ftz_daz();  // the tsan preset's std::thread backend (core/par.hpp): no arena
+    set_ftz_daz();  // the tsan preset's std::thread backend (core/par.hpp): no arena, this scope's threads
+    const int outer = par::concurrency();
+    par::concurrency() = threads_;
     f();
+    par::concurrency() = outer;
 #else
     arena_.execute([&] {
       set_ftz_daz();
@@ -69,7 +76,7 @@ class ThreadScope {
 
  private:
   int threads_;
-  tbb::global_control limit_;
+  std::optional<tbb::global_control> limit_;  // only above the machine's hardware threads
   tbb::task_arena arena_;
   FtzScope ftz_;  // FTZ and DAZ on the calling thread while the scope lives, its MXCSR restored after
 #if RB_TSAN

@@ -32,6 +32,10 @@ class TraceCommand final : public Command {
         ->capture_default_str();
     sub_->add_option("--threads", to.threads, "Threads for tracing and both builds\n(0: every hardware thread)")
         ->check(CLI::Range(0, 256))->capture_default_str();
+    sub_->add_option("--threads-beside", to.threads_beside,
+                     "Thread scaling: raybench also on N threads, in\nthe same rounds, and N threads over --threads\n"
+                     "as a paired ratio with its interval (0: off;\nthe builds then run on the larger count)")
+        ->check(CLI::Range(0, 256))->capture_default_str();
     sub_->add_option("--packet", to.packet, "Rays per packet: 1 (single rays), 8, 16,\n64 or 256 (coherent packets)")
         ->check(CLI::IsMember({1, 8, 16, 64, 256}))
         ->capture_default_str();

@@ -192,7 +192,8 @@ std::string trace_matrix_mesh(TracingRun& x, const TracedMesh& m, const std::vec
     for (int packet : packets) {
       json pair[2];
       for (int th : {1, 2}) {
-        const TraceRunOptions t = x.row(set, packet, th);
+        TraceRunOptions t = x.row(set, packet, th);
+        if (th == 1) t.threads_beside = 2;  // the thread scaling, paired: two threads in the one-thread row's rounds
         json j = rec.take(fmt::format("tracing/{}/{}/{}/{}t", m.label, set, packet, th), [&] { return sess().run(t, true); });
         j["mesh"] = m.label;
         mrows.push_back(j);
@@ -213,19 +214,21 @@ std::string trace_matrix_mesh(TracingRun& x, const TracedMesh& m, const std::vec
   md += "\n";
   bj["mesh"] = m.label;
   bj["triangles"] = prims;
-  // Thread scaling of tracing: two threads over one, per ray set and packet size.
-  // Embree's figure for the same row comes from the same two runs: where both engines scale badly
-  // on one row, the host was busy then, not the tracer.
-  md += "Two threads over one (same rays), raybench (Embree's in brackets): ";
+  // Thread scaling of tracing: two threads over one, per ray set and packet size, from the
+  // one-thread row, whose rounds also traced the rays on two threads (paired). Embree's figure is
+  // its two rows' medians (their runs were not paired): where both engines scale badly on one row,
+  // the host was busy then, not the tracer.
+  md += "Two threads over one (same rays, same rounds), raybench (Embree's, from its two rows, in brackets): ";
   std::vector<std::string> sc;
   for (std::size_t i = 0; i + 1 < mrows.size(); i += 2) {
     const json& a = mrows[i];
     const json& b = mrows[i + 1];
-    const double r = b["mrays_per_s"].get<double>() / a["mrays_per_s"].get<double>();
     const json e = ratio_value(b["embree_mrays_per_s"], a["embree_mrays_per_s"]);
-    // The two rows ran one after the other: their timed runs are two samples, not paired rounds.
-    const stats::RatioInterval ri =
-        stats::unpaired_ratio(a["seconds"].get<std::vector<double>>(), b["seconds"].get<std::vector<double>>());
+    // A record from before the pairing (`--from` an older report): the two rows' runs, unpaired.
+    const stats::RatioInterval ri = a.contains("threads_beside")
+                                        ? stats::interval_from_json(a["threads_beside"]["speedup"])
+                                        : stats::unpaired_ratio(a["seconds"].get<std::vector<double>>(), b["seconds"].get<std::vector<double>>());
+    const double r = std::isfinite(ri.ratio) ? ri.ratio : b["mrays_per_s"].get<double>() / a["mrays_per_s"].get<double>();
     sc.push_back(fmt::format("{} {}: {} ({})", a["ray_set"].get<std::string>(), a["packet"].get<int>(), stats::interval_text(ri), f2(e)));
     scaling.push_back({{"mesh", m.label}, {"ray_set", a["ray_set"]}, {"packet", a["packet"]}, {"ours", r}, {"embree", e},
                        {"ours_interval", stats::interval_json(ri)}});
