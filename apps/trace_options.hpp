@@ -18,9 +18,11 @@ struct TraceRunOptions {
   std::uint64_t seed = 1;
   std::string model = "auto";  // auto | fast | exact (tracer/plan.hpp)
   std::string slab = "plan";   // plan (the model's) | conservative | fast | robust
-  int repetitions = 7;  // from 6 paired rounds a ratio has its 95 % interval (apps/stats.hpp)
-  int warmup = 1;             // untimed runs of each engine before the timed ones, at least (more until stable)
-  double min_time = 0.1;      // seconds a repetition lasts at least: the ray set traced that many times over
+  // 15 rounds of at least 0.05 s: the sign test's interval then leaves out the 3 most extreme rounds'
+  // ratios on each side (7 rounds of 0.1 s, as long, gave the whole range: docs/DESIGN.md).
+  int repetitions = 15;  // from 6 paired rounds a ratio has its 95 % interval (apps/stats.hpp)
+  int warmup = 1;        // untimed runs of each engine before the timed ones, at least (more until stable)
+  double min_time = 0.05;  // seconds a repetition lasts at least: the ray set traced that many times over
   long long brute_rays = -1;  // -1: a budget by scene size; 0: none
   bool embree = true;
   int builds = 1;  // > 1: the build times quoted are medians of this many builds after an untimed one

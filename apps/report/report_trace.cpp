@@ -317,11 +317,12 @@ std::string trace_by_size(TracingRun& x, json& builds) {
 std::string report_section_tracing(const ReportOptions& o, Record& rec, const fs::path& out, json& summary) {
   const std::string data = data_dir() + "/meshes/";
   const std::size_t count = o.quick ? 1u << 12 : 1u << 18;
-  // 7 rounds: from 6 the ratio to Embree has its 95 % interval (apps/stats.hpp); unlike the kernel
-  // rows, trace rows are within 5 % at 7 on most rows, so 9 would buy little (docs/DESIGN.md).
-  const int reps = o.quick ? 1 : 7;
-  // Each repetition lasts at least 0.1 s (a few ms of rays are below the host's jitter).
-  const double min_time = o.quick ? 0.0 : 0.1;
+  // `raybench trace`'s protocol: 15 rounds of at least 0.05 s each. 7 rounds of 0.1 s took about as
+  // long, but at 7 the sign test's interval is the whole range of the rounds' ratios, and one
+  // disturbed round widened a row's interval to 10-30 % (docs/DESIGN.md).
+  const TraceRunOptions defaults;
+  const int reps = o.quick ? 1 : defaults.repetitions;
+  const double min_time = o.quick ? 0.0 : defaults.min_time;
   TracingRun x{o, rec, data, count, reps, min_time};
   std::string md = "## Tracing whole scenes\n\n";
   md += "Goal: answer \"how many rays per second on my mesh, against Embree?\". One binned-SAH build (TBB) gives an "
