@@ -268,6 +268,7 @@ int run_report(const ReportOptions& opts) {
   md += report_section_csg(o, rec, out, summary, rows);
 
   md += pgo_section(out);
+  md += report_section_precision(summary, goals);
 
   next_stage("charts and index.md");
   // Every goal with its verdict, for `raybench compare` of two reports.

@@ -35,4 +35,8 @@ int whole_scene_rounds(const ReportOptions& o);  // report_plan.cpp
 // (`ops`: the ops table's rows, for the CSG queries' counts.)
 std::string report_section_csg(const ReportOptions& o, Record& rec, const std::filesystem::path& out, nlohmann::json& summary,
                                const std::vector<opstable::Row>& ops);  // report_csg.cpp
+// Section "How precise the ratios are", from the summary the sections above wrote: the half-widths
+// of every family of ratios with an interval; adds the goal that trace and kernel rows stay within
+// 5 % to `goals`.  // report_precision.cpp
+std::string report_section_precision(nlohmann::json& summary, std::vector<doc::Goal>& goals);
 }  // namespace rb::app
