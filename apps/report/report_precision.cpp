@@ -34,37 +34,22 @@ std::string str(const json& j, const char* k) {
   if (!j.contains(k)) return "?";
   return j[k].is_string() ? j[k].get<std::string>() : j[k].dump();
 }
-// The array at summary[a][b]... (empty where any part is missing).
-const json& at_path(const json& s, std::initializer_list<const char*> path) {
-  static const json none = json::array();
-  const json* j = &s;
-  for (const char* p : path) {
-    if (!j->is_object() || !j->contains(p)) return none;
-    j = &(*j)[p];
+// j[k0][k1]..., or nullptr where a key is missing.
+const json* at_keys(const json& j, const std::vector<const char*>& keys) {
+  const json* v = &j;
+  for (const char* k : keys) {
+    if (!v->is_object() || !v->contains(k)) return nullptr;
+    v = &(*v)[k];
   }
-  return *j;
+  return v;
 }
-// Rows of an array whose interval sits at `sub` inside each element (a path of keys).
-auto each(std::initializer_list<const char*> array, std::vector<const char*> sub, std::function<std::string(const json&)> label) {
-  std::vector<const char*> arr(array);
-  return [arr, sub, label](const json& s, std::vector<std::pair<const json*, std::string>>& out) {
-    const json* a = &s;
-    for (const char* p : arr) {
-      if (!a->is_object() || !a->contains(p)) return;
-      a = &(*a)[p];
-    }
-    if (!a->is_array()) return;
-    for (const json& e : *a) {
-      const json* v = &e;
-      for (const char* p : sub) {
-        if (!v->is_object() || !v->contains(p)) {
-          v = nullptr;
-          break;
-        }
-        v = &(*v)[p];
-      }
-      if (v) out.push_back({v, label(e)});
-    }
+// Rows of the array at `array`, whose interval sits at `sub` inside each element.
+auto each(std::vector<const char*> array, std::vector<const char*> sub, std::function<std::string(const json&)> label) {
+  return [array, sub, label](const json& s, std::vector<std::pair<const json*, std::string>>& out) {
+    const json* a = at_keys(s, array);
+    if (!a || !a->is_array()) return;
+    for (const json& e : *a)
+      if (const json* v = at_keys(e, sub)) out.push_back({v, label(e)});
   };
 }
 
@@ -85,9 +70,8 @@ std::vector<Family> families() {
                                 std::pair{"miss", "16 over 8 lanes, all-miss case"}, std::pair{"half", "16 over 8 lanes, half-hit case"}})
     f.push_back({name, "kernel", each({"simd16_vs_simd8", "rows"}, {c}, [](const json& e) { return str(e, "kernel_method"); })});
   f.push_back({"kernel rates (tests per second) of the rate goals", "kernel", [](const json& s, auto& out) {
-                 const json& r = at_path(s, {"rate_goals"});
-                 if (r.is_object())
-                   for (auto it = r.begin(); it != r.end(); ++it) out.push_back({&it.value(), it.key()});
+                 if (const json* r = at_keys(s, {"rate_goals"}); r && r->is_object())
+                   for (auto it = r->begin(); it != r->end(); ++it) out.push_back({&it.value(), it.key()});
                }});
   f.push_back({"raybench / Embree's best mode, trace matrix", "trace", each({"tracing", "matrix"}, {"vs_embree"}, trace_row)});
   f.push_back({"two threads over one, trace matrix (paired in the one-thread row)", "trace",
