@@ -437,29 +437,24 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   for (auto it = b.begin(); it != b.end(); ++it) j[it.key()] = it.value();
 
   if (sah_) put_sah_tree(j["sah_tree"], *sah_, ts, rays, to, sah_secs, ours, sah_out, any);
-  if (widths) {
-    // The same packets in 8 lanes, timed in the same rounds: its rate and the 16-lane walk's
-    // speed over it (median of the rounds' ratios, 95 % interval), and the rays whose hits differ.
-    json& w = j["lanes8"];
+  // An engine timed beside ours in the same rounds: its rate, ours over it or it over ours (the
+  // median of the rounds' ratios, 95 % interval) and the rays whose hits differ from ours.
+  auto put_beside = [&](json& w, const std::vector<double>& s, const char* ratio_key, const stats::RatioInterval& r,
+                        const std::vector<bvh::HitRec>& hits) {
+    w["mrays_per_s"] = double(n) / rb::median(s) / 1e6;
+    w["seconds"] = s;
+    put_spread(w, "", s, n);
+    w[ratio_key] = stats::interval_json(r);
+    w["mismatches"] = tracer::compare(ours, hits, n, any).mismatches;
+  };
+  if (widths) {  // the same packets in 8 lanes: the 16-lane walk's speed over it
     const std::vector<double>& s8 = tm.beside[(sah_ ? 1 : 0)];
-    w["mrays_per_s"] = double(n) / rb::median(s8) / 1e6;
-    w["seconds"] = s8;
-    put_spread(w, "", s8, n);
-    w["speedup_16_over_8"] = stats::interval_json(stats::paired_ratio(s8, secs));
-    w["mismatches"] = tracer::compare(ours, out8, n, any).mismatches;
+    put_beside(j["lanes8"], s8, "speedup_16_over_8", stats::paired_ratio(s8, secs), out8);
   }
-
-  if (other_threads) {
-    // The same packets on the other thread count, same rounds: its rate, and its speed-up over this
-    // run's threads (median of the rounds' ratios, 95 % interval); its hits must be these.
-    json& w = j["threads_beside"];
+  if (other_threads) {  // the same packets on the other thread count: its speed-up over this run's threads
     const std::vector<double>& st = tm.beside.back();
-    w["threads"] = o.threads_beside;
-    w["mrays_per_s"] = double(n) / rb::median(st) / 1e6;
-    w["seconds"] = st;
-    put_spread(w, "", st, n);
-    w["speedup"] = stats::interval_json(stats::paired_ratio(secs, st));
-    w["mismatches"] = tracer::compare(ours, out_threads, n, any).mismatches;
+    j["threads_beside"]["threads"] = o.threads_beside;
+    put_beside(j["threads_beside"], st, "speedup", stats::paired_ratio(secs, st), out_threads);
   }
   j["build_threads"] = o.build_threads();
 
