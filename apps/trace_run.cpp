@@ -440,12 +440,12 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   // An engine timed beside ours in the same rounds: its rate, ours over it or it over ours (the
   // median of the rounds' ratios, 95 % interval) and the rays whose hits differ from ours.
   auto put_beside = [&](json& w, const std::vector<double>& s, const char* ratio_key, const stats::RatioInterval& r,
-                        const std::vector<bvh::HitRec>& hits) {
+                        const std::vector<bvh::HitRec>& theirs) {
     w["mrays_per_s"] = double(n) / rb::median(s) / 1e6;
     w["seconds"] = s;
     put_spread(w, "", s, n);
     w[ratio_key] = stats::interval_json(r);
-    w["mismatches"] = tracer::compare(ours, hits, n, any).mismatches;
+    w["mismatches"] = tracer::compare(ours, theirs, n, any).mismatches;
   };
   if (widths) {  // the same packets in 8 lanes: the 16-lane walk's speed over it
     const std::vector<double>& s8 = tm.beside[(sah_ ? 1 : 0)];
