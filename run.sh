@@ -5,7 +5,7 @@
 #   ./run.sh test     install what is missing, build and run the tests whose subject is optimised
 #                     code in the `exact` preset (target rb_tests_optimised, label `optimised`), then
 #                     build and run the whole test suite in the `debug` preset (ASan+UBSan)
-# Other targets: ./run.sh setup (packages only), ./run.sh build PRESET,
+# Other targets: ./run.sh setup (packages only), ./run.sh build PRESET [cmake --build options],
 #               ./run.sh install-check (cmake --install into a scratch prefix, then the installed
 #               `raybench report` run from another folder, its history and a comparison),
 #               ./run.sh pgo [--tuned] (profile-guided optimisation alone: train, rebuild, compare;
@@ -305,7 +305,7 @@ install_check() {
 
 case "${1:-}" in
   setup) setup ;;
-  build) setup; build "${2:-release}" ;;
+  build) shift; setup; build "${1:-release}" "${@:2}" ;;
   report)
     shift
     setup
