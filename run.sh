@@ -75,21 +75,23 @@ PGO_TRAIN_SCENES=(spd:tetra:7 spd:mount:4 spd:teapot:4 lecture:five_glass_balls)
 PGO_RAY_SETS=(primary shadow diffuse random)
 PGO_PACKETS=(1 8)
 PGO_ROUNDS=12
-PGO_BENCH_FILTER='/(scalar|rays_in_lanes|rays_in_lanes16)/half$|^wide_node_slab/(fast|robust)/'
+PGO_BENCH_FILTER='/(scalar|rays_in_lanes)/half$|^wide_node_slab/(fast|robust)/'
 PGO_BENCH_MIN_TIME=0.04
 PGO_TRACE_MIN_TIME=0.05
 PGO_TRACE_REPS=3
 PGO_TRACE_COUNT=131072
 PGO_HONEST="raybench bench --seed 7 (other rays and primitives; every benchmark once for 0.01 s); traces of ${PGO_TRAIN_SCENES[*]} (${PGO_RAY_SETS[*]} rays, packets of ${PGO_PACKETS[*]}) with ray seed 7, 131072 rays"
 PGO_TUNED="the measured workload itself: raybench bench on the default data (every benchmark once for 0.05 s); traces of ${PGO_TRACE_SCENES[*]} with ray seed 1, ${PGO_TRACE_COUNT} rays"
-PGO_MEASURED="raybench bench --filter '${PGO_BENCH_FILTER}' (every kernel's scalar, 8-lane and 16-lane rays-in-lanes forms on rays that half hit, and the 8-wide node test) on the default data; traces of ${PGO_TRACE_SCENES[*]}: ${PGO_RAY_SETS[*]} rays, packets of ${PGO_PACKETS[*]}, ray seed 1, ${PGO_TRACE_COUNT} rays, 1 thread"
+PGO_MEASURED="raybench bench --filter '${PGO_BENCH_FILTER}' (every kernel's scalar and 8-lane rays-in-lanes forms on rays that half hit, and the 8-wide node test; the 16-lane files are compiled without the profile) on the default data; traces of ${PGO_TRACE_SCENES[*]}: ${PGO_RAY_SETS[*]} rays, packets of ${PGO_PACKETS[*]}, ray seed 1, ${PGO_TRACE_COUNT} rays, 1 thread"
 
 pgo_tag() {  # scene, ray set, packet -> a file name part
   echo "$1-$2-$3" | tr '/:.' '___'
 }
 
-pgo_trace() {  # binary, JSON file, seed, count, min time, repetitions, scene, ray set, packet
-  "$1" trace "$7" --rays "$8" --packet "$9" --threads 1 --seed "$3" --count "$4" --min-time "$5" \
+pgo_trace() {  # binary, JSON file, seed, count, min time, repetitions, scene, ray set, packet; on CPU $PGO_CPU if set
+  local pin=()
+  [ -n "${PGO_CPU:-}" ] && pin=(taskset -c "$PGO_CPU")
+  "${pin[@]}" "$1" trace "$7" --rays "$8" --packet "$9" --threads 1 --seed "$3" --count "$4" --min-time "$5" \
     -r "$6" --brute 0 --no-embree --json "$2" >/dev/null 2>&1 ||
     echo "[pgo] warning: trace $7 $8 K=$9 failed with $1" >&2
 }
@@ -178,7 +180,11 @@ pgo() {
   # The kernel benchmarks one at a time, one process each (a process starts in about 15 ms), so that
   # the two builds' runs of a benchmark lie a tenth of a second apart: this machine's speed moves by
   # up to a third over seconds, which pairs a family or a whole selection apart did not cancel.
-  local names name r=0 t1=$SECONDS
+  # Both builds' runs of a pair on one CPU (taskset), the CPU changing from pair to pair: the guest's
+  # CPUs differ in speed from minute to minute (one ran traces a third slower than the other for a
+  # few minutes while the machine was otherwise idle), and new processes land on either.
+  local names name r=0 t1=$SECONDS ncpu
+  ncpu=$(nproc)
   names=$("${bins[normal]}" bench --list --filter "$PGO_BENCH_FILTER")
   for round in $(seq 1 $PGO_ROUNDS); do
     echo "[pgo] kernel benchmarks, round $round of $PGO_ROUNDS"
@@ -186,7 +192,7 @@ pgo() {
       r=$((r + 1))
       for i in $(seq 0 $((n - 1))); do
         b=${builds[$(( (i + round + r) % n ))]}
-        "${bins[$b]}" bench --filter "^$name\$" -r 1 --min-time $PGO_BENCH_MIN_TIME \
+        taskset -c $(( (round + r) % ncpu )) "${bins[$b]}" bench --filter "^$name\$" -r 1 --min-time $PGO_BENCH_MIN_TIME \
           --json "$PGO_OUT/$b/bench-$(echo "$name" | tr '/' '_')-r$round.json" >/dev/null 2>&1 ||
           echo "[pgo] warning: bench $name failed with ${bins[$b]}" >&2
       done
@@ -203,7 +209,7 @@ pgo() {
         for round in $(seq 1 $PGO_ROUNDS); do
           for i in $(seq 0 $((n - 1))); do
             b=${builds[$(( (i + round + row) % n ))]}
-            pgo_trace "${bins[$b]}" "$PGO_OUT/$b/trace-$tag-r$round.json" 1 $PGO_TRACE_COUNT $PGO_TRACE_MIN_TIME \
+            PGO_CPU=$(( (round + row) % ncpu )) pgo_trace "${bins[$b]}" "$PGO_OUT/$b/trace-$tag-r$round.json" 1 $PGO_TRACE_COUNT $PGO_TRACE_MIN_TIME \
               $PGO_TRACE_REPS "$scene" "$rays" "$k"
           done
         done

@@ -391,12 +391,16 @@ def markdown(data, args, load):
     md = ["## Profile-guided optimisation", ""]
     normal_ctx = context.get("normal", {})
     md.append(f"Measured by `./run.sh pgo`, which `./run.sh report` runs before the report ({args.minutes} min; {args.builds}). "
-              "The **normal** build is the release preset; the **PGO** build is the same source compiled again with a profile "
-              "trained on a workload apart from the measured one" +
+              "The **normal** build is the release preset; the **PGO** build compiles the code the measured workload times (the "
+              "kernels' benchmark loops, the BVH, the tracer, the scene model) again with a profile trained on a workload apart "
+              "from the measured one, and links the release build's own objects for the libraries that time nothing (loaders, "
+              "ray sets, renderer, operation tables, accuracy lab, Embree's wrapper, the report); the AVX-512 files (16 lanes) "
+              "are compiled without a profile in both, since a profile may leave one of their inline functions out of line" +
               (" and the **tuned** build with a profile of the measured workload itself (how much a profile of the very "
                "benchmark flatters)" if "tuned" in others else "") + ". "
               f"Both builds ran the measured workload in {args.rounds} paired rounds, back to back in each round, their order "
-              "alternating: every kernel benchmark below in a process of its own for at least "
+              "alternating and both runs of a pair on the same CPU (`taskset`; the CPU changes from pair to pair): every kernel "
+              "benchmark below in a process of its own for at least "
               f"{args.bench_min_time} s, and every trace row in a process of its own (1 thread, a warm-up, then the median "
               f"of {args.trace_reps} timed runs of at least {args.trace_min_time} s of passes each). A ratio is PGO over normal (above 1: PGO faster), the median of the rounds' "
               "ratios with its 95 % interval (sign test, as every paired ratio of this report); a kernel family's ratio in a "
