@@ -1,13 +1,55 @@
 #include "apps/trace_protocol.hpp"
 
+#include <pthread.h>
+#include <sched.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 namespace rb::app {
 
+namespace {
+
+// Pins the calling thread to one CPU (pin), then gives it back the CPUs it had (release, or when
+// this goes). If the system refuses, the thread runs where it was: the figures stay valid, unpinned.
+class CpuPin {
+ public:
+  CpuPin() { CPU_ZERO(&saved_); }
+  ~CpuPin() { release(); }
+  CpuPin(const CpuPin&) = delete;
+  CpuPin& operator=(const CpuPin&) = delete;
+  void pin(int cpu) {
+    release();
+    cpu_set_t one;
+    CPU_ZERO(&one);
+    CPU_SET(cpu, &one);
+    pinned_ = pthread_getaffinity_np(pthread_self(), sizeof saved_, &saved_) == 0 &&
+              pthread_setaffinity_np(pthread_self(), sizeof one, &one) == 0;
+  }
+  void release() {
+    if (pinned_) pthread_setaffinity_np(pthread_self(), sizeof saved_, &saved_);
+    pinned_ = false;
+  }
+
+ private:
+  cpu_set_t saved_;
+  bool pinned_ = false;
+};
+
+}  // namespace
+
+std::vector<int> allowed_cpus(int most) {
+  std::vector<int> out;
+  cpu_set_t mask;
+  if (pthread_getaffinity_np(pthread_self(), sizeof mask, &mask) != 0) return out;
+  for (int c = 0; c < CPU_SETSIZE && int(out.size()) < most; ++c)
+    if (CPU_ISSET(c, &mask)) out.push_back(c);
+  return out;
+}
+
 Timings time_engines(trace::ThreadScope& ts, std::size_t n, const Engine& ours, const std::vector<const Engine*>& beside,
-                     const std::vector<Engine>& modes, const TraceRunOptions& o, ProgressBar& bar) {
+                     const std::vector<Engine>& modes, const TraceRunOptions& o, ProgressBar& bar, const std::vector<int>& cpus) {
   const std::size_t tile = 256;  // a multiple of every packet and stream size
   // Seconds per pass over the ray set, of `passes` passes in a row.
   auto per_pass = [&](const Engine& e, int passes) {
@@ -50,11 +92,30 @@ Timings time_engines(trace::ThreadScope& ts, std::size_t n, const Engine& ours, 
     if (t.warm_modes[m].back() <= kModeSpread * best[modes[m].group]) timed.push_back(m);
   // 4. The timed rounds: the engines alternate repetition by repetition (raybench, its engines
   // beside it, then each timed Embree mode), so that a change in the machine's load falls on all
-  // alike.
+  // alike. With `cpus`, the one-thread engines of round r run on cpus[r % k], raybench then on each
+  // other CPU of the list, and the engines of more threads last, unpinned.
+  const bool pin = cpus.size() >= 2 && o.threads == 1;
+  const std::size_t k = pin ? cpus.size() : 0;
+  auto several = [&](const Engine* e) { return pin && e->scope && e->scope->threads() > 1; };
+  if (pin) t.cpus = cpus, t.ours_on.resize(k);
+  CpuPin on;
   for (int r = 0; r < o.repetitions; ++r) {
+    if (pin) on.pin(cpus[std::size_t(r) % k]);
     t.ours.push_back(per_pass(ours, t.passes));
-    for (std::size_t k = 0; k < beside.size(); ++k) t.beside[k].push_back(per_pass(*beside[k], t.passes));
+    for (std::size_t b = 0; b < beside.size(); ++b)
+      if (!several(beside[b])) t.beside[b].push_back(per_pass(*beside[b], t.passes));
     for (const std::size_t m : timed) t.modes[m].push_back(per_pass(modes[m], t.passes));
+    for (std::size_t c = 0; c < k; ++c) {
+      if (c == std::size_t(r) % k) {
+        t.ours_on[c].push_back(t.ours.back());
+        continue;
+      }
+      on.pin(cpus[c]);
+      t.ours_on[c].push_back(per_pass(ours, t.passes));
+    }
+    on.release();
+    for (std::size_t b = 0; b < beside.size(); ++b)
+      if (several(beside[b])) t.beside[b].push_back(per_pass(*beside[b], t.passes));
     bar.update(0.1 + 0.85 * double(r + 1) / o.repetitions);
   }
   return t;

@@ -29,13 +29,25 @@ struct Timings {
   std::vector<double> ours;                     // raybench
   std::vector<std::vector<double>> beside;      // raybench's other engines timed beside it, in their order
   std::vector<std::vector<double>> modes;       // each Embree mode (empty: left out of the rounds)
+  std::vector<int> cpus;                        // the CPUs the one-thread engines took turns on (empty: not pinned)
+  std::vector<std::vector<double>> ours_on;     // raybench on each of those CPUs, round by round
 };
 
 // The timing protocol of `raybench trace` (docs/DESIGN.md, command-line conventions): warm-up until
 // stable, passes for --min-time, Embree's clearly slower modes left out, then the engines alternating
 // repetition by repetition. `beside`: raybench in other configurations, timed in the same rounds
-// (the SAH tree beside another builder's; packets in the other lane width).
+// (the SAH tree beside another builder's; packets in the other lane width; another thread count).
+//
+// `cpus` (two or more; only for a one-thread run): round r pins the calling thread, on which the
+// one-thread engines run, to cpus[r % k], and raybench runs once more on each other CPU of the list;
+// the engines of more threads run unpinned. A guest's CPUs may differ in speed for minutes (a host
+// thread sharing one's core), so one thread's rate depends on where it ran: pinned, each round's
+// engines share a CPU, and the rate on every CPU is known, against which the rate of several
+// threads means something whichever CPU was slower.
 Timings time_engines(trace::ThreadScope& ts, std::size_t n, const Engine& ours, const std::vector<const Engine*>& beside,
-                     const std::vector<Engine>& modes, const TraceRunOptions& o, ProgressBar& bar);
+                     const std::vector<Engine>& modes, const TraceRunOptions& o, ProgressBar& bar, const std::vector<int>& cpus = {});
+
+// The CPUs of this thread's affinity mask, at most `most` of them, lowest first.
+std::vector<int> allowed_cpus(int most);
 
 }  // namespace rb::app

@@ -387,7 +387,10 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   // The machine around the runs: its load average before and after, and the CPU time the
   // hypervisor took from this guest while they ran.
   const LoadWatch watch;
-  const Timings tm = time_engines(ts, n, mine, beside, embree_engines, o, bar);
+  // One thread against more: the one-thread engines take turns on the CPUs the threads beside them
+  // may use, and the speed-up is over one thread's rate averaged over those CPUs (time_engines).
+  const std::vector<int> cpus = other_threads && o.threads == 1 ? allowed_cpus(o.threads_beside) : std::vector<int>{};
+  const Timings tm = time_engines(ts, n, mine, beside, embree_engines, o, bar, cpus);
   const std::vector<double>& secs = tm.ours;
   const std::vector<double>& sah_secs = sah_ ? tm.beside[0] : secs;
   const int passes = tm.passes;
@@ -440,12 +443,12 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   // An engine timed beside ours in the same rounds: its rate, ours over it or it over ours (the
   // median of the rounds' ratios, 95 % interval) and the rays whose hits differ from ours.
   auto put_beside = [&](json& w, const std::vector<double>& s, const char* ratio_key, const stats::RatioInterval& r,
-                        const std::vector<bvh::HitRec>& theirs) {
+                        const std::vector<bvh::HitRec>& its_hits) {
     w["mrays_per_s"] = double(n) / rb::median(s) / 1e6;
     w["seconds"] = s;
     put_spread(w, "", s, n);
     w[ratio_key] = stats::interval_json(r);
-    w["mismatches"] = tracer::compare(ours, theirs, n, any).mismatches;
+    w["mismatches"] = tracer::compare(ours, its_hits, n, any).mismatches;
   };
   if (widths) {  // the same packets in 8 lanes: the 16-lane walk's speed over it
     const std::vector<double>& s8 = tm.beside[(sah_ ? 1 : 0)];
@@ -453,8 +456,26 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   }
   if (other_threads) {  // the same packets on the other thread count: its speed-up over this run's threads
     const std::vector<double>& st = tm.beside.back();
-    j["threads_beside"]["threads"] = o.threads_beside;
-    put_beside(j["threads_beside"], st, "speedup", stats::paired_ratio(secs, st), out_threads);
+    json& w = j["threads_beside"];
+    w["threads"] = o.threads_beside;
+    if (tm.cpus.empty()) {
+      put_beside(w, st, "speedup", stats::paired_ratio(secs, st), out_threads);
+    } else {
+      // Per round, one thread's rate averaged over the CPUs: the harmonic mean of its seconds there.
+      std::vector<double> one(secs.size());
+      for (std::size_t r = 0; r < one.size(); ++r) {
+        double inv = 0;
+        for (const auto& on : tm.ours_on) inv += 1 / on[r];
+        one[r] = double(tm.ours_on.size()) / inv;
+      }
+      put_beside(w, st, "speedup", stats::paired_ratio(one, st), out_threads);
+      w["one_thread_cpus"] = tm.cpus;
+      w["one_thread_mrays_per_s"] = double(n) / rb::median(one) / 1e6;
+      json& by = w["one_thread_mrays_per_s_by_cpu"];
+      by = json::array();
+      for (const auto& on : tm.ours_on) by.push_back(double(n) / rb::median(on) / 1e6);
+      w["one_thread_seconds_by_cpu"] = tm.ours_on;
+    }
   }
   j["build_threads"] = o.build_threads();
 

@@ -85,6 +85,14 @@ std::string trace_text(const json& j) {
                      "           {} thread(s) over {}: {}; {} ray(s) with other hits\n",
                      w["threads"].get<int>(), w["mrays_per_s"].get<double>(), w["threads"].get<int>(), j["threads"].get<int>(),
                      stats::interval_text(stats::interval_from_json(w["speedup"])), w["mismatches"].get<std::size_t>());
+    if (w.contains("one_thread_cpus")) {
+      std::string per;
+      for (std::size_t c = 0; c < w["one_thread_cpus"].size(); ++c)
+        per += fmt::format("{}CPU {}: {:.2f}", c ? ", " : "", w["one_thread_cpus"][c].get<int>(),
+                           w["one_thread_mrays_per_s_by_cpu"][c].get<double>());
+      o += fmt::format("           (over one thread's rate averaged over the CPUs it took turns on: {:.2f} Mrays/s; {})\n",
+                       w["one_thread_mrays_per_s"].get<double>(), per);
+    }
   }
   if (j.contains("sah_tree") && j["sah_tree"].contains("mrays_per_s")) {
     const json& t = j["sah_tree"];

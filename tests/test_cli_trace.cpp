@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <sched.h>
 
 #include <algorithm>
 #include <fstream>
@@ -122,6 +123,32 @@ TEST(Cli, TraceTimesAnotherThreadCountInTheSameRounds) {
   EXPECT_EQ(j["threads"], 1);
   EXPECT_EQ(j["build_threads"], 2);
   EXPECT_TRUE(has(r.out, "2 thread(s) over 1: ")) << r.out;
+  // With two CPUs to run on, the one-thread engines took turns on them (round r on the r % 2-th),
+  // raybench ran once more on the other, and the speed-up is over the harmonic mean of its seconds
+  // on both, round by round (the median of the rounds' ratios).
+  cpu_set_t mask;
+  ASSERT_EQ(sched_getaffinity(0, sizeof mask, &mask), 0);
+  if (CPU_COUNT(&mask) >= 2) {
+    ASSERT_TRUE(w.contains("one_thread_cpus")) << w.dump();
+    EXPECT_EQ(w["one_thread_cpus"].size(), 2u);
+    const nlohmann::json& on = w["one_thread_seconds_by_cpu"];
+    ASSERT_EQ(on.size(), 2u);
+    ASSERT_EQ(on[0].size(), 3u);
+    ASSERT_EQ(on[1].size(), 3u);
+    EXPECT_EQ(on[0][0], j["seconds"][0]);
+    EXPECT_EQ(on[1][1], j["seconds"][1]);
+    EXPECT_EQ(on[0][2], j["seconds"][2]);
+    std::vector<double> ratio;
+    for (std::size_t k = 0; k < 3; ++k) {
+      const double one = 2 / (1 / on[0][k].get<double>() + 1 / on[1][k].get<double>());
+      ratio.push_back(one / w["seconds"][k].get<double>());
+    }
+    std::sort(ratio.begin(), ratio.end());
+    EXPECT_NEAR(w["speedup"]["ratio"].get<double>(), ratio[1], 1e-9 * ratio[1]);
+    EXPECT_TRUE(has(r.out, "averaged over the CPUs it took turns on")) << r.out;
+  } else {
+    EXPECT_FALSE(w.contains("one_thread_cpus")) << "one CPU: nothing to take turns on";
+  }
   const Outcome same = run_in(s.dir, "trace oct.obj --count 512 -r 1 --warmup 0 --threads 2 --threads-beside 2 --no-embree --json t.json");
   ASSERT_EQ(same.status, 0) << same.err;
   EXPECT_FALSE(nlohmann::json::parse(slurp(s / "t.json")).contains("threads_beside")) << "the same count is no second engine";

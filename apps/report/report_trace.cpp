@@ -218,7 +218,8 @@ std::string trace_matrix_mesh(TracingRun& x, const TracedMesh& m, const std::vec
   // one-thread row, whose rounds also traced the rays on two threads (paired). Embree's figure is
   // its two rows' medians (their runs were not paired): where both engines scale badly on one row,
   // the host was busy then, not the tracer.
-  md += "Two threads over one (same rays, same rounds), raybench (Embree's, from its two rows, in brackets): ";
+  md += "Two threads over one (same rays, same rounds; one thread's rate averaged over the two CPUs, on which it took turns), "
+        "raybench (Embree's, from its two rows, in brackets): ";
   std::vector<std::string> sc;
   for (std::size_t i = 0; i + 1 < mrows.size(); i += 2) {
     const json& a = mrows[i];
