@@ -5,7 +5,8 @@
 // user asked, by the one output rule (core/output_file.hpp).
 //
 // The protocol: rounds, not repetitions back to back. Each round runs every selected benchmark
-// once (at least --min-time seconds each, Google Benchmark choosing the iterations), in
+// once (at least --min-time seconds each: Google Benchmark chooses the iterations in the first
+// round, the later rounds run as many), in
 // registration order, which puts a method's scalar, 8-lane and 16-lane forms of one case back to
 // back (bench/register.hpp), so that a change of the machine's load falls on all of them; a
 // benchmark's repetitions are its rounds, and a ratio between two benchmarks is taken round by
@@ -30,6 +31,8 @@
 #include <regex>
 #include <set>
 #include <sstream>
+#include <string_view>
+#include <utility>
 
 namespace rb::app {
 namespace {
@@ -41,6 +44,26 @@ void ensure_registered(const std::string& isa) {
     rb::bench::register_all_benchmarks(rb::bench::isa_choice(isa).simd16);
     registered = true;
   }
+}
+
+// A benchmark's name without the "/iterations:N" Google Benchmark appends once its iterations are
+// fixed (run_benchmarks: the rounds after the first).
+std::string plain_name(const std::string& name) {
+  static const std::regex suffix("/iterations:[0-9]+$");
+  return std::regex_replace(name, suffix, "");
+}
+
+// Google Benchmark's filter selecting exactly these benchmarks, with or without "/iterations:N".
+std::string exact_filter(const std::vector<std::pair<std::string, benchmark::IterationCount>>& runs) {
+  std::string spec = "^(";
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    if (i) spec += '|';
+    for (const char c : runs[i].first) {
+      if (std::string_view(".^$|()[]{}*+?\\").find(c) != std::string_view::npos) spec += '\\';
+      spec += c;
+    }
+  }
+  return spec + ")(/iterations:[0-9]+)?$";
 }
 
 // Hands every figure of a round to Google Benchmark's JSON reporter, writing into a string (one
@@ -65,10 +88,12 @@ class ProgressReporter : public benchmark::BenchmarkReporter {
     if (runs.empty()) return;
     json_->ReportRuns(runs);
     ++done_;
-    for (const auto& r : runs)
-      if (r.error_occurred) errors_.push_back(r.benchmark_name() + ": " + r.error_message);
+    for (const auto& r : runs) {
+      if (r.error_occurred) errors_.push_back(plain_name(r.benchmark_name()) + ": " + r.error_message);
+      if (round_ == 0) first_round_.emplace_back(r.benchmark_name(), r.error_occurred ? 0 : r.iterations);
+    }
     bar_.update(double(done_) / double(std::max(total_, done_)),
-                fmt::format("round {}/{}: {}", round_ + 1, rounds_, runs.front().run_name.str()));
+                fmt::format("round {}/{}: {}", round_ + 1, rounds_, plain_name(runs.front().run_name.str())));
   }
   void Finalize() override {
     json_->Finalize();
@@ -82,6 +107,8 @@ class ProgressReporter : public benchmark::BenchmarkReporter {
   }
   std::size_t errors() const { return errors_.size(); }
   const std::vector<std::string>& texts() const { return texts_; }
+  // Each benchmark the first round ran, with its iterations there (0: it failed).
+  const std::vector<std::pair<std::string, benchmark::IterationCount>>& first_round() const { return first_round_; }
 
  private:
   std::size_t total_, done_ = 0;
@@ -89,6 +116,7 @@ class ProgressReporter : public benchmark::BenchmarkReporter {
   std::string what_;
   ProgressBar bar_;
   std::vector<std::string> errors_, texts_;
+  std::vector<std::pair<std::string, benchmark::IterationCount>> first_round_;
   std::unique_ptr<std::ostringstream> text_;
   std::unique_ptr<benchmark::JSONReporter> json_;
 };
@@ -220,8 +248,9 @@ int run_benchmarks(const BenchOptions& o, nlohmann::json& doc) {
   benchmark::AddCustomContext("raybench_isa_why", isa.why);
   benchmark::AddCustomContext("raybench_seed", std::to_string(rb::bench::bench_data_seed()));
   benchmark::AddCustomContext("raybench_repetitions", std::to_string(o.repetitions));
-  benchmark::AddCustomContext("raybench_protocol", fmt::format("{} rounds, each running every selected benchmark once for at least {} s "
-                                                               "in registration order: a benchmark's repetitions are its rounds",
+  benchmark::AddCustomContext("raybench_protocol", fmt::format("{} rounds, each running every selected benchmark once in registration "
+                                                               "order: a benchmark's repetitions are its rounds; the first round finds "
+                                                               "the iterations that last at least {} s, the later ones run as many",
                                                                o.repetitions, o.min_time));
   std::vector<std::string> args = {"raybench", "--benchmark_repetitions=1", fmt::format("--benchmark_min_time={}", o.min_time),
                                    "--benchmark_filter=" + o.filter};
@@ -230,12 +259,28 @@ int run_benchmarks(const BenchOptions& o, nlohmann::json& doc) {
   int argc = int(argv.size());
   benchmark::Initialize(&argc, argv.data());
   const int rounds = std::max(1, o.repetitions);
+  // Google Benchmark looks for each benchmark's iterations anew in every run: shorter runs first,
+  // each calling the benchmark again with its setup (in the report, about as long as the timed
+  // runs themselves). The first round looks; the later rounds run the iterations it settled on
+  // (Google Benchmark aims at 1.4x --min-time), once per benchmark. Set on the registered
+  // benchmarks, so once per process.
+  static double fixed_for = 0;
+  if (fixed_for != 0 && fixed_for != o.min_time)
+    throw std::logic_error(fmt::format("benchmarks already ran with --min-time {} in this process", fixed_for));
   ProgressReporter progress(total, rounds, o.what);
   std::size_t n = 0;
+  std::string spec = o.filter;
   const LoadWatch watch;
   for (int r = 0; r < rounds; ++r) {
     progress.start_round(r);
-    n += benchmark::RunSpecifiedBenchmarks(&progress);
+    n += benchmark::RunSpecifiedBenchmarks(&progress, spec);
+    if (r == 0 && rounds > 1 && !progress.first_round().empty()) {
+      for (const auto& [name, it] : progress.first_round())
+        if (const auto b = rb::bench::registered_benchmarks().find(name); it > 0 && b != rb::bench::registered_benchmarks().end())
+          b->second->Iterations(it);
+      fixed_for = o.min_time;
+      spec = exact_filter(progress.first_round());
+    }
   }
   const nlohmann::json machine_load = watch.json();
   benchmark::Shutdown();
@@ -246,7 +291,12 @@ int run_benchmarks(const BenchOptions& o, nlohmann::json& doc) {
   }
   try {
     std::vector<nlohmann::json> docs;
-    for (const auto& t : progress.texts()) docs.push_back(parse_json_text(t, "Google Benchmark's JSON"));
+    for (const auto& t : progress.texts()) {
+      docs.push_back(parse_json_text(t, "Google Benchmark's JSON"));
+      for (auto& b : docs.back().at("benchmarks"))
+        for (const char* key : {"name", "run_name"})
+          if (b.contains(key) && b[key].is_string()) b[key] = plain_name(b[key].get<std::string>());
+    }
     doc = merge_rounds(docs);
     // Every SIMD benchmark's speedup over its scalar form, round by round, with its interval.
     nlohmann::json sp = nlohmann::json::object();

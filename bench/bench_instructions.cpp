@@ -51,8 +51,7 @@ void register_instructions(bool simd16) {
   for (const Instr k : kInstrs)
     for (const int lanes : {8, 16}) {
       const std::string name = std::string("instruction/") + instr_name(k) + std::to_string(lanes) + "/reg";
-      registered_names().push_back(name);
-      benchmark::RegisterBenchmark(name.c_str(), [k, lanes](benchmark::State& st) { instruction_rate(st, k, lanes); });
+      register_benchmark(name, [k, lanes](benchmark::State& st) { instruction_rate(st, k, lanes); });
     }
 }
 

@@ -83,10 +83,7 @@ void wide_node_slab16(benchmark::State& st) {
 }  // namespace
 
 void register_wide_node([[maybe_unused]] bool simd16) {
-  auto add = [](const char* name, void (*fn)(benchmark::State&)) {
-    registered_names().push_back(name);
-    benchmark::RegisterBenchmark(name, fn);
-  };
+  auto add = [](const char* name, void (*fn)(benchmark::State&)) { register_benchmark(name, fn); };
   add("wide_node_slab/fast/l1", wide_node_slab<false>);
   add("wide_node_slab/robust/l1", wide_node_slab<true>);
 #ifdef RB_HAVE_SIMD16

@@ -23,6 +23,19 @@ inline std::vector<std::string>& registered_names() {
   return names;
 }
 
+// Every registered benchmark by name: the runner fixes their iterations after the first round.
+inline std::map<std::string, benchmark::internal::Benchmark*>& registered_benchmarks() {
+  static std::map<std::string, benchmark::internal::Benchmark*> by_name;
+  return by_name;
+}
+
+// Registers one benchmark with Google Benchmark and in the two lists above.
+template <class Fn>
+void register_benchmark(const std::string& name, Fn&& fn) {
+  registered_names().push_back(name);
+  registered_benchmarks()[name] = benchmark::RegisterBenchmark(name.c_str(), std::forward<Fn>(fn));
+}
+
 // A kernel benchmark waiting for its place in the run. register_all_benchmarks registers them
 // grouped by kernel, method and case, so that the rows a ratio pairs (the true scalar form, 8 lanes
 // and 16 lanes of one method and case) run back to back in every round, within a second instead
@@ -96,10 +109,7 @@ inline void register_all_benchmarks(bool simd16) {
   std::map<std::string, std::size_t> first;
   for (std::size_t i = 0; i < p.size(); ++i) first.emplace(p[i].group, i);
   std::stable_sort(p.begin(), p.end(), [&](const PendingBenchmark& a, const PendingBenchmark& b) { return first[a.group] < first[b.group]; });
-  for (auto& b : p) {
-    registered_names().push_back(b.name);
-    benchmark::RegisterBenchmark(b.name.c_str(), std::move(b.run));
-  }
+  for (auto& b : p) register_benchmark(b.name, std::move(b.run));
   p.clear();
   register_wide_node(simd16);
   register_instructions(simd16);

@@ -12,8 +12,10 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <cstdint>
 #include <cstring>
 #include <regex>
+#include <set>
 #include <sstream>
 
 namespace {
@@ -393,14 +395,22 @@ TEST(Cli, BenchPrintsATable) {
   // Rounds: each benchmark once per round, its repetitions numbered by round, Google Benchmark's
   // aggregates over them, and the SIMD form's speedup round by round with its interval.
   const nlohmann::json j = nlohmann::json::parse(slurp(s / "b.json"));
+  // The first round finds each benchmark's iterations, the later rounds run as many (under the
+  // benchmark's own name, without Google Benchmark's "/iterations:N").
   std::map<std::string, std::vector<int>> rounds;
+  std::map<std::string, std::set<std::int64_t>> iterations;
   std::size_t medians = 0;
   for (const auto& b : j["benchmarks"]) {
-    if (b["run_type"] == "iteration") rounds[b["run_name"].get<std::string>()].push_back(b["repetition_index"].get<int>());
+    if (b["run_type"] == "iteration") {
+      rounds[b["run_name"].get<std::string>()].push_back(b["repetition_index"].get<int>());
+      iterations[b["name"].get<std::string>()].insert(b["iterations"].get<std::int64_t>());
+    }
     medians += b.value("aggregate_name", "") == "median";
   }
   ASSERT_EQ(rounds.size(), 2u) << j.dump(1);
   for (const auto& [name, v] : rounds) EXPECT_EQ(v, (std::vector<int>{0, 1, 2})) << name;
+  ASSERT_EQ(iterations.size(), 2u) << j.dump(1);
+  for (const auto& [name, v] : iterations) EXPECT_EQ(v.size(), 1u) << name << ": other iterations in another round";
   EXPECT_EQ(medians, 2u);
   const auto& sp = j["raybench_simd_vs_scalar"]["sphere/geometric/rays_in_lanes/hit"];
   EXPECT_EQ(sp["rounds"], 3);
