@@ -57,6 +57,23 @@ TEST(ReportPrecision, HoldsTraceAndKernelRowsToFivePerCentAndNamesTheWidest) {
   EXPECT_EQ(goals.at(0).met, rb::app::doc::kGoalMet) << goals[0].measured;
 }
 
+// The PGO comparison's ratios (./run.sh pgo, summary "pgo" from pgo.json) are kernel and trace rows
+// like the others.
+TEST(ReportPrecision, HoldsThePgoRowsToo) {
+  json s = made_up(0.01, 0.2);
+  s["pgo"]["families"] = json::array({{{"kernel", "sphere"}, {"benchmarks", 12}, {"pgo", interval(1.02, 0.01, 12)}}});
+  s["pgo"]["traces"] = json::array({{{"scene", "spd:balls:3"}, {"ray_set", "random"}, {"packet", 1}, {"pgo", interval(0.83, 0.06, 12)}}});
+  std::vector<rb::app::doc::Goal> goals;
+  const std::string md = rb::app::report_section_precision(s, goals);
+  EXPECT_NE(md.find("| PGO build / normal build, per kernel family (./run.sh pgo) | kernel | 1 | 1.0 % |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| PGO build / normal build, per trace row (./run.sh pgo) | trace | 1 | 6.0 % | 6.0 % (spd:balls:3, random, packet 1, 1 thread) | 1 |"),
+            std::string::npos)
+      << md;
+  ASSERT_EQ(goals.size(), 1u);
+  EXPECT_EQ(goals[0].met, rb::app::doc::kGoalNotMet);
+  EXPECT_NE(goals[0].measured.find("1 of 6 rows over"), std::string::npos) << goals[0].measured;
+}
+
 TEST(ReportPrecision, ARunOfOneRoundHasNoIntervalToJudge) {
   json s;
   s["tracing"]["matrix"] = json::array({{{"mesh", "bunny"}, {"vs_embree", interval(1.1, 0.0, 1)}}});

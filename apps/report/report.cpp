@@ -120,8 +120,9 @@ std::vector<doc::Goal> report_goals(const std::vector<doc::Goal>& simd, const js
 // rounds of the normal and PGO binaries), which `./run.sh report` runs before the report: it writes
 // OUT/pgo.md and OUT/pgo.json, and the report carries that section between markers (so that
 // `./run.sh pgo` alone can also refresh an existing index.md). A section measured on another
-// revision than this binary's says so.
-std::string pgo_section(const fs::path& out) {
+// revision than this binary's says so. Its ratios (per kernel family and trace row) go into the
+// summary (`pgo`), for the section on how precise the ratios are.
+std::string pgo_section(const fs::path& out, json& summary) {
   std::string body;
   std::ifstream f;
   if (readable_back((out / "pgo.md").string())) f.open(out / "pgo.md");  // never block on a FIFO there
@@ -133,7 +134,12 @@ std::string pgo_section(const fs::path& out) {
     try {
       std::ifstream j;
       if (readable_back((out / "pgo.json").string())) j.open(out / "pgo.json");
-      if (j.is_open()) measured = json::parse(j).at("context").at("normal").value("raybench_git", "");
+      if (j.is_open()) {
+        const json p = json::parse(j);
+        measured = p.at("context").at("normal").value("raybench_git", "");
+        for (const char* k : {"families", "traces"})
+          if (p.contains(k) && p[k].is_array()) summary["pgo"][k] = p[k];
+      }
     } catch (const std::exception&) {
       measured = "";  // an unreadable record: the section stands as written
     }
@@ -267,7 +273,7 @@ int run_report(const ReportOptions& opts) {
   next_stage("CSG queries, scalar against 8-ray packets");
   md += report_section_csg(o, rec, out, summary, rows);
 
-  md += pgo_section(out);
+  md += pgo_section(out, summary);
   md += report_section_precision(summary, goals);
 
   next_stage("charts and index.md");

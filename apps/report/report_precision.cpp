@@ -83,6 +83,11 @@ std::vector<Family> families() {
   for (const auto& [key, name] : {std::pair{"embree_over_ours_1t", "Embree's build time / raybench's, one thread"},
                                   std::pair{"embree_over_ours_2t", "Embree's build time / raybench's, two threads"}})
     f.push_back({name, "trace", each({"tracing", "builds"}, {key}, [](const json& e) { return str(e, "mesh"); })});
+  f.push_back({"PGO build / normal build, per kernel family (./run.sh pgo)", "kernel",
+               each({"pgo", "families"}, {"pgo"}, [](const json& e) { return str(e, "kernel"); })});
+  f.push_back({"PGO build / normal build, per trace row (./run.sh pgo)", "trace", each({"pgo", "traces"}, {"pgo"}, [](const json& e) {
+                 return fmt::format("{}, {}, packet {}, 1 thread", str(e, "scene"), str(e, "ray_set"), str(e, "packet"));
+               })});
   f.push_back({"render / its own rays traced alone", "other", each({"render"}, {"alone", "render_over_alone"}, [](const json& e) { return str(e, "scene"); })});
   f.push_back({"render / the scene's primary rays", "other",
                each({"render"}, {"primary", "render_over_primary"}, [](const json& e) { return str(e, "scene"); })});
