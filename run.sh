@@ -180,11 +180,13 @@ pgo() {
   # The kernel benchmarks one at a time, one process each (a process starts in about 15 ms), so that
   # the two builds' runs of a benchmark lie a tenth of a second apart: this machine's speed moves by
   # up to a third over seconds, which pairs a family or a whole selection apart did not cancel.
-  # Both builds' runs of a pair on one CPU (taskset), the CPU changing from pair to pair: the guest's
-  # CPUs differ in speed from minute to minute (one ran traces a third slower than the other for a
-  # few minutes while the machine was otherwise idle), and new processes land on either.
-  local names name r=0 t1=$SECONDS ncpu
-  ncpu=$(nproc)
+  # Both builds' runs of a pair on one CPU (taskset; one of those this process may use), the CPU
+  # changing from pair to pair: the guest's CPUs differ in speed from minute to minute (one ran
+  # traces a third slower than the other for a few minutes while the machine was otherwise idle),
+  # and new processes land on either.
+  local names name r=0 t1=$SECONDS cpus ncpu
+  mapfile -t cpus < <(/usr/bin/python3 -c 'import os; print(*sorted(os.sched_getaffinity(0)), sep="\n")')
+  ncpu=${#cpus[@]}
   names=$("${bins[normal]}" bench --list --filter "$PGO_BENCH_FILTER")
   for round in $(seq 1 $PGO_ROUNDS); do
     echo "[pgo] kernel benchmarks, round $round of $PGO_ROUNDS"
@@ -192,7 +194,7 @@ pgo() {
       r=$((r + 1))
       for i in $(seq 0 $((n - 1))); do
         b=${builds[$(( (i + round + r) % n ))]}
-        taskset -c $(( (round + r) % ncpu )) "${bins[$b]}" bench --filter "^$name\$" -r 1 --min-time $PGO_BENCH_MIN_TIME \
+        taskset -c "${cpus[$(( (round + r) % ncpu ))]}" "${bins[$b]}" bench --filter "^$name\$" -r 1 --min-time $PGO_BENCH_MIN_TIME \
           --json "$PGO_OUT/$b/bench-$(echo "$name" | tr '/' '_')-r$round.json" >/dev/null 2>&1 ||
           echo "[pgo] warning: bench $name failed with ${bins[$b]}" >&2
       done
@@ -209,7 +211,7 @@ pgo() {
         for round in $(seq 1 $PGO_ROUNDS); do
           for i in $(seq 0 $((n - 1))); do
             b=${builds[$(( (i + round + row) % n ))]}
-            PGO_CPU=$(( (round + row) % ncpu )) pgo_trace "${bins[$b]}" "$PGO_OUT/$b/trace-$tag-r$round.json" 1 $PGO_TRACE_COUNT $PGO_TRACE_MIN_TIME \
+            PGO_CPU=${cpus[$(( (round + row) % ncpu ))]} pgo_trace "${bins[$b]}" "$PGO_OUT/$b/trace-$tag-r$round.json" 1 $PGO_TRACE_COUNT $PGO_TRACE_MIN_TIME \
               $PGO_TRACE_REPS "$scene" "$rays" "$k"
           done
         done
