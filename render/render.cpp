@@ -368,11 +368,13 @@ void Renderer::shadows(float* samples, Work& w, RenderStats& st, GenerationStats
       const std::uint32_t j = w.live[k];
       if (w.hits[k].prim == bvh::kNoPrim) continue;
       if (!transparent_) { w.pass[j] = 0.0f; continue; }
-      const kinds::Surface sf = a_.surface(w.hits[k], cur[k]);
-      const scene::Material& m = mats_[sf.mat < mats_.size() ? sf.mat : 0];
+      // The occluder's material first: an opaque one ends the ray without its surface.
+      const std::uint32_t mi = a_.material(w.hits[k], cur[k]);
+      const scene::Material& m = mats_[mi < mats_.size() ? mi : 0];
       w.pass[j] *= m.t;
       if (!(m.t > 0.0f) || round + 1 >= kMaxCrossings) { w.pass[j] = m.t > 0.0f ? w.pass[j] : 0.0f; continue; }
       // Go on from just beyond the occluder to the light.
+      const kinds::Surface sf = a_.surface(w.hits[k], cur[k]);
       const Vec3f end = cur[k].o + cur[k].d * cur[k].tmax;
       const Vec3f o = a_.spawn_point(sf, cur[k].d);
       const Vec3f d = end - o;

@@ -123,14 +123,27 @@ bool contains_node(const CsgTree& T, std::uint32_t i, Vec3d p) {
 bool csg_contains(const CsgTree& T, Vec3d p) { return !T.nodes.empty() && contains_node(T, T.root, p); }
 
 namespace scene {
+namespace {
+// The leaf a closest-hit query's tag names (its index + 1, negated on a subtracted surface), or -1.
+long leaf_of(const CsgTree& tree, float tag) {
+  const long k = std::lround(std::fabs(tag)) - 1;
+  return k < 0 || std::size_t(k) >= tree.leaves.size() ? -1 : k;
+}
+}  // namespace
+
 CsgSurface csg_surface(const CsgTree& tree, float tag, Vec3f p) {
   CsgSurface s;
-  const long k = std::lround(std::fabs(tag)) - 1;
-  if (k < 0 || std::size_t(k) >= tree.leaves.size()) return s;
+  const long k = leaf_of(tree, tag);
+  if (k < 0) return s;
   s.hit = true;
   s.normal = csg_normal(tree, tag, p);
   s.material = tree.leaves[std::size_t(k)].material;
   return s;
+}
+
+std::uint32_t csg_material(const CsgTree& tree, float tag) {
+  const long k = leaf_of(tree, tag);
+  return k < 0 ? 0 : tree.leaves[std::size_t(k)].material;
 }
 
 CsgSurface csg_surface(const CsgTree& tree, const Ray<float>& r) {

@@ -70,5 +70,7 @@ CsgSurface csg_surface(const CsgTree& tree, const Ray<float>& r);
 // The same at a hit already found: the point p on the surface of the leaf with `tag` (the closest-hit
 // query's, kernels/csg_ray.hpp), t left 0; hit = false when the tag names no leaf.
 CsgSurface csg_surface(const CsgTree& tree, float tag, Vec3f p);
+// The material of that surface alone (csg_surface(tree, tag, p).material, no normal computed).
+std::uint32_t csg_material(const CsgTree& tree, float tag);
 
 }  // namespace rb::scene

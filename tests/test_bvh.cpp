@@ -20,6 +20,7 @@
 #include <iostream>
 #include <map>
 #include <random>
+#include <set>
 #include <stdexcept>
 
 namespace {
@@ -500,6 +501,43 @@ TEST(Surface, AMissHasTheEmptySurface) {
   EXPECT_TRUE(sf.ng.x == 0 && sf.ng.y == 0 && sf.ng.z == 0 && sf.ns.x == 0 && sf.ns.y == 0 && sf.ns.z == 0);
   EXPECT_EQ(sf.mat, 0u);
   EXPECT_EQ(sf.err, 0.0);
+}
+
+// A shadow ray asks an occluder for its material alone (SceneAccel::material): for every kind's
+// hits, with or without the CSG leaf carried, the material the whole surface gives.
+TEST(Surface, MaterialAloneIsTheSurfacesMaterial) {
+  std::vector<scene::Scene> scenes;
+  for (const std::string& n : scene::lecture_scene_names()) scenes.push_back(scene::lecture_scene(n));
+  for (const std::string& n : scene::csg_scene_names()) scenes.push_back(scene::csg_scene(n));
+  for (const std::string& n : scene::spd_names()) scenes.push_back(scene::generate_spd(n, 1));
+  std::map<kinds::Kind, std::size_t> hits_of;
+  std::size_t scenes_with_materials = 0;
+  for (const scene::Scene& s : scenes) {
+    const tracer::SceneAccel a = tracer::SceneAccel::build(s);
+    std::set<std::uint32_t> seen;
+    for (const tracer::RaySet set : {tracer::RaySet::primary, tracer::RaySet::random}) {
+      const RaySoA rays = tracer::make_rays(s, a, set, 2048, 3);
+      std::vector<HitRec> h(rays.count);
+      a.trace(rays, 0, rays.count, h.data(), tracer::TraceOptions{});
+      for (std::size_t i = 0; i < rays.count; ++i) {
+        const std::string what = s.name + " ray " + std::to_string(i);
+        const Ray<float> r = rays.get(i);
+        ASSERT_EQ(a.material(h[i], r), a.surface(h[i], r).mat) << what;
+        const HitRec bare{h[i].t, h[i].prim};  // no leaf carried: the CSG query runs again
+        ASSERT_EQ(a.material(bare, r), a.surface(bare, r).mat) << what;
+        if (h[i].prim == kNoPrim) continue;
+        ++hits_of[kinds::kind_of(h[i].prim)];
+        seen.insert(a.material(h[i], r));
+      }
+    }
+    scenes_with_materials += seen.size() > 1;
+  }
+  // Kinds of every shape the embedded scenes hold were hit, and most scenes hit several materials
+  // (an index taken from the wrong array would show).
+  for (const kinds::Kind k : {kinds::Kind::sphere, kinds::Kind::polygon, kinds::Kind::triangle, kinds::Kind::csg})
+    EXPECT_GT(hits_of[k], 100u) << int(k);
+  EXPECT_GT(hits_of[kinds::Kind::cone] + hits_of[kinds::Kind::cylinder], 100u);
+  EXPECT_GT(scenes_with_materials, scenes.size() / 2);
 }
 
 // A CSG hit carries the leaf its surface is on (HitRec::aux, the tag of the closest-hit query), so

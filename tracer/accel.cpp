@@ -403,6 +403,27 @@ kinds::Surface SceneAccel::surface(const bvh::HitRec& h, const Ray<float>& r) co
   }();
 }
 
+std::uint32_t SceneAccel::material(const bvh::HitRec& h, const Ray<float>& r) const {
+  const Kind k = kinds::kind_of(h.prim);
+  if (std::size_t(k) >= kSurfaceRules.size()) return 0;
+  const std::uint32_t i = kinds::index_of(h.prim);
+  return AllKinds::at<std::uint32_t>(k, [&]<class K>() -> std::uint32_t {
+    if constexpr (requires(const kinds::HitQuery& q) { K::hit_material(q, 0u); }) {
+      kinds::HitQuery q;
+      q.scene = scene_;
+      q.origin = plan_.origin;
+      q.ray = r;
+      q.t = h.t;
+      q.p = world_point(r, h.t);
+      q.aux = h.aux;
+      q.batch = table_.batch[std::size_t(k)];
+      return K::hit_material(q, i);
+    } else {
+      return K::material(*scene_, i);
+    }
+  });
+}
+
 SceneAccel::SpawnBase SceneAccel::spawn_base(const kinds::Surface& sf) const {
   SpawnBase b;
   b.p = to_frame(sf.p);

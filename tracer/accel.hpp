@@ -72,6 +72,9 @@ class SceneAccel {
   // The surface of the hit h (its primitive, bvh::prim_code, at h.t, with what the kernel kept in
   // h.aux) of the frame ray r; for a miss (bvh::kNoPrim) the empty Surface (zero normals).
   kinds::Surface surface(const bvh::HitRec& h, const Ray<float>& r) const;
+  // surface(h, r).mat alone, without the point and normals: what a shadow ray needs to know of an
+  // occluder (whether it transmits). 0 for a miss.
+  std::uint32_t material(const bvh::HitRec& h, const Ray<float>& r) const;
   // Where a secondary ray leaving the surface along `dir` (unit, frame = world directions) starts,
   // by the plan's spawn scheme: the hit point in frame coordinates moved off the surface on the
   // side `dir` leaves to. `n` is the unit geometric normal.

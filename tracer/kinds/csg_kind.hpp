@@ -125,14 +125,25 @@ struct CsgKind {
   // material: the leaf the traversal found (the hit's tag, HitQuery::aux), or, for a hit that does
   // not carry it, the tree's own closest-hit query run again on the ray as traced.
   static Surface surface(const HitQuery& q, std::uint32_t i) {
-    const auto* b = static_cast<const Batch*>(q.batch);
-    const CsgTree& tree = b && i < b->trees.size() ? *b->trees[i] : *q.scene->csgs.at(i).tree;
+    const CsgTree& tree = hit_tree(q, i);
     const auto c = q.aux != 0 ? scene::csg_surface(tree, q.aux, q.ray.at(q.t)) : scene::csg_surface(tree, q.ray);
     Surface h;
     h.p = q.p;
     h.ng = h.ns = c.hit ? detail::unit_or(to_double(c.normal), -q.ray.d) : -q.ray.d;
     h.mat = c.material;
     return h;
+  }
+  // surface(q, i).mat alone: a tree's material is its leaves' (the kinds of one material per
+  // primitive give theirs by material()).
+  static std::uint32_t hit_material(const HitQuery& q, std::uint32_t i) {
+    const CsgTree& tree = hit_tree(q, i);
+    return q.aux != 0 ? scene::csg_material(tree, q.aux) : scene::csg_surface(tree, q.ray).material;
+  }
+
+ private:
+  static const CsgTree& hit_tree(const HitQuery& q, std::uint32_t i) {
+    const auto* b = static_cast<const Batch*>(q.batch);
+    return b && i < b->trees.size() ? *b->trees[i] : *q.scene->csgs.at(i).tree;
   }
 };
 
