@@ -3,14 +3,9 @@
 #include <pthread.h>
 #include <sched.h>
 
-#include "core/num.hpp"
-
 #include <algorithm>
-#include <atomic>
-#include <chrono>
 #include <cmath>
 #include <limits>
-#include <thread>
 
 namespace rb::app {
 
@@ -42,49 +37,7 @@ class CpuPin {
   bool pinned_ = false;
 };
 
-// The probe's load: 8 independent chains of 8-lane multiply-adds (more than the pipes' latency
-// times their count, so the pipes stay full), 2^18 steps. Out of line, its result used: not folded.
-[[gnu::noinline]] float probe_load(float seed) {
-  constexpr int kChains = 8;
-  f8 a[kChains];
-  for (int c = 0; c < kChains; ++c) a[c] = f8(seed + float(c));
-  const f8 m(0.9999999f), k(1e-7f);
-  for (int step = 0; step < (1 << 18); ++step)
-    for (int c = 0; c < kChains; ++c) a[c] = vfma(a[c], m, k);
-  f8 sum(0.0f);
-  for (const f8& x : a) sum = sum + x;
-  alignas(kSimdAlign) float lanes[8];
-  store(lanes, sum);
-  float total = 0;
-  for (const float x : lanes) total += x;
-  return total;
-}
-
 }  // namespace
-
-double probe_seconds(int threads) {
-  using Clock = std::chrono::steady_clock;
-  const int n = std::max(1, threads);
-  std::vector<double> took(std::size_t(n), 0.0);
-  std::atomic<int> up{0};
-  std::atomic<bool> go{false};
-  std::atomic<float> sink{0.0f};
-  auto body = [&](int i) {
-    ++up;
-    while (!go.load(std::memory_order_acquire)) std::this_thread::yield();
-    const auto t0 = Clock::now();
-    const float v = probe_load(float(i));
-    took[std::size_t(i)] = std::chrono::duration<double>(Clock::now() - t0).count();
-    sink.store(v, std::memory_order_relaxed);
-  };
-  std::vector<std::thread> others;
-  for (int i = 1; i < n; ++i) others.emplace_back(body, i);
-  while (up.load() < n - 1) std::this_thread::yield();  // every other thread started, then all at once
-  go.store(true, std::memory_order_release);
-  body(0);
-  for (auto& t : others) t.join();
-  return *std::max_element(took.begin(), took.end());
-}
 
 std::vector<int> allowed_cpus(int most) {
   std::vector<int> out;
@@ -145,8 +98,6 @@ Timings time_engines(trace::ThreadScope& ts, std::size_t n, const Engine& ours, 
   const std::size_t k = pin ? cpus.size() : 0;
   auto several = [&](const Engine* e) { return pin && e->scope && e->scope->threads() > 1; };
   if (pin) t.cpus = cpus, t.ours_on.resize(k);
-  for (const Engine* e : beside)
-    if (several(e)) t.probe_threads = std::max(t.probe_threads, e->scope->threads());
   CpuPin on;
   for (int r = 0; r < o.repetitions; ++r) {
     if (pin) on.pin(cpus[std::size_t(r) % k]);
@@ -165,16 +116,6 @@ Timings time_engines(trace::ThreadScope& ts, std::size_t n, const Engine& ours, 
     on.release();
     for (std::size_t b = 0; b < beside.size(); ++b)
       if (several(beside[b])) t.beside[b].push_back(per_pass(*beside[b], t.passes));
-    if (t.probe_threads > 1) {  // the machine's own figure for this round: one thread on each CPU, then all at once
-      double inv = 0;
-      for (std::size_t c = 0; c < k; ++c) {
-        on.pin(cpus[c]);
-        inv += 1 / probe_seconds(1);
-      }
-      on.release();
-      t.probe_one.push_back(double(k) / inv);
-      t.probe_many.push_back(probe_seconds(t.probe_threads));
-    }
     bar.update(0.1 + 0.85 * double(r + 1) / o.repetitions);
   }
   return t;

@@ -31,11 +31,6 @@ struct Timings {
   std::vector<std::vector<double>> modes;       // each Embree mode (empty: left out of the rounds)
   std::vector<int> cpus;                        // the CPUs the one-thread engines took turns on (empty: not pinned)
   std::vector<std::vector<double>> ours_on;     // raybench on each of those CPUs, round by round
-  // With `cpus` and an engine of several threads beside: the machine's own load (probe_seconds) per
-  // round, on one thread (the harmonic mean over the CPUs, as raybench's one-thread rate) and on
-  // that many threads at once.
-  int probe_threads = 0;
-  std::vector<double> probe_one, probe_many;
 };
 
 // The timing protocol of `raybench trace` (docs/DESIGN.md, command-line conventions): warm-up until
@@ -51,15 +46,6 @@ struct Timings {
 // threads means something whichever CPU was slower.
 Timings time_engines(trace::ThreadScope& ts, std::size_t n, const Engine& ours, const std::vector<const Engine*>& beside,
                      const std::vector<Engine>& modes, const TraceRunOptions& o, ProgressBar& bar, const std::vector<int>& cpus = {});
-
-// What the machine gives several threads, apart from any tracer: the seconds a fixed arithmetic
-// load (independent multiply-adds in 8 lanes, enough to keep a core's floating-point pipes busy,
-// about 2 ms) takes on each of `threads` threads started together, the slowest thread's. With every
-// thread on a core of its own it takes as long on n threads as on one; where a guest's CPUs share a
-// core (sibling hyperthreads on the host) or the host time-slices them, it takes longer, as any
-// code's does. `threads` x one thread's seconds / these is the machine's capacity, against which a
-// tracer's speed-up on as many threads is judged (the report's thread-scaling goal).
-double probe_seconds(int threads);
 
 // The CPUs of this thread's affinity mask, at most `most` of them, lowest first.
 std::vector<int> allowed_cpus(int most);

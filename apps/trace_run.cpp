@@ -475,16 +475,6 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
       by = json::array();
       for (const auto& on : tm.ours_on) by.push_back(double(n) / rb::median(on) / 1e6);
       w["one_thread_seconds_by_cpu"] = tm.ours_on;
-      if (!tm.probe_many.empty()) {  // what the machine gave that many threads in the same rounds, apart from any tracer
-        std::vector<double> ideal(tm.probe_one.size());
-        for (std::size_t r = 0; r < ideal.size(); ++r) ideal[r] = double(tm.probe_threads) * tm.probe_one[r];
-        json& m = w["machine"];
-        m["what"] = "a fixed arithmetic load (8-lane multiply-adds) on one thread (each CPU in turn) and on the threads at once, "
-                    "every round: threads x one thread's seconds / the slowest thread's seconds";
-        m["capacity"] = stats::interval_json(stats::paired_ratio(ideal, tm.probe_many));
-        m["one_thread_seconds"] = tm.probe_one;
-        m["threads_seconds"] = tm.probe_many;
-      }
     }
   }
   j["build_threads"] = o.build_threads();

@@ -93,11 +93,6 @@ std::string trace_text(const json& j) {
       o += fmt::format("           (over one thread's rate averaged over the CPUs it took turns on: {:.2f} Mrays/s; {})\n",
                        w["one_thread_mrays_per_s"].get<double>(), per);
     }
-    if (w.contains("machine"))
-      o += fmt::format("           the machine, same rounds: a fixed arithmetic load on {} thread(s) did {} one thread's\n"
-                       "           work in one thread's time ({}x where each thread has a core of its own)\n",
-                       w["threads"].get<int>(), stats::interval_text(stats::interval_from_json(w["machine"]["capacity"])),
-                       w["threads"].get<int>());
   }
   if (j.contains("sah_tree") && j["sah_tree"].contains("mrays_per_s")) {
     const json& t = j["sah_tree"];

@@ -218,11 +218,8 @@ std::string trace_matrix_mesh(TracingRun& x, const TracedMesh& m, const std::vec
   // one-thread row, whose rounds also traced the rays on two threads (paired). Embree's figure is
   // its two rows' medians (their runs were not paired): where both engines scale badly on one row,
   // the host was busy then, not the tracer.
-  md += "Two threads over one (same rays, same rounds; one thread's rate averaged over the two CPUs, on which it took turns), " +
-        fmt::format("raybench (Embree's, from its two rows, in brackets; where the machine itself, a fixed arithmetic load on two threads "
-                    "in the same rounds, did less than {:.1f}x one thread's work in one thread's time: that figure after it, and the row "
-                    "is judged apart): ",
-                    kThreadScalingTarget);
+  md += "Two threads over one (same rays, same rounds; one thread's rate averaged over the two CPUs, on which it took turns), "
+        "raybench (Embree's, from its two rows, in brackets): ";
   std::vector<std::string> sc;
   for (std::size_t i = 0; i + 1 < mrows.size(); i += 2) {
     const json& a = mrows[i];
@@ -233,18 +230,9 @@ std::string trace_matrix_mesh(TracingRun& x, const TracedMesh& m, const std::vec
                                         ? stats::interval_from_json(a["threads_beside"]["speedup"])
                                         : stats::unpaired_ratio(a["seconds"].get<std::vector<double>>(), b["seconds"].get<std::vector<double>>());
     const double r = std::isfinite(ri.ratio) ? ri.ratio : b["mrays_per_s"].get<double>() / a["mrays_per_s"].get<double>();
-    std::string machine;
-    if (a.contains("threads_beside") && a["threads_beside"].contains("machine")) {
-      const stats::RatioInterval mc = stats::interval_from_json(a["threads_beside"]["machine"]["capacity"]);
-      if (stats::verdict(mc, kThreadScalingTarget) == stats::Verdict::not_met) machine = " machine " + stats::interval_text(mc);
-    }
-    sc.push_back(fmt::format("{} {}: {} ({}){}", a["ray_set"].get<std::string>(), a["packet"].get<int>(), stats::interval_text(ri), f2(e),
-                             machine));
+    sc.push_back(fmt::format("{} {}: {} ({})", a["ray_set"].get<std::string>(), a["packet"].get<int>(), stats::interval_text(ri), f2(e)));
     scaling.push_back({{"mesh", m.label}, {"ray_set", a["ray_set"]}, {"packet", a["packet"]}, {"ours", r}, {"embree", e},
                        {"ours_interval", stats::interval_json(ri)}});
-    // The machine's own two-thread capacity in the same rounds (a fixed arithmetic load; older records lack it).
-    if (a.contains("threads_beside") && a["threads_beside"].contains("machine"))
-      scaling.back()["machine"] = a["threads_beside"]["machine"]["capacity"];
   }
   for (std::size_t i = 0; i < sc.size(); ++i) md += (i ? ", " : "") + sc[i];
   md += ".\n\n";

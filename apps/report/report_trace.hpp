@@ -12,10 +12,6 @@ inline constexpr int kLargePacket = 64;  // the large coherent packet of the tra
 
 // What the goals are judged on: the matrix's rows (`raybench trace` JSON with mesh), the sorted
 // streams' rows, the builds per mesh, the thread-scaling rows, and the rounds per row.
-// The thread-scaling goal: two threads at least this many times one thread's rate (a row where the
-// machine itself gave two threads less is judged apart).
-inline constexpr double kThreadScalingTarget = 1.8;
-
 struct TraceRows {
   const nlohmann::json& rows;
   const nlohmann::json& sorted;
