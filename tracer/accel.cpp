@@ -362,6 +362,21 @@ constexpr std::array<SurfaceRule, sizeof...(K)> surface_rules(const kinds::KindL
   return {&K::surface...};
 }
 constexpr auto kSurfaceRules = surface_rules(static_cast<const AllKinds*>(nullptr));
+
+// What a kind's rule is given of hit h of the frame ray r (the world point p, the kind's batch),
+// written field by field into the caller's query rather than built and returned, so that no copy of
+// the whole struct follows the stores (wide loads of fields just stored one by one stall, as the
+// Surface's copy did). surface() compiles to the same instructions as with the fields set inline.
+RB_INLINE void fill_query(kinds::HitQuery& q, const scene::Scene* s, const Vec3d& origin, const void* batch, const bvh::HitRec& h,
+                          const Ray<float>& r, const Vec3d& p) {
+  q.scene = s;
+  q.origin = origin;
+  q.ray = r;
+  q.t = h.t;
+  q.p = p;
+  q.aux = h.aux;
+  q.batch = batch;
+}
 }  // namespace
 
 kinds::Surface SceneAccel::surface(const bvh::HitRec& h, const Ray<float>& r) const {
@@ -374,13 +389,7 @@ kinds::Surface SceneAccel::surface(const bvh::HitRec& h, const Ray<float>& r) co
   // written one by one, a store-forwarding stall per hit).
   return [&] {
     kinds::HitQuery q;
-    q.scene = scene_;
-    q.origin = plan_.origin;
-    q.ray = r;
-    q.t = h.t;
-    q.p = world_point(r, h.t);
-    q.aux = h.aux;
-    q.batch = table_.batch[std::size_t(k)];
+    fill_query(q, scene_, plan_.origin, table_.batch[std::size_t(k)], h, r, world_point(r, h.t));
     kinds::Surface sf = kSurfaceRules[std::size_t(k)](q, kinds::index_of(prim));
     // A primitive stored in float lies within a few roundings of its coordinates (and, for placed
     // ones, of its map's) from the double surface sf.p is on: 8 u (|p| + its extent), frame units,
@@ -409,17 +418,8 @@ std::uint32_t SceneAccel::material(const bvh::HitRec& h, const Ray<float>& r) co
   const std::uint32_t i = kinds::index_of(h.prim);
   return AllKinds::at<std::uint32_t>(k, [&]<class K>() -> std::uint32_t {
     if constexpr (requires(const kinds::HitQuery& q) { K::hit_material(q, 0u); }) {
-      // Filled field by field where it is used, as in surface(): the query built by a shared helper
-      // and returned measured slower there (shading 20-25 % up on csg:die and checkerboard in 2
-      // alternated rounds, on a host noisy at the time), as whole-struct copies were before.
       kinds::HitQuery q;
-      q.scene = scene_;
-      q.origin = plan_.origin;
-      q.ray = r;
-      q.t = h.t;
-      q.p = world_point(r, h.t);
-      q.aux = h.aux;
-      q.batch = table_.batch[std::size_t(k)];
+      fill_query(q, scene_, plan_.origin, table_.batch[std::size_t(k)], h, r, world_point(r, h.t));
       return K::hit_material(q, i);
     } else {
       return K::material(*scene_, i);
