@@ -49,7 +49,8 @@ std::vector<int> allowed_cpus(int most) {
 }
 
 Timings time_engines(trace::ThreadScope& ts, std::size_t n, const Engine& ours, const std::vector<const Engine*>& beside,
-                     const std::vector<Engine>& modes, const TraceRunOptions& o, ProgressBar& bar, const std::vector<int>& cpus) {
+                     const std::vector<Engine>& modes, const TraceRunOptions& o, ProgressBar& bar, const std::vector<int>& cpus,
+                     trace::ThreadScope* embree_beside) {
   const std::size_t tile = 256;  // a multiple of every packet and stream size
   // Seconds per pass over the ray set, of `passes` passes in a row.
   auto per_pass = [&](const Engine& e, int passes) {
@@ -67,6 +68,19 @@ Timings time_engines(trace::ThreadScope& ts, std::size_t n, const Engine& ours, 
   constexpr double kSettled = 0.05;
   constexpr int kMaxWarmup = 6;
   auto moved = [&](const std::vector<double>& v) { return v.size() < 2 || std::fabs(v.back() / v[v.size() - 2] - 1) > kSettled; };
+  // Embree's control: its fastest mode on the given order (group 0) by the last warm-up run, on the
+  // threads beside.
+  auto fastest_given = [&] {
+    std::size_t f = modes.size();
+    for (std::size_t m = 0; m < modes.size(); ++m)
+      if (modes[m].group == 0 && !t.warm_modes[m].empty() && (f == modes.size() || t.warm_modes[m].back() < t.warm_modes[f].back())) f = m;
+    return f;
+  };
+  auto control = [&](std::size_t m) {
+    Engine e = modes[m];
+    e.scope = embree_beside;
+    return e;
+  };
   for (int w = 0; w < std::max(kMaxWarmup, o.warmup); ++w) {
     t.warm_ours.push_back(per_pass(ours, 1));
     for (const Engine* e : beside) per_pass(*e, 1);
@@ -75,6 +89,7 @@ Timings time_engines(trace::ThreadScope& ts, std::size_t n, const Engine& ours, 
       t.warm_modes[m].push_back(per_pass(modes[m], 1));
       if (t.warm_modes[m].back() < t.warm_modes[fastest].back()) fastest = m;
     }
+    if (embree_beside && fastest_given() < modes.size()) per_pass(control(fastest_given()), 1);
     bar.update(0.1 * double(w + 1) / std::max(kMaxWarmup, o.warmup));
     if (w + 1 >= std::max(1, o.warmup) && !moved(t.warm_ours) && (modes.empty() || !moved(t.warm_modes[fastest]))) break;
   }
@@ -94,10 +109,14 @@ Timings time_engines(trace::ThreadScope& ts, std::size_t n, const Engine& ours, 
   // beside it, then each timed Embree mode), so that a change in the machine's load falls on all
   // alike. With `cpus`, the one-thread engines of round r run on cpus[r % k], raybench then on each
   // other CPU of the list, and the engines of more threads last, unpinned.
+  const std::size_t given = embree_beside ? fastest_given() : modes.size();
+  const Engine embree_control = given < modes.size() ? control(given) : Engine{};
+  if (given < modes.size()) t.mode_beside = given;
   const bool pin = cpus.size() >= 2 && o.threads == 1;
   const std::size_t k = pin ? cpus.size() : 0;
   auto several = [&](const Engine* e) { return pin && e->scope && e->scope->threads() > 1; };
   if (pin) t.cpus = cpus, t.ours_on.resize(k);
+  if (pin && given < modes.size()) t.mode_on.resize(k);
   CpuPin on;
   for (int r = 0; r < o.repetitions; ++r) {
     if (pin) on.pin(cpus[std::size_t(r) % k]);
@@ -108,14 +127,17 @@ Timings time_engines(trace::ThreadScope& ts, std::size_t n, const Engine& ours, 
     for (std::size_t c = 0; c < k; ++c) {
       if (c == std::size_t(r) % k) {
         t.ours_on[c].push_back(t.ours.back());
+        if (!t.mode_on.empty()) t.mode_on[c].push_back(t.modes[given].back());
         continue;
       }
       on.pin(cpus[c]);
       t.ours_on[c].push_back(per_pass(ours, t.passes));
+      if (!t.mode_on.empty()) t.mode_on[c].push_back(per_pass(modes[given], t.passes));
     }
     on.release();
     for (std::size_t b = 0; b < beside.size(); ++b)
       if (several(beside[b])) t.beside[b].push_back(per_pass(*beside[b], t.passes));
+    if (given < modes.size()) t.mode_beside_seconds.push_back(per_pass(embree_control, t.passes));
     bar.update(0.1 + 0.85 * double(r + 1) / o.repetitions);
   }
   return t;

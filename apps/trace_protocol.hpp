@@ -31,6 +31,11 @@ struct Timings {
   std::vector<std::vector<double>> modes;       // each Embree mode (empty: left out of the rounds)
   std::vector<int> cpus;                        // the CPUs the one-thread engines took turns on (empty: not pinned)
   std::vector<std::vector<double>> ours_on;     // raybench on each of those CPUs, round by round
+  // Embree's control (`embree_beside`): its fastest mode on the given order, also on the other
+  // thread count in the same rounds (empty: not timed).
+  std::size_t mode_beside = 0;                  // which mode
+  std::vector<double> mode_beside_seconds;      // its seconds on the other thread count, round by round
+  std::vector<std::vector<double>> mode_on;     // and on one thread, on each CPU of `cpus`, round by round
 };
 
 // The timing protocol of `raybench trace` (docs/DESIGN.md, command-line conventions): warm-up until
@@ -44,8 +49,15 @@ struct Timings {
 // thread sharing one's core), so one thread's rate depends on where it ran: pinned, each round's
 // engines share a CPU, and the rate on every CPU is known, against which the rate of several
 // threads means something whichever CPU was slower.
+//
+// `embree_beside` (with another thread count beside raybench): Embree's fastest mode on the given
+// order also runs on those threads, after raybench's, in every warm-up and timed round, and with
+// `cpus` on one thread on each CPU as raybench does: the same machine's answer to the same question,
+// the control of a thread-scaling figure (a host that gave the guest less than two cores slows both
+// engines' second thread alike).
 Timings time_engines(trace::ThreadScope& ts, std::size_t n, const Engine& ours, const std::vector<const Engine*>& beside,
-                     const std::vector<Engine>& modes, const TraceRunOptions& o, ProgressBar& bar, const std::vector<int>& cpus = {});
+                     const std::vector<Engine>& modes, const TraceRunOptions& o, ProgressBar& bar, const std::vector<int>& cpus = {},
+                     trace::ThreadScope* embree_beside = nullptr);
 
 // The CPUs of this thread's affinity mask, at most `most` of them, lowest first.
 std::vector<int> allowed_cpus(int most);

@@ -146,6 +146,18 @@ std::string hits_digest(const std::vector<bvh::HitRec>& ours, std::size_t n, boo
 // Embree's figures: every mode (its median where it was timed, its warm-up rate where it was not),
 // the fastest timed mode as the yardstick, the rays the engines disagree on, and raybench / Embree
 // round by round with its interval.
+// Per round, one thread's seconds averaged over the CPUs it ran on (the harmonic mean of the rates,
+// as seconds): `on[c][r]`, CPU c, round r.
+std::vector<double> averaged_over_cpus(const std::vector<std::vector<double>>& on) {
+  std::vector<double> one(on.empty() ? 0 : on[0].size());
+  for (std::size_t r = 0; r < one.size(); ++r) {
+    double inv = 0;
+    for (const auto& c : on) inv += 1 / c[r];
+    one[r] = double(on.size()) / inv;
+  }
+  return one;
+}
+
 void put_embree(json& j, const trace::EmbreeBuild& embree, const std::vector<trace::EmbreeMode>& modes, const Timings& tm,
                 const std::vector<bvh::HitRec>& ours, const std::vector<std::vector<bvh::HitRec>>& theirs, std::size_t n, bool any) {
   const std::vector<double>& secs = tm.ours;
@@ -390,7 +402,7 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   // One thread against more: the one-thread engines take turns on the CPUs the threads beside them
   // may use, and the speed-up is over one thread's rate averaged over those CPUs (time_engines).
   const std::vector<int> cpus = other_threads && o.threads == 1 ? allowed_cpus(o.threads_beside) : std::vector<int>{};
-  const Timings tm = time_engines(ts, n, mine, beside, embree_engines, o, bar, cpus);
+  const Timings tm = time_engines(ts, n, mine, beside, embree_engines, o, bar, cpus, other_threads ? &*other_threads : nullptr);
   const std::vector<double>& secs = tm.ours;
   const std::vector<double>& sah_secs = sah_ ? tm.beside[0] : secs;
   const int passes = tm.passes;
@@ -461,13 +473,7 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
     if (tm.cpus.empty()) {
       put_beside(w, st, "speedup", stats::paired_ratio(secs, st), out_threads);
     } else {
-      // Per round, one thread's rate averaged over the CPUs: the harmonic mean of its seconds there.
-      std::vector<double> one(secs.size());
-      for (std::size_t r = 0; r < one.size(); ++r) {
-        double inv = 0;
-        for (const auto& on : tm.ours_on) inv += 1 / on[r];
-        one[r] = double(tm.ours_on.size()) / inv;
-      }
+      const std::vector<double> one = averaged_over_cpus(tm.ours_on);
       put_beside(w, st, "speedup", stats::paired_ratio(one, st), out_threads);
       w["one_thread_cpus"] = tm.cpus;
       w["one_thread_mrays_per_s"] = double(n) / rb::median(one) / 1e6;
@@ -475,6 +481,18 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
       by = json::array();
       for (const auto& on : tm.ours_on) by.push_back(double(n) / rb::median(on) / 1e6);
       w["one_thread_seconds_by_cpu"] = tm.ours_on;
+    }
+    // Embree's control: its fastest mode on both thread counts in the same rounds, one thread's
+    // rate averaged over the CPUs as raybench's: what this machine gave a second thread.
+    if (!tm.mode_beside_seconds.empty()) {
+      const std::vector<double> one = tm.mode_on.empty() ? tm.modes[tm.mode_beside] : averaged_over_cpus(tm.mode_on);
+      const std::vector<double>& more = tm.mode_beside_seconds;
+      w["embree"] = {{"mode", modes[tm.mode_beside].name(any)},
+                     {"mrays_per_s", double(n) / rb::median(more) / 1e6},
+                     {"one_thread_mrays_per_s", double(n) / rb::median(one) / 1e6},
+                     {"seconds", more},
+                     {"speedup", stats::interval_json(stats::paired_ratio(one, more))}};
+      if (!tm.mode_on.empty()) w["embree"]["one_thread_seconds_by_cpu"] = tm.mode_on;
     }
   }
   j["build_threads"] = o.build_threads();

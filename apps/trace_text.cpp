@@ -93,6 +93,12 @@ std::string trace_text(const json& j) {
       o += fmt::format("           (over one thread's rate averaged over the CPUs it took turns on: {:.2f} Mrays/s; {})\n",
                        w["one_thread_mrays_per_s"].get<double>(), per);
     }
+    if (w.contains("embree")) {
+      const json& e = w["embree"];
+      o += fmt::format("           Embree ({}) in the same rounds: {:.2f} -> {:.2f} Mrays/s, {} thread(s) over {}: {}\n",
+                       e["mode"].get<std::string>(), e["one_thread_mrays_per_s"].get<double>(), e["mrays_per_s"].get<double>(),
+                       w["threads"].get<int>(), j["threads"].get<int>(), stats::interval_text(stats::interval_from_json(e["speedup"])));
+    }
   }
   if (j.contains("sah_tree") && j["sah_tree"].contains("mrays_per_s")) {
     const json& t = j["sah_tree"];

@@ -146,6 +146,23 @@ TEST(Cli, TraceTimesAnotherThreadCountInTheSameRounds) {
     std::sort(ratio.begin(), ratio.end());
     EXPECT_NEAR(w["speedup"]["ratio"].get<double>(), ratio[1], 1e-9 * ratio[1]);
     EXPECT_TRUE(has(r.out, "averaged over the CPUs it took turns on")) << r.out;
+    // Embree's control, measured alike: its fastest mode on each CPU and on two threads.
+    if (!j["embree_mrays_per_s"].is_null()) {
+      ASSERT_TRUE(w.contains("embree")) << w.dump();
+      const nlohmann::json& e = w["embree"];
+      const nlohmann::json& eon = e["one_thread_seconds_by_cpu"];
+      ASSERT_EQ(eon.size(), 2u);
+      ASSERT_EQ(e["seconds"].size(), 3u);
+      std::vector<double> er;
+      for (std::size_t k = 0; k < 3; ++k)
+        er.push_back(2 / (1 / eon[0][k].get<double>() + 1 / eon[1][k].get<double>()) / e["seconds"][k].get<double>());
+      std::sort(er.begin(), er.end());
+      EXPECT_NEAR(e["speedup"]["ratio"].get<double>(), er[1], 1e-9 * er[1]);
+      bool named = false;
+      for (const auto& m : j["embree_modes"]) named = named || m["mode"] == e["mode"];
+      EXPECT_TRUE(named) << e["mode"] << " is one of the run's Embree modes";
+      EXPECT_TRUE(has(r.out, "in the same rounds: ")) << r.out;
+    }
   } else {
     EXPECT_FALSE(w.contains("one_thread_cpus")) << "one CPU: nothing to take turns on";
   }
