@@ -143,9 +143,6 @@ std::string hits_digest(const std::vector<bvh::HitRec>& ours, std::size_t n, boo
   return fmt::format("{:016x}", d);
 }
 
-// Embree's figures: every mode (its median where it was timed, its warm-up rate where it was not),
-// the fastest timed mode as the yardstick, the rays the engines disagree on, and raybench / Embree
-// round by round with its interval.
 // Per round, one thread's seconds averaged over the CPUs it ran on (the harmonic mean of the rates,
 // as seconds): `on[c][r]`, CPU c, round r.
 std::vector<double> averaged_over_cpus(const std::vector<std::vector<double>>& on) {
@@ -158,6 +155,9 @@ std::vector<double> averaged_over_cpus(const std::vector<std::vector<double>>& o
   return one;
 }
 
+// Embree's figures: every mode (its median where it was timed, its warm-up rate where it was not),
+// the fastest timed mode as the yardstick, the rays the engines disagree on, and raybench / Embree
+// round by round with its interval.
 void put_embree(json& j, const trace::EmbreeBuild& embree, const std::vector<trace::EmbreeMode>& modes, const Timings& tm,
                 const std::vector<bvh::HitRec>& ours, const std::vector<std::vector<bvh::HitRec>>& theirs, std::size_t n, bool any) {
   const std::vector<double>& secs = tm.ours;

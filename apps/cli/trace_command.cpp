@@ -36,7 +36,8 @@ class TraceCommand final : public Command {
                      "Thread scaling: raybench also on N threads, in\nthe same rounds, and N threads over --threads\n"
                      "as a paired ratio with its interval (0: off;\nthe builds then run on the larger count).\n"
                      "With --threads 1 the one-thread engines take\nturns on the first N CPUs, pinned, and the\n"
-                     "ratio is over one thread's rate averaged over\nthem (a guest's CPUs may differ in speed)")
+                     "ratio is over one thread's rate averaged over\nthem (a guest's CPUs may differ in speed).\n"
+                     "Embree's fastest mode is timed alike, as the\nmachine's control")
         ->check(CLI::Range(0, 256))->capture_default_str();
     sub_->add_option("--packet", to.packet, "Rays per packet: 1 (single rays), 8, 16,\n64 or 256 (coherent packets)")
         ->check(CLI::IsMember({1, 8, 16, 64, 256}))
