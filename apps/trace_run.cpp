@@ -155,6 +155,48 @@ std::vector<double> averaged_over_cpus(const std::vector<std::vector<double>>& o
   return one;
 }
 
+// An engine timed beside ours in the same rounds: its rate, ours over it or it over ours (the
+// median of the rounds' ratios, 95 % interval) and the rays whose hits differ from ours.
+void put_beside(json& w, const std::vector<double>& s, const char* ratio_key, const stats::RatioInterval& r,
+                const std::vector<bvh::HitRec>& ours, const std::vector<bvh::HitRec>& its_hits, std::size_t n, bool any) {
+  w["mrays_per_s"] = double(n) / rb::median(s) / 1e6;
+  w["seconds"] = s;
+  put_spread(w, "", s, n);
+  w[ratio_key] = stats::interval_json(r);
+  w["mismatches"] = tracer::compare(ours, its_hits, n, any).mismatches;
+}
+
+// --threads-beside: the same packets on the other thread count (the last engine beside ours), its
+// speed-up over this run's threads (over one thread's rate averaged over the CPUs it took turns
+// on, where it did), and Embree's control: its fastest mode on both thread counts in the same
+// rounds, its one thread averaged over the CPUs alike: what this machine gave a second thread.
+void put_threads_beside(json& w, int threads, const Timings& tm, const std::vector<trace::EmbreeMode>& modes,
+                        const std::vector<bvh::HitRec>& ours, const std::vector<bvh::HitRec>& its_hits, std::size_t n, bool any) {
+  const std::vector<double>& st = tm.beside.back();
+  w["threads"] = threads;
+  if (tm.cpus.empty()) {
+    put_beside(w, st, "speedup", stats::paired_ratio(tm.ours, st), ours, its_hits, n, any);
+  } else {
+    const std::vector<double> one = averaged_over_cpus(tm.ours_on);
+    put_beside(w, st, "speedup", stats::paired_ratio(one, st), ours, its_hits, n, any);
+    w["one_thread_cpus"] = tm.cpus;
+    w["one_thread_mrays_per_s"] = double(n) / rb::median(one) / 1e6;
+    json& by = w["one_thread_mrays_per_s_by_cpu"];
+    by = json::array();
+    for (const auto& on : tm.ours_on) by.push_back(double(n) / rb::median(on) / 1e6);
+    w["one_thread_seconds_by_cpu"] = tm.ours_on;
+  }
+  if (tm.mode_beside_seconds.empty()) return;
+  const std::vector<double> one = tm.mode_on.empty() ? tm.modes[tm.mode_beside] : averaged_over_cpus(tm.mode_on);
+  const std::vector<double>& more = tm.mode_beside_seconds;
+  w["embree"] = {{"mode", modes[tm.mode_beside].name(any)},
+                 {"mrays_per_s", double(n) / rb::median(more) / 1e6},
+                 {"one_thread_mrays_per_s", double(n) / rb::median(one) / 1e6},
+                 {"seconds", more},
+                 {"speedup", stats::interval_json(stats::paired_ratio(one, more))}};
+  if (!tm.mode_on.empty()) w["embree"]["one_thread_seconds_by_cpu"] = tm.mode_on;
+}
+
 // Embree's figures: every mode (its median where it was timed, its warm-up rate where it was not),
 // the fastest timed mode as the yardstick, the rays the engines disagree on, and raybench / Embree
 // round by round with its interval.
@@ -452,49 +494,11 @@ json TraceSession::run(const TraceRunOptions& o, bool progress) {
   for (auto it = b.begin(); it != b.end(); ++it) j[it.key()] = it.value();
 
   if (sah_) put_sah_tree(j["sah_tree"], *sah_, ts, rays, to, sah_secs, ours, sah_out, any);
-  // An engine timed beside ours in the same rounds: its rate, ours over it or it over ours (the
-  // median of the rounds' ratios, 95 % interval) and the rays whose hits differ from ours.
-  auto put_beside = [&](json& w, const std::vector<double>& s, const char* ratio_key, const stats::RatioInterval& r,
-                        const std::vector<bvh::HitRec>& its_hits) {
-    w["mrays_per_s"] = double(n) / rb::median(s) / 1e6;
-    w["seconds"] = s;
-    put_spread(w, "", s, n);
-    w[ratio_key] = stats::interval_json(r);
-    w["mismatches"] = tracer::compare(ours, its_hits, n, any).mismatches;
-  };
   if (widths) {  // the same packets in 8 lanes: the 16-lane walk's speed over it
     const std::vector<double>& s8 = tm.beside[(sah_ ? 1 : 0)];
-    put_beside(j["lanes8"], s8, "speedup_16_over_8", stats::paired_ratio(s8, secs), out8);
+    put_beside(j["lanes8"], s8, "speedup_16_over_8", stats::paired_ratio(s8, secs), ours, out8, n, any);
   }
-  if (other_threads) {  // the same packets on the other thread count: its speed-up over this run's threads
-    const std::vector<double>& st = tm.beside.back();
-    json& w = j["threads_beside"];
-    w["threads"] = o.threads_beside;
-    if (tm.cpus.empty()) {
-      put_beside(w, st, "speedup", stats::paired_ratio(secs, st), out_threads);
-    } else {
-      const std::vector<double> one = averaged_over_cpus(tm.ours_on);
-      put_beside(w, st, "speedup", stats::paired_ratio(one, st), out_threads);
-      w["one_thread_cpus"] = tm.cpus;
-      w["one_thread_mrays_per_s"] = double(n) / rb::median(one) / 1e6;
-      json& by = w["one_thread_mrays_per_s_by_cpu"];
-      by = json::array();
-      for (const auto& on : tm.ours_on) by.push_back(double(n) / rb::median(on) / 1e6);
-      w["one_thread_seconds_by_cpu"] = tm.ours_on;
-    }
-    // Embree's control: its fastest mode on both thread counts in the same rounds, one thread's
-    // rate averaged over the CPUs as raybench's: what this machine gave a second thread.
-    if (!tm.mode_beside_seconds.empty()) {
-      const std::vector<double> one = tm.mode_on.empty() ? tm.modes[tm.mode_beside] : averaged_over_cpus(tm.mode_on);
-      const std::vector<double>& more = tm.mode_beside_seconds;
-      w["embree"] = {{"mode", modes[tm.mode_beside].name(any)},
-                     {"mrays_per_s", double(n) / rb::median(more) / 1e6},
-                     {"one_thread_mrays_per_s", double(n) / rb::median(one) / 1e6},
-                     {"seconds", more},
-                     {"speedup", stats::interval_json(stats::paired_ratio(one, more))}};
-      if (!tm.mode_on.empty()) w["embree"]["one_thread_seconds_by_cpu"] = tm.mode_on;
-    }
-  }
+  if (other_threads) put_threads_beside(j["threads_beside"], o.threads_beside, tm, modes, ours, out_threads, n, any);
   j["build_threads"] = o.build_threads();
 
   put_embree(j, embree_, modes, tm, ours, theirs, n, any);
