@@ -10,7 +10,8 @@
 // registration order, which puts a method's scalar, 8-lane and 16-lane forms of one case back to
 // back (bench/register.hpp), so that a change of the machine's load falls on all of them; a
 // benchmark's repetitions are its rounds, and a ratio between two benchmarks is taken round by
-// round (stats::paired_ratio).
+// round (stats::paired_ratio). With --extra-rounds, the forms of a case whose ratio's interval is
+// still wider than --within run again, a round at a time (rows_to_extend).
 #include "apps/cli.hpp"
 #include "apps/results/machine.hpp"
 #include "apps/progress.hpp"
@@ -71,10 +72,23 @@ std::string exact_filter(const std::vector<std::pair<std::string, benchmark::Ite
 // under way.
 class ProgressReporter : public benchmark::BenchmarkReporter {
  public:
-  ProgressReporter(std::size_t total, int rounds, const std::string& what) : total_(total * std::size_t(rounds)), rounds_(rounds), what_(what), bar_(what) {}
+  ProgressReporter(std::size_t total, int rounds, const std::string& what)
+      : total_(total * std::size_t(rounds)), benchmarks_(total), rounds_(rounds), what_(what), bar_(what) {}
   // Starts a round: a fresh JSON reporter (each round is a whole Google Benchmark run).
   void start_round(int round) {
     round_ = round;
+    label_ = fmt::format("round {}/{}", round + 1, rounds_);
+    start_run();
+  }
+  // Starts the k-th of at most `of` extra rounds, over n of the benchmarks (the bar grows by them).
+  void start_extra(int k, int of, std::size_t n) {
+    round_ = rounds_ + k;
+    total_ += n;
+    label_ = fmt::format("extra round {}/{} ({} benchmarks)", k + 1, of, n);
+    ++extra_;
+    start_run();
+  }
+  void start_run() {
     text_ = std::make_unique<std::ostringstream>();
     json_ = std::make_unique<benchmark::JSONReporter>();
     json_->SetOutputStream(text_.get());
@@ -92,8 +106,7 @@ class ProgressReporter : public benchmark::BenchmarkReporter {
       if (r.error_occurred) errors_.push_back(plain_name(r.benchmark_name()) + ": " + r.error_message);
       if (round_ == 0) first_round_.emplace_back(r.benchmark_name(), r.error_occurred ? 0 : r.iterations);
     }
-    bar_.update(double(done_) / double(std::max(total_, done_)),
-                fmt::format("round {}/{}: {}", round_ + 1, rounds_, plain_name(runs.front().run_name.str())));
+    bar_.update(double(done_) / double(std::max(total_, done_)), fmt::format("{}: {}", label_, plain_name(runs.front().run_name.str())));
   }
   void Finalize() override {
     json_->Finalize();
@@ -101,8 +114,9 @@ class ProgressReporter : public benchmark::BenchmarkReporter {
   }
   void done() {
     bar_.done();
-    std::cerr << fmt::format("{}: {} benchmarks x {} rounds in {}\n", what_, total_ / std::size_t(std::max(rounds_, 1)), rounds_,
-                             format_duration(bar_.seconds()));
+    const std::size_t extra = total_ - benchmarks_ * std::size_t(rounds_);
+    std::cerr << fmt::format("{}: {} benchmarks x {} rounds{} in {}\n", what_, benchmarks_, rounds_,
+                             extra_ ? fmt::format(", then {} runs in {} extra rounds", extra, extra_) : "", format_duration(bar_.seconds()));
     for (const auto& e : errors_) std::cerr << "  error: " << e << "\n";
   }
   std::size_t errors() const { return errors_.size(); }
@@ -111,9 +125,9 @@ class ProgressReporter : public benchmark::BenchmarkReporter {
   const std::vector<std::pair<std::string, benchmark::IterationCount>>& first_round() const { return first_round_; }
 
  private:
-  std::size_t total_, done_ = 0;
-  int rounds_, round_ = 0;
-  std::string what_;
+  std::size_t total_, benchmarks_, done_ = 0;
+  int rounds_, round_ = 0, extra_ = 0;
+  std::string what_, label_;
   ProgressBar bar_;
   std::vector<std::string> errors_, texts_;
   std::vector<std::pair<std::string, benchmark::IterationCount>> first_round_;
@@ -135,11 +149,12 @@ nlohmann::json merge_rounds(const std::vector<nlohmann::json>& rounds) {
     for (nlohmann::json b : rounds[r].at("benchmarks")) {
       if (b.value("run_type", "") != "iteration") continue;
       const std::string name = b.value("run_name", b.value("name", ""));
-      b["repetitions"] = rounds.size();
       b["repetition_index"] = r;
       if (!runs.count(name)) order.push_back(name);
       runs[name].push_back(b);
     }
+  for (auto& [name, v] : runs)  // a benchmark's rounds: the common ones and its extra ones
+    for (auto& b : v) b["repetitions"] = v.size();
   static const std::set<std::string> kFixed = {"family_index", "per_family_instance_index", "repetitions", "repetition_index", "threads",
                                               "iterations"};
   for (const auto& name : order) {
@@ -213,6 +228,59 @@ std::map<std::string, stats::RatioInterval> simd16_speedups(const nlohmann::json
   });
 }
 
+namespace {
+
+// The benchmarks an extra round runs: every form of a kernel, method and case (scalar, 8 and 16
+// lanes) one of whose ratios (SIMD / scalar, 16 / 8 lanes) has an interval wider than `precision`,
+// and each benchmark in no such ratio (the node test, the instruction rows) whose rate's interval
+// is; all forms of a case run again, so that its ratios stay paired round by round. With the wide
+// ratios' names (the JSON's record of why).
+std::pair<std::set<std::string>, std::vector<std::string>> rows_to_extend(const nlohmann::json& doc, double precision) {
+  std::set<std::string> groups, paired, names;
+  std::vector<std::string> why;
+  auto group_of = [](const std::string& name) {
+    const auto b = rb::bench::BenchName::parse(name);
+    return b ? b->kernel_method() + "/" + b->kase : name;
+  };
+  for (const auto& ratios : {simd_speedups(doc), simd16_speedups(doc)})
+    for (const auto& [name, r] : ratios) {
+      paired.insert(group_of(name));
+      if (stats::too_wide(r, precision)) groups.insert(group_of(name)), why.push_back(name);
+    }
+  std::map<std::string, std::vector<double>> rates;
+  for (const auto& b : doc.at("benchmarks"))
+    if (b.value("run_type", "") == "iteration" && b.contains("tests_per_s") && b["tests_per_s"].is_number())
+      rates[b.value("run_name", "")].push_back(b["tests_per_s"].get<double>());
+  for (const auto& [name, v] : rates) {
+    const std::string g = group_of(name);
+    if (groups.count(g)) names.insert(name);
+    else if (!paired.count(g) && stats::too_wide(stats::paired_ratio(v, std::vector<double>(v.size(), 1.0)), precision))
+      names.insert(name), why.push_back(name);
+  }
+  return {names, why};
+}
+
+}  // namespace
+
+std::string extra_rounds_text(const nlohmann::json& doc) {
+  const nlohmann::json* e = doc.contains("raybench_extra_rounds") ? &doc["raybench_extra_rounds"] : nullptr;
+  if (!e || !e->is_object() || e->value("most", 0) <= 0) return "";
+  const double within = e->value("within", 0.05);
+  std::size_t still = 0, ratios = 0;
+  for (const auto& ratios_of : {simd_speedups(doc), simd16_speedups(doc)})
+    for (const auto& [name, r] : ratios_of) ++ratios, still += stats::too_wide(r, within);
+  const auto& rounds = (*e)["rounds"];
+  if (doc.contains("context") && doc["context"].value("raybench_rounds", 2) < 2)
+    return "Extra rounds: none (one round gives no interval to narrow).";
+  if (rounds.empty())
+    return fmt::format("Extra rounds: none needed (every ratio's 95 % interval within +-{:g} % after the rounds).", 100 * within);
+  std::string runs;
+  for (const auto& r : rounds) runs += (runs.empty() ? "" : ", ") + std::to_string(r.value("benchmarks", 0));
+  return fmt::format("Extra rounds: {} of at most {} ({} benchmarks in turn: the forms of each case with a ratio whose 95 % interval was "
+                     "wider than +-{:g} %, and lone benchmarks whose rate's was); {} of {} ratios still wider after them.",
+                     rounds.size(), e->value("most", 0), runs, 100 * within, still, ratios);
+}
+
 std::vector<std::string> benchmark_names(const std::string& filter, const std::string& isa) {
   ensure_registered(isa);
   const auto& names = rb::bench::registered_names();
@@ -248,10 +316,15 @@ int run_benchmarks(const BenchOptions& o, nlohmann::json& doc) {
   benchmark::AddCustomContext("raybench_isa_why", isa.why);
   benchmark::AddCustomContext("raybench_seed", std::to_string(rb::bench::bench_data_seed()));
   benchmark::AddCustomContext("raybench_repetitions", std::to_string(o.repetitions));
-  benchmark::AddCustomContext("raybench_protocol", fmt::format("{} rounds, each running every selected benchmark once in registration "
-                                                               "order: a benchmark's repetitions are its rounds; the first round finds "
-                                                               "the iterations that last at least {} s, the later ones run as many",
-                                                               o.repetitions, o.min_time));
+  benchmark::AddCustomContext("raybench_protocol",
+                              fmt::format("{} rounds, each running every selected benchmark once in registration order: a benchmark's "
+                                          "repetitions are its rounds; the first round finds the iterations that last at least {} s, the "
+                                          "later ones run as many{}",
+                                          o.repetitions, o.min_time,
+                                          o.extra_rounds > 0 ? fmt::format("; then up to {} extra rounds of the cases whose ratio's 95 % "
+                                                                           "interval is wider than +-{:g} % (raybench_extra_rounds)",
+                                                                           o.extra_rounds, 100 * o.within)
+                                                             : ""));
   std::vector<std::string> args = {"raybench", "--benchmark_repetitions=1", fmt::format("--benchmark_min_time={}", o.min_time),
                                    "--benchmark_filter=" + o.filter};
   std::vector<char*> argv;
@@ -282,6 +355,38 @@ int run_benchmarks(const BenchOptions& o, nlohmann::json& doc) {
       spec = exact_filter(progress.first_round());
     }
   }
+  // The rounds so far as one document (names without Google Benchmark's "/iterations:N").
+  auto merged = [&] {
+    std::vector<nlohmann::json> docs;
+    for (const auto& t : progress.texts()) {
+      docs.push_back(parse_json_text(t, "Google Benchmark's JSON"));
+      for (auto& b : docs.back().at("benchmarks"))
+        for (const char* key : {"name", "run_name"})
+          if (b.contains(key) && b[key].is_string()) b[key] = plain_name(b[key].get<std::string>());
+    }
+    return merge_rounds(docs);
+  };
+  // Extra rounds: while some ratio's interval is wider than --within, one more round of the forms
+  // it compares (rows_to_extend), at most --extra-rounds of them. A stretch in which the host runs
+  // slow (it can slow the SIMD forms more than the scalar ones) then falls among more rounds, and
+  // the interval, which leaves out the most extreme rounds on each side, can leave it out.
+  nlohmann::json extension = {{"within", o.within}, {"most", o.extra_rounds}, {"rounds", nlohmann::json::array()}};
+  try {
+    for (int e = 0; e < o.extra_rounds && rounds >= 2 && n > 0; ++e) {
+      const auto [names, why] = rows_to_extend(merged(), o.within);
+      if (names.empty()) break;
+      std::vector<std::pair<std::string, benchmark::IterationCount>> runs;
+      for (const auto& [name, it] : progress.first_round())
+        if (it > 0 && names.count(plain_name(name))) runs.emplace_back(name, it);
+      if (runs.empty()) break;
+      progress.start_extra(e, o.extra_rounds, runs.size());
+      n += benchmark::RunSpecifiedBenchmarks(&progress, exact_filter(runs));
+      extension["rounds"].push_back({{"round", rounds + e}, {"benchmarks", runs.size()}, {"wide", why}});
+    }
+  } catch (const std::exception& e) {
+    std::cerr << error_line(o.command, "", e.what()) << "\n";
+    return kExitError;
+  }
   const nlohmann::json machine_load = watch.json();
   benchmark::Shutdown();
   progress.done();
@@ -290,14 +395,9 @@ int run_benchmarks(const BenchOptions& o, nlohmann::json& doc) {
     return kExitNothing;
   }
   try {
-    std::vector<nlohmann::json> docs;
-    for (const auto& t : progress.texts()) {
-      docs.push_back(parse_json_text(t, "Google Benchmark's JSON"));
-      for (auto& b : docs.back().at("benchmarks"))
-        for (const char* key : {"name", "run_name"})
-          if (b.contains(key) && b[key].is_string()) b[key] = plain_name(b[key].get<std::string>());
-    }
-    doc = merge_rounds(docs);
+    doc = merged();
+    doc["context"]["raybench_rounds"] = rounds;
+    doc["raybench_extra_rounds"] = extension;
     // Every SIMD benchmark's speedup over its scalar form, round by round, with its interval.
     nlohmann::json sp = nlohmann::json::object();
     for (const auto& [name, r] : simd_speedups(doc)) sp[name] = stats::interval_json(r);

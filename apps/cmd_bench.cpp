@@ -93,6 +93,7 @@ std::string bench_table(const json& doc, double* worst_cv, std::size_t* noisy) {
                               "iteration, one thread); CV: coefficient of variation over the rounds; vs scalar: the median of the rounds' "
                               "ratios to the scalar form of the same kernel, method and case (--json: each with its 95 % interval).",
                               ctx.value("raybench_repetitions", std::string("?"))));
+  if (const std::string e = extra_rounds_text(doc); !e.empty()) t += wrap_words(e);
   if (!speedups.empty()) {
     std::sort(speedups.begin(), speedups.end(), [](const auto& a, const auto& b) { return a.first.ratio < b.first.ratio; });
     const auto& lo = speedups.front();

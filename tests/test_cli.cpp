@@ -422,6 +422,40 @@ TEST(Cli, BenchPrintsATable) {
   EXPECT_TRUE(has(r.out, "load average")) << r.out;
 }
 
+// --extra-rounds: after the rounds, the forms of a case whose ratio's interval is wider than
+// --within run again, a round at a time, paired with each other; none when every interval is narrow.
+TEST(Cli, BenchGivesWideCasesExtraRounds) {
+  Scratch s("bench_extra");
+  const char* filter = "--filter '^sphere/geometric/(scalar|rays_in_lanes)/(hit|miss)$' -r 3 --min-time 0.001 --extra-rounds 2";
+  const Outcome r = run_in(s.dir, std::string("bench ") + filter + " --within 0.001 --json b.json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(has(r.out, "Extra rounds: 2 of at most 2 (4, 4 benchmarks in turn")) << r.out;
+  EXPECT_TRUE(has(r.err, "4 benchmarks x 3 rounds, then 8 runs in 2 extra rounds")) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(slurp(s / "b.json"));
+  EXPECT_EQ(j["context"]["raybench_rounds"], 3);
+  const auto& e = j["raybench_extra_rounds"];
+  EXPECT_DOUBLE_EQ(e["within"].get<double>(), 0.00001);
+  ASSERT_EQ(e["rounds"].size(), 2u) << e;
+  EXPECT_EQ(e["rounds"][0]["round"], 3);
+  EXPECT_EQ(e["rounds"][1]["benchmarks"], 4);
+  std::map<std::string, std::vector<int>> rounds;
+  for (const auto& b : j["benchmarks"])
+    if (b["run_type"] == "iteration") {
+      rounds[b["run_name"].get<std::string>()].push_back(b["repetition_index"].get<int>());
+      EXPECT_EQ(b["repetitions"], 5) << b;
+    }
+  ASSERT_EQ(rounds.size(), 4u);
+  for (const auto& [name, v] : rounds) EXPECT_EQ(v, (std::vector<int>{0, 1, 2, 3, 4})) << name;
+  EXPECT_EQ(j["raybench_simd_vs_scalar"]["sphere/geometric/rays_in_lanes/hit"]["rounds"], 5);
+  // Every interval within 100 %: no extra round.
+  const Outcome n = run_in(s.dir, std::string("bench ") + filter + " --within 100 --json n.json");
+  ASSERT_EQ(n.status, 0) << n.err;
+  EXPECT_TRUE(has(n.out, "Extra rounds: none needed")) << n.out;
+  const nlohmann::json k = nlohmann::json::parse(slurp(s / "n.json"));
+  EXPECT_TRUE(k["raybench_extra_rounds"]["rounds"].empty());
+  EXPECT_EQ(k["raybench_simd_vs_scalar"]["sphere/geometric/rays_in_lanes/hit"]["rounds"], 3);
+}
+
 TEST(Cli, RenderGivesMedianRangeAndCvAndTooManyThreadsWarn) {
   Scratch s("render-time");
   const int more = int(rb::app::hardware_threads()) + 2;

@@ -14,6 +14,12 @@ class BenchCommand final : public Command {
         ->capture_default_str();
     sub_->add_option("-r,--repetitions", bo.repetitions, "Rounds: each runs every selected benchmark\nonce; a benchmark's repetitions are its rounds\n(the median is quoted; from 6, ratios carry a\n95 % interval; from 9 it leaves out the most\nextreme round on each side)")->capture_default_str()->check(CLI::Range(1, 100));
     sub_->add_option("--min-time", bo.min_time, "Seconds per benchmark per round")->capture_default_str()->check(CLI::Range(0.001, 10.0));
+    sub_->add_option("--extra-rounds", bo.extra_rounds,
+                     "Then up to N more rounds, each of every form of\nthe cases one of whose ratios (SIMD / scalar,\n16 / 8 lanes) "
+                     "has an interval wider than\n--within, and of the lone benchmarks whose\nrate's interval is (the node test)")
+        ->capture_default_str()->check(CLI::Range(0, 100));
+    sub_->add_option_function<double>("--within", [this](double p) { bo.within = p / 100; }, "Half-width in % an interval is held to (the\nrule for --extra-rounds) [5]")
+        ->check(CLI::Range(0.001, 100.0));
     sub_->add_option("--isa", bo.isa, "auto: 16 AVX-512 lanes beside 8 AVX2 lanes where\nthe CPU and the build have them; avx2: 8 lanes\nonly; avx512: fail where 16 lanes cannot run")
         ->capture_default_str()->check(CLI::IsMember({"auto", "avx2", "avx512"}));
     sub_->add_option("--seed", bo.seed, "Seed of the rays and primitives\n(0: the report's data)")->capture_default_str();

@@ -17,6 +17,10 @@ class ReportCommand final : public Command {
     sub_->add_option("-r,--repetitions", ro.repetitions, "Benchmark rounds (each runs every benchmark\nonce: medians, and SIMD / scalar with a 95 %\ninterval from 6 rounds; from 9 it leaves out\nthe most extreme round on each side)")
         ->capture_default_str()->check(CLI::Range(1, 100));
     sub_->add_option("--min-time", ro.min_time, "Seconds per benchmark repetition")->capture_default_str()->check(CLI::Range(0.001, 10.0));
+    sub_->add_option("--extra-rounds", ro.extra_rounds, "Then up to N more rounds of the benchmarks whose\nratio's 95 % interval is wider than --within\n(0: none)")
+        ->capture_default_str()->check(CLI::Range(0, 100));
+    sub_->add_option_function<double>("--within", [this](double p) { ro.within = p / 100; }, "Half-width in % an interval is held to (the\nrule for extra rounds) [5]")
+        ->check(CLI::Range(0.001, 100.0));
     sub_->add_option("--filter", ro.filter, "Only the benchmarks whose name\n(kernel/method/variant/case) matches this regex")
         ->capture_default_str();
     sub_->add_flag("!--no-charts", ro.charts, "Skip the matplotlib charts");
@@ -41,7 +45,7 @@ class ReportCommand final : public Command {
   int run(Context& c) override {
     if (!ro.from.empty()) {
       // The figures, and so the options that chose them, are the folder's.
-      for (const char* opt : {"--out", "--repetitions", "--min-time", "--filter", "--quick"})
+      for (const char* opt : {"--out", "--repetitions", "--min-time", "--extra-rounds", "--within", "--filter", "--quick"})
         if (sub_->count(opt)) {
           std::cerr << error_line("report", ro.from, std::string("--from writes the folder's report from its record: ") + opt +
                                                          " would change what was measured, so it is not taken with --from")
@@ -62,6 +66,7 @@ class ReportCommand final : public Command {
     ro.json = sub_->count("--json") > 0;
     if (ro.quick && sub_->count("--repetitions") == 0) ro.repetitions = 2;
     if (ro.quick && sub_->count("--min-time") == 0) ro.min_time = 0.005;
+    if (ro.quick && sub_->count("--extra-rounds") == 0) ro.extra_rounds = 0;
     if (!report_no_history && !c.open_history("report", report_history, kReportHistory)) return kExitError;
     const int rc = run_report(ro);
     if (rc == 0 && c.history) {

@@ -176,6 +176,8 @@ json measure_bench(const ReportOptions& o, const std::string& label, int& rc) {
   BenchOptions bo;
   bo.repetitions = o.repetitions;
   bo.min_time = o.min_time;
+  bo.extra_rounds = o.extra_rounds;
+  bo.within = o.within;
   bo.filter = o.filter;
   bo.every_repetition = true;
   bo.what = label + " benchmarks";
@@ -198,9 +200,11 @@ int open_record(const ReportOptions& opts, Record& rec, ReportOptions& o) {
     }
   }
   const json kept_options = rec.take("options", [&] {
-    return json{{"quick", o.quick}, {"repetitions", o.repetitions}, {"min_time", o.min_time}, {"filter", o.filter}};
+    return json{{"quick", o.quick}, {"repetitions", o.repetitions}, {"min_time", o.min_time}, {"extra_rounds", o.extra_rounds},
+                {"within", o.within}, {"filter", o.filter}};
   });
   o.quick = kept_options["quick"], o.repetitions = kept_options["repetitions"], o.min_time = kept_options["min_time"];
+  o.extra_rounds = kept_options.value("extra_rounds", 0), o.within = kept_options.value("within", 0.05);  // none in older records
   o.filter = kept_options["filter"];
   return 0;
 }
@@ -246,7 +250,8 @@ int run_report(const ReportOptions& opts) {
   const auto rows = rb::opstable::from_json(rec.take("ops", [] { return rb::opstable::to_json(rb::opstable::build()); }));
   md += section_ops(rows, out);
 
-  const std::string bench_label = next_stage(fmt::format("scalar vs SIMD benchmarks ({} repetitions x {} s each)", o.repetitions, o.min_time));
+  const std::string bench_label = next_stage(fmt::format("scalar vs SIMD benchmarks ({} repetitions x {} s each{})", o.repetitions, o.min_time,
+                                                         o.extra_rounds > 0 ? fmt::format(", up to {} more where wide", o.extra_rounds) : ""));
   const fs::path bj = out / "bench.json";
   int bench_rc = 0;
   json bench = rec.take("bench", [&] { return measure_bench(o, bench_label, bench_rc); });

@@ -21,6 +21,10 @@ struct ReportOptions {
   // than `bench`'s so that the section takes about what 7 rounds of 0.05 s took (docs/DESIGN.md).
   int repetitions = 9;
   double min_time = 0.04;       // seconds per benchmark repetition
+  // Then up to 6 more rounds of the forms whose ratio's interval is wider than +-5 %
+  // (BenchOptions::extra_rounds): a stretch in which the host ran slow is then left out.
+  int extra_rounds = 6;
+  double within = 0.05;
   std::string filter = ".";     // benchmark name filter (regex)
   bool charts = true;
   // A small report in about a minute (few repetitions, few rays, small images, fewer scenes): to
@@ -46,6 +50,11 @@ struct BenchOptions {
   // 9 rounds of 0.08 s take about what 7 of 0.1 s took.
   int repetitions = 9;
   double min_time = 0.08;               // seconds per benchmark per round
+  // After the rounds, up to `extra_rounds` more, each of the forms of every kernel, method and case
+  // one of whose ratios (SIMD / scalar, 16 / 8 lanes) still has an interval wider than `within`
+  // (relative half-width), and of the lone benchmarks whose rate's interval is (the node test).
+  int extra_rounds = 0;
+  double within = 0.05;
   std::string filter = ".";             // regex on kernel/method/variant/case
   bool every_repetition = true;         // false: medians and the other aggregates only
   std::uint32_t seed = 0;               // seed of the rays and primitives; 0: the report's data
@@ -64,6 +73,9 @@ std::vector<std::string> benchmark_names(const std::string& filter, const std::s
 // Google Benchmark JSON (its bare NaN and infinities as null). 0 on success, 2 when the filter
 // selects nothing, 1 when a benchmark reported an error.
 int run_benchmarks(const BenchOptions& o, nlohmann::json& doc);
+// One sentence on the extra rounds a run took (raybench_extra_rounds): how many, of how many runs,
+// and how many ratios were still wider than the target after them; "" when none were asked for.
+std::string extra_rounds_text(const nlohmann::json& doc);
 
 // Per SIMD benchmark of a run (kernel/method/variant/case), its speedup over the scalar form of the
 // same kernel, method and case: its tests per second over the scalar's, round by round (the rounds

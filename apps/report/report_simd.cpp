@@ -361,6 +361,7 @@ std::string report_section_simd(const json& bench, json& summary, std::vector<do
         "`-fno-tree-vectorize -fno-tree-slp-vectorize` in its own translation unit; the SIMD mappings run the same kernel text "
         "on 8 float lanes: 8 rays x 1 primitive (rays in lanes) or 1 ray x 8 primitives (prims in lanes). Cases: every pair hits, "
         "every pair misses, half the pairs hit (lanes diverge). One thread. Raw Google Benchmark JSON: [bench.json](bench.json).\n\n";
+  if (const std::string e = extra_rounds_text(bench); !e.empty()) md += e + "\n\n";
   md += speed_section(bench, summary) + "\n";
   md += "![SIMD speedup over scalar](simd_speedup.png)\n\n";
   const std::vector<Goal> speed = speed_goals(summary);

@@ -171,6 +171,10 @@ RatioInterval paired_ratio(const std::vector<double>& a, const std::vector<doubl
   return r;
 }
 
+double half_width(const RatioInterval& r) { return r.valid() && r.ratio > 0 ? (r.hi - r.lo) / 2 / r.ratio : kNaN; }
+
+bool too_wide(const RatioInterval& r, double precision) { return r.valid() && !(half_width(r) <= precision); }
+
 RatioInterval unpaired_ratio(const std::vector<double>& a, const std::vector<double>& b, double level) {
   RatioInterval r;
   r.paired = false;

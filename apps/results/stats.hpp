@@ -87,5 +87,13 @@ std::string interval_text(const RatioInterval& r, const char* unit = "x");
 enum class Verdict { met, not_met, undecided, not_measured };
 Verdict verdict(const RatioInterval& r, double target);
 
+// An interval's half-width relative to its ratio, (hi - lo) / 2 / ratio (NaN without an interval),
+// and whether it is wider than `precision` (0.05: +-5 %): the rule by which `bench` gives a ratio's
+// rows more rounds (apps/bench_run.cpp, --extra-rounds). Extending only the wide rows is a
+// sequential rule, which costs about a point of the stated coverage (Stats.ExtraRoundsKeepCoverage
+// measures it on a synthetic workload).
+double half_width(const RatioInterval& r);
+bool too_wide(const RatioInterval& r, double precision);
+
 
 }  // namespace rb::stats
