@@ -93,10 +93,12 @@ Timings time_engines(trace::ThreadScope& ts, std::size_t n, const Engine& ours, 
     bar.update(0.1 * double(w + 1) / std::max(kMaxWarmup, o.warmup));
     if (w + 1 >= std::max(1, o.warmup) && !moved(t.warm_ours) && (modes.empty() || !moved(t.warm_modes[fastest]))) break;
   }
-  // 2. Passes per repetition: enough for ours to last --min-time by its last warm-up run (more passes,
-  // never fewer rays); every engine makes the same passes. At most 10^4 (a pass of under 10 us is a
-  // handful of rays; no rays at all: one pass).
-  t.passes = n == 0 ? 1 : int(std::clamp(std::ceil(o.min_time / std::max(t.warm_ours.back(), 1e-9)), 1.0, 1e4));
+  // 2. Passes per repetition: enough for ours to last --min-time at the pace of its fastest warm-up
+  // run (more passes, never fewer rays; by the last run alone, a slow last run left the repetitions
+  // short of --min-time); every engine makes the same passes. At most 10^4 (a pass of under 10 us
+  // is a handful of rays; no rays at all: one pass).
+  const double fastest_warm = *std::min_element(t.warm_ours.begin(), t.warm_ours.end());
+  t.passes = n == 0 ? 1 : int(std::clamp(std::ceil(o.min_time / std::max(fastest_warm, 1e-9)), 1.0, 1e4));
   // 3. Embree's modes in the timed rounds: the fastest in the warm-up and every mode within
   // kModeSpread of it (the others are clearly slower: their warm-up figures are kept in the JSON).
   constexpr double kModeSpread = 1.10;
