@@ -119,10 +119,10 @@ std::string report_section_precision(json& summary, std::vector<doc::Goal>& goal
     std::size_t n_over = 0;
     for (const auto& [j, label] : rows) {
       const stats::RatioInterval r = stats::interval_from_json(*j);
-      if (!r.valid() || !(r.ratio > 0)) continue;
-      const double h = (r.hi - r.lo) / 2 / r.ratio;
+      const double h = stats::half_width(r);
+      if (!std::isfinite(h)) continue;  // no interval, or no positive ratio
       hw.push_back(h);
-      n_over += h > kTarget;
+      n_over += stats::too_wide(r, kTarget);
       if (h > big) big = h, big_row = label;
     }
     if (hw.empty()) continue;
