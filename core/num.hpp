@@ -69,9 +69,30 @@ struct scalar_num {
   using mask = bool;
   static constexpr int lanes = 1;
   // a < b ? a : b, the semantics of minps/maxps: a NaN in the first argument yields the second.
-  // (std::min and xsimd 8.1's scalar min differ: docs/DESIGN.md section 6.)
-  static RB_INLINE T min(T a, T b) { return a < b ? a : b; }
-  static RB_INLINE T max(T a, T b) { return a > b ? a : b; }
+  // (std::min and xsimd 8.1's scalar min differ: docs/DESIGN.md section 6.) With AVX these are the
+  // minss/maxss instructions themselves: a profile-guided build otherwise turns the comparison into
+  // a conditional jump wherever its training ran the branch mostly one way, and a kernel's min/max
+  // on rays that go either way then mispredicts (docs/DESIGN.md section 11).
+  static RB_INLINE T min(T a, T b) {
+#if defined(__AVX__) && defined(__GNUC__)
+    if constexpr (std::is_same_v<T, float>) asm("vminss %2, %1, %0" : "=x"(a) : "x"(a), "x"(b));
+    else if constexpr (std::is_same_v<T, double>) asm("vminsd %2, %1, %0" : "=x"(a) : "x"(a), "x"(b));
+    else a = a < b ? a : b;
+    return a;
+#else
+    return a < b ? a : b;
+#endif
+  }
+  static RB_INLINE T max(T a, T b) {
+#if defined(__AVX__) && defined(__GNUC__)
+    if constexpr (std::is_same_v<T, float>) asm("vmaxss %2, %1, %0" : "=x"(a) : "x"(a), "x"(b));
+    else if constexpr (std::is_same_v<T, double>) asm("vmaxsd %2, %1, %0" : "=x"(a) : "x"(a), "x"(b));
+    else a = a > b ? a : b;
+    return a;
+#else
+    return a > b ? a : b;
+#endif
+  }
   static RB_INLINE T select(bool m, T a, T b) { return m ? a : b; }
   static RB_INLINE T sqrt(T a) { return std::sqrt(a); }
   static RB_INLINE T abs(T a) { return std::fabs(a); }

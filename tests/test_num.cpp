@@ -148,6 +148,36 @@ TEST(Num, MinMaxFollowMinpsNaNRule) {
   EXPECT_EQ(lane(vmax(f8(nan), f8(1.f)), 0), 1.f);
 }
 
+// The scalar min/max are the minss/maxss (minsd/maxsd) instructions where AVX is on: bit for bit the
+// expression a < b ? a : b (a > b ? a : b) on every pair of special values, signed zeros included,
+// and the 8-lane form's lanes.
+template <class T>
+bool bits_equal(T a, T b) {
+  return std::memcmp(&a, &b, sizeof(T)) == 0;
+}
+
+template <class T>
+void expect_minmax_is_the_ternary() {
+  using L = std::numeric_limits<T>;
+  const T vals[] = {T(0), -T(0), T(1), T(-1), L::infinity(), -L::infinity(), L::quiet_NaN(), -L::quiet_NaN(),
+                    L::denorm_min(), -L::denorm_min(), L::max(), L::lowest(), T(0.5), T(1e-30)};
+  for (const T a : vals)
+    for (const T b : vals) {
+      const T a0 = a, b0 = b;  // the expression the comment promises, on copies
+      EXPECT_TRUE(bits_equal(vmin(a, b), a0 < b0 ? a0 : b0)) << a << " " << b;
+      EXPECT_TRUE(bits_equal(vmax(a, b), a0 > b0 ? a0 : b0)) << a << " " << b;
+      if constexpr (std::is_same_v<T, float>) {
+        EXPECT_TRUE(bits_equal(lane(vmin(f8(a), f8(b)), 2), vmin(a, b))) << a << " " << b;
+        EXPECT_TRUE(bits_equal(lane(vmax(f8(a), f8(b)), 6), vmax(a, b))) << a << " " << b;
+      }
+    }
+}
+
+TEST(Num, ScalarMinMaxAreTheTernaryBitForBit) {
+  expect_minmax_is_the_ternary<float>();
+  expect_minmax_is_the_ternary<double>();
+}
+
 TEST(Num, LoadsStoresAndLanes) {
   alignas(32) float in[8] = {0, 1, 2, 3, 4, 5, 6, 7};
   const f8 v = load<f8>(in);
