@@ -46,6 +46,7 @@ BUILDS = ("normal", "pgo", "tuned")
 OTHERS = ("pgo", "tuned")
 LEVEL = 0.95
 TARGET_HALF_WIDTH = 0.05  # the protocol's aim for a ratio's interval, half its width over the ratio
+PERF_HZ = 2000  # samples per second of `perf record` for the rows PGO slows
 
 
 def load_json(path):
@@ -304,33 +305,145 @@ def perf_works():
         return False
 
 
-def perf_shares(binary, args, limit=6):
-    """[(self share %, mangled function)] of the functions that took the most time running BINARY ARGS."""
+def symbol_range(binary, mangled):
+    """(start address, size) of MANGLED in BINARY's symbol table, or None."""
+    try:
+        text = subprocess.run(["nm", "-S", "--defined-only", binary], capture_output=True, text=True, check=True).stdout
+    except (OSError, subprocess.CalledProcessError):
+        return None
+    for line in text.splitlines():
+        parts = line.split()
+        if len(parts) == 4 and parts[3] == mangled and parts[2] in "tTwW":
+            return int(parts[0], 16), int(parts[1], 16)
+    return None
+
+
+CONDITIONAL_JUMP = re.compile(r"^j(?!mp)[a-z]+$")
+MIN_MAX = re.compile(r"^v?(min|max)[sp][sd]$")
+COMPARE = re.compile(r"^v?(u?comis[sd]|cmp[a-z]*[sp][sd])$")
+
+
+def code_mix(binary, mangled):
+    """The kinds of instructions in one function's code (floating-point compares, conditional
+    jumps, min/max, calls), from `objdump`, with its size; None when it cannot be found. Counted over
+    the whole function, not the instructions that took samples: a cpu-clock sample in this guest
+    lands where the timer interrupt finds the processor, so two profiles of one binary sample
+    different subsets of a large function (tried: a hot walk's sampled min/max numbered 14 and 22
+    in two runs of the same binary), while the code itself is the same in every run."""
+    where = symbol_range(binary, mangled)
+    if not where:
+        return None
+    start, size = where
+    try:
+        asm = subprocess.run(["objdump", "-d", "--no-show-raw-insn", f"--start-address={start:#x}",
+                              f"--stop-address={start + size:#x}", binary], capture_output=True, text=True,
+                             check=True, timeout=120).stdout
+    except (OSError, subprocess.SubprocessError):
+        return None
+    mix = {"size": size, "instructions": 0, "jumps": 0, "min_max": 0, "compares": 0, "calls": 0}
+    for line in asm.splitlines():
+        m = re.match(r"\s*[0-9a-f]+:\s+(\S+)", line)
+        if not m:
+            continue
+        op = m.group(1)
+        mix["instructions"] += 1
+        mix["jumps"] += bool(CONDITIONAL_JUMP.match(op))
+        mix["min_max"] += bool(MIN_MAX.match(op))
+        mix["compares"] += bool(COMPARE.match(op))
+        mix["calls"] += op.startswith("call")
+    return mix
+
+
+def perf_profile(binary, args, limit=6):
+    """Running BINARY ARGS under `perf record`: {"shares": [(self share %, mangled function)] of the
+    functions that took the most time, "hot": the hottest engine function, "mix": the kinds of
+    instructions in its code (code_mix), "cold_share": % of its samples in its `.cold` part, the
+    blocks GCC moved out of its body as rarely run}; None when perf fails."""
     with tempfile.TemporaryDirectory() as d:
         data = os.path.join(d, "perf.data")
         try:
-            subprocess.run(["perf", "record", "-q", "-e", "cpu-clock", "-F", "2000", "-o", data, "--", binary, *args,
+            subprocess.run(["perf", "record", "-q", "-e", "cpu-clock", "-F", str(PERF_HZ), "-o", data, "--", binary, *args,
                             "--json", os.path.join(d, "out.json")], capture_output=True, check=True, timeout=300)
             rep = subprocess.run(["perf", "report", "-i", data, "--stdio", "--no-children", "--no-demangle", "-g", "none",
                                   "--sort", "symbol", "-q", "--percent-limit", "1"],
                                  capture_output=True, text=True, check=True, timeout=300).stdout
         except (OSError, subprocess.SubprocessError):
             return None
-    out = []
+    shares = []
     for line in rep.splitlines():
         m = re.match(r"\s*([\d.]+)%\s+\[[.k]\]\s+(\S+)", line)
         if m:
-            out.append((float(m.group(1)), m.group(2)))
-    return out[:limit]
+            shares.append((float(m.group(1)), m.group(2)))
+    out = {"shares": shares[:limit]}
+    engine = [fn for _, fn in shares if fn.startswith("_ZN2rb") or fn.startswith("_ZZN2rb")]
+    if engine:
+        hot = engine[0][:-len(".cold")] if engine[0].endswith(".cold") else engine[0]
+        body = sum(x for x, fn in shares if fn == hot)
+        cold = sum(x for x, fn in shares if fn == hot + ".cold")
+        out.update(hot=hot, mix=code_mix(binary, hot), cold_share=100.0 * cold / (body + cold) if body + cold else 0.0)
+    return out
+
+
+def why_slower(entry):
+    """(short, long) words on what differs between the two builds' code of the row's hottest
+    function, by rules on code_mix; None without a profile of both builds."""
+    n, p = entry.get("normal") or {}, entry.get("pgo") or {}
+    if not n.get("mix") or not p.get("mix"):
+        return None
+    fn = short_name(demangle([n["hot"]])[0])
+    if n["hot"] != p["hot"]:
+        other = short_name(demangle([p["hot"]])[0])
+        return ("another hottest function", f"the hottest function differs: `{fn[:100]}` in the normal build, `{other[:100]}` "
+                "in the PGO build (code inlined into or split from it differently).")
+    a, b = n["mix"], p["mix"]
+
+    def moved(kind, share=0.10):  # a count changed by at least 3 and by at least SHARE of the normal build's
+        return abs(b[kind] - a[kind]) >= max(3, share * a[kind])
+
+    counts = (f"{a['jumps']} -> {b['jumps']} conditional jumps, {a['min_max']} -> {b['min_max']} min/max, "
+              f"{a['compares']} -> {b['compares']} floating-point compares, {a['size']:,} -> {b['size']:,} bytes")
+    said = []
+    if moved("min_max") and b["min_max"] < a["min_max"] and moved("compares") and b["compares"] > a["compares"]:
+        said.append(("min/max became jumps", "the profile compiled selections as compares and jumps, which mispredict "
+                                             "where the data go either way"))
+    elif moved("min_max") and b["min_max"] > a["min_max"] and moved("jumps") and b["jumps"] < a["jumps"]:
+        said.append(("jumps became min/max", "the profile turned conditional jumps into branch-free selections, which "
+                                             "always do the work a well-predicted jump let the normal build skip"))
+    if b["size"] >= 1.15 * a["size"]:
+        said.append(("grew", "its code grew: paths duplicated or loops unrolled by the profile's counts"))
+    if p.get("cold_share", 0) >= n.get("cold_share", 0) + 2:
+        said.append(("time in .cold code", f"{p['cold_share']:.0f} % of its samples in its `.cold` part (normal "
+                                           f"{n.get('cold_share', 0):.0f} %): blocks the training ran rarely run often here"))
+    if said:
+        return ("; ".join(s for s, _ in said), f"in `{fn[:100]}` ({counts}): " + "; ".join(w for _, w in said) + ".")
+    if any(moved(k) for k in ("jumps", "min_max", "compares", "size")):
+        return ("code changed, no rule", f"`{fn[:100]}` changed ({counts}) in no way the rules name; this guest has no "
+                                         "hardware counters to say which change costs the time.")
+    return ("same code, slower",
+            f"`{fn[:100]}` holds much the same instructions in both builds ({counts}): the same work, placed and "
+            "ordered differently, runs slower; this guest has no hardware counters to say whether branches, the "
+            "instruction cache or the front end pay.")
+
+
+def trace_key(r):
+    return f"trace {r['scene']} {r['ray_set']} {r['packet']}"
+
+
+def family_key(kernel):
+    return f"family {kernel}"
 
 
 def losing_profiles(rows_lost, binaries):
-    """Per row PGO slowed (the worst few): its command and the top functions' time shares in both builds."""
+    """Per row PGO slowed (the worst few): its command, the top functions' time shares in both
+    builds and what differs in the code of the hottest function."""
     out = []
-    for label, args in rows_lost:
-        entry = {"row": label, "command": "raybench " + " ".join(args)}
+    for key, label, args in rows_lost:
+        entry = {"key": key, "row": label, "command": "raybench " + " ".join(args)}
         for b in ("normal", "pgo"):
-            entry[b] = perf_shares(binaries[b], args)
+            entry[b] = perf_profile(binaries[b], args)
+        why = why_slower(entry)
+        if why:
+            entry["why_short"], entry["why"] = why
         out.append(entry)
     return out
 
@@ -388,6 +501,13 @@ def table_start(md, title, head, sep, others):
 def markdown(data, args, load):
     rows, fams, allk, trows, context, others = (data[k] for k in ("benchmarks", "families", "all_kernels", "traces",
                                                                   "context", "others"))
+    why = {e["key"]: e["why_short"] for e in data.get("losses") or [] if e.get("why_short")}
+
+    def verdict_cell(key, iv):
+        v = verdict(iv)
+        if v != "slower":
+            return v
+        return f"slower: {why[key]}" if key in why else "slower (not profiled)"
     md = ["## Profile-guided optimisation", ""]
     normal_ctx = context.get("normal", {})
     md.append(f"Measured by `./run.sh pgo`, which `./run.sh report` runs before the report ({args.minutes} min; {args.builds}). "
@@ -432,7 +552,7 @@ def markdown(data, args, load):
             nf = sum(1 for r in sub if verdict(r.get("pgo")) == "faster")
             ns = sum(1 for r in sub if verdict(r.get("pgo")) == "slower")
             line = (f"| {'**all kernels**' if name == 'all kernels' else name} | {len(sub)} | {interval_text(f.get('pgo'))} | "
-                    f"{verdict(f.get('pgo'))} | {nf} / {ns} |")
+                    f"{verdict_cell(family_key(name), f.get('pgo'))} | {nf} / {ns} |")
             if "tuned" in others:
                 line += f" {interval_text(f.get('tuned'))} |"
             md.append(line)
@@ -445,7 +565,7 @@ def markdown(data, args, load):
         for r in trows:
             p = r.get("pgo") or {}
             line = (f"| {r['scene']} | {r['ray_set']} | {r['packet']} | {r['normal_mrays_per_s']:.2f} | "
-                    f"{p.get('mrays_per_s', float('nan')):.2f} | {interval_text(p)} | {verdict(p)} |")
+                    f"{p.get('mrays_per_s', float('nan')):.2f} | {interval_text(p)} | {verdict_cell(trace_key(r), p)} |")
             if "tuned" in others:
                 line += f" {interval_text(r.get('tuned'))} |"
             md.append(line)
@@ -495,6 +615,13 @@ def markdown(data, args, load):
         md.append(f"{len(slower)} rows are slower with the profile; no per-function profile of them was taken "
                   f"({data.get('perf_why', 'perf did not run')}).")
         md.append("")
+    if slower and lost:
+        md.append("Each row PGO slowed (the worst first) ran once more under `perf record -e cpu-clock` in each build. "
+                  "**Why** compares the two builds' code of the row's hottest function, disassembled with `objdump`: "
+                  "its size and its instructions by kind (conditional jumps, min/max, floating-point compares), and "
+                  "the share of its samples in its `.cold` part; a rule names what the profile changed there (a count "
+                  "moved by at least 3 and 10 %, the size by 15 %, the share by 2 points).")
+        md.append("")
     for e in lost:
         md.append(f"**{e['row']}** (`{e['command']}`): the functions that took the most time (`perf record -e cpu-clock`, "
                   "self time), with their size in each build.")
@@ -503,13 +630,16 @@ def markdown(data, args, load):
         md.append("|---|---:|---|---:|---:|")
         sizes = cc["sizes"] if cc else ({}, {})
         for b in ("normal", "pgo"):
-            shares = e.get(b) or []
+            shares = (e.get(b) or {}).get("shares") or []
             names = demangle([fn for _, fn in shares])
             for (share, fn), name in zip(shares, names):
                 sn, sp = sizes[0].get(fn, (None,))[0], sizes[1].get(fn, (None,))[0]
                 md.append(f"| {b} | {share:.1f} % | `{short_name(name)[:140]}` | {'-' if sn is None else f'{sn:,}'} | "
                           f"{'-' if sp is None else f'{sp:,}'} |")
         md.append("")
+        if e.get("why"):
+            md.append(f"**Why**: {e['why']}")
+            md.append("")
     md.append("Raw rows: [pgo.json](pgo.json). The PGO build passes the same tests: `./run.sh pgo-test`.")
     md.append("")
     return "\n".join(md) + "\n"
@@ -529,7 +659,7 @@ def main():
     ap.add_argument("--trace-min-time", default="?")
     ap.add_argument("--trace-reps", default="?")
     ap.add_argument("--binary", action="append", default=[], help="BUILD=PATH of a measured binary (normal, pgo)")
-    ap.add_argument("--perf-rows", type=int, default=3, help="rows PGO slowed to profile with perf (the worst first)")
+    ap.add_argument("--perf-rows", type=int, default=8, help="rows PGO slowed to profile with perf (the worst first)")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
     rows, fams, allk, trows, context, others = compare(args.results)
@@ -538,13 +668,13 @@ def main():
     if "normal" in binaries and "pgo" in binaries:
         data["code"] = code_changes(binaries["normal"], binaries["pgo"])
         lost = sorted((r for r in trows if verdict(r.get("pgo")) == "slower"), key=lambda r: r["pgo"]["ratio"])
-        jobs = [(f"{r['scene']} {r['ray_set']} K={r['packet']}",
+        jobs = [(trace_key(r), f"{r['scene']} {r['ray_set']} K={r['packet']}",
                  ["trace", r["scene"], "--rays", r["ray_set"], "--packet", str(r["packet"]), "--threads", "1", "-r", "3",
                   "--min-time", "0.5", "--brute", "0", "--no-embree"]) for r in lost[:args.perf_rows]]
         # A slower family is profiled on its slowest benchmark, the one that pulled it down.
         for f in sorted((f for f in fams if verdict(f.get("pgo")) == "slower"), key=lambda f: f["pgo"]["ratio"])[:args.perf_rows]:
             worst = min((r for r in rows if r["kernel"] == f["kernel"] and r.get("pgo")), key=lambda r: r["pgo"]["ratio"])
-            jobs.append((f"kernel family {f['kernel']}, its slowest benchmark {worst['benchmark']} ({interval_text(worst['pgo'])})",
+            jobs.append((family_key(f["kernel"]), f"kernel family {f['kernel']}, its slowest benchmark {worst['benchmark']} ({interval_text(worst['pgo'])})",
                          ["bench", "--filter", f"^{worst['benchmark']}$", "-r", "3", "--min-time", "0.3"]))
         if jobs and perf_works():
             data["losses"] = losing_profiles(jobs, binaries)
