@@ -319,13 +319,16 @@ def symbol_range(binary, mangled):
 
 
 CONDITIONAL_JUMP = re.compile(r"^j(?!mp)[a-z]+$")
-MIN_MAX = re.compile(r"^v?(min|max)[sp][sd]$")
-COMPARE = re.compile(r"^v?(u?comis[sd]|cmp[a-z]*[sp][sd])$")
+# Scalar only: a scalar min/max or compare-and-jump is where GCC chooses between a branch and a
+# branch-free selection; the vector ones are the source's own (xsimd), whose count changes only when
+# code is duplicated or merged.
+MIN_MAX = re.compile(r"^v?(min|max)s[sd]$")
+COMPARE = re.compile(r"^v?u?comis[sd]$")
 
 
 def code_mix(binary, mangled):
-    """The kinds of instructions in one function's code (floating-point compares, conditional
-    jumps, min/max, calls), from `objdump`, with its size; None when it cannot be found. Counted over
+    """The kinds of instructions in one function's code (conditional jumps, scalar min/max, scalar
+    floating-point compares, calls), from `objdump`, with its size; None when it cannot be found. Counted over
     the whole function, not the instructions that took samples: a cpu-clock sample in this guest
     lands where the timer interrupt finds the processor, so two profiles of one binary sample
     different subsets of a large function (tried: a hot walk's sampled min/max numbered 14 and 22
@@ -400,8 +403,8 @@ def why_slower(entry):
     def moved(kind, share=0.10):  # a count changed by at least 3 and by at least SHARE of the normal build's
         return abs(b[kind] - a[kind]) >= max(3, share * a[kind])
 
-    counts = (f"{a['jumps']} -> {b['jumps']} conditional jumps, {a['min_max']} -> {b['min_max']} min/max, "
-              f"{a['compares']} -> {b['compares']} floating-point compares, {a['size']:,} -> {b['size']:,} bytes")
+    counts = (f"{a['jumps']} -> {b['jumps']} conditional jumps, {a['min_max']} -> {b['min_max']} scalar min/max, "
+              f"{a['compares']} -> {b['compares']} scalar compares, {a['size']:,} -> {b['size']:,} bytes")
     said = []
     if moved("min_max") and b["min_max"] < a["min_max"] and moved("compares") and b["compares"] > a["compares"]:
         said.append(("min/max became jumps", "the profile compiled selections as compares and jumps, which mispredict "
@@ -618,7 +621,8 @@ def markdown(data, args, load):
     if slower and lost:
         md.append("Each row PGO slowed (the worst first) ran once more under `perf record -e cpu-clock` in each build. "
                   "**Why** compares the two builds' code of the row's hottest function, disassembled with `objdump`: "
-                  "its size and its instructions by kind (conditional jumps, min/max, floating-point compares), and "
+                  "its size and its instructions by kind (conditional jumps, scalar min/max, scalar floating-point "
+                  "compares), and "
                   "the share of its samples in its `.cold` part; a rule names what the profile changed there (a count "
                   "moved by at least 3 and 10 %, the size by 15 %, the share by 2 points).")
         md.append("")
