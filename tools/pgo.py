@@ -328,7 +328,7 @@ COMPARE = re.compile(r"^v?u?comis[sd]$")
 
 def code_mix(binary, mangled):
     """The kinds of instructions in one function's code (conditional jumps, scalar min/max, scalar
-    floating-point compares, calls), from `objdump`, with its size; None when it cannot be found. Counted over
+    floating-point compares), from `objdump`, with its size; None when it cannot be found. Counted over
     the whole function, not the instructions that took samples: a cpu-clock sample in this guest
     lands where the timer interrupt finds the processor, so two profiles of one binary sample
     different subsets of a large function (tried: a hot walk's sampled min/max numbered 14 and 22
@@ -343,7 +343,7 @@ def code_mix(binary, mangled):
                              check=True, timeout=120).stdout
     except (OSError, subprocess.SubprocessError):
         return None
-    mix = {"size": size, "instructions": 0, "jumps": 0, "min_max": 0, "compares": 0, "calls": 0}
+    mix = {"size": size, "instructions": 0, "jumps": 0, "min_max": 0, "compares": 0}
     for line in asm.splitlines():
         m = re.match(r"\s*[0-9a-f]+:\s+(\S+)", line)
         if not m:
@@ -353,7 +353,6 @@ def code_mix(binary, mangled):
         mix["jumps"] += bool(CONDITIONAL_JUMP.match(op))
         mix["min_max"] += bool(MIN_MAX.match(op))
         mix["compares"] += bool(COMPARE.match(op))
-        mix["calls"] += op.startswith("call")
     return mix
 
 
@@ -404,7 +403,8 @@ def why_slower(entry):
         return abs(b[kind] - a[kind]) >= max(3, share * a[kind])
 
     counts = (f"{a['jumps']} -> {b['jumps']} conditional jumps, {a['min_max']} -> {b['min_max']} scalar min/max, "
-              f"{a['compares']} -> {b['compares']} scalar compares, {a['size']:,} -> {b['size']:,} bytes")
+              f"{a['compares']} -> {b['compares']} scalar compares, {a['instructions']:,} -> {b['instructions']:,} "
+              f"instructions in {a['size']:,} -> {b['size']:,} bytes")
     said = []
     if moved("min_max") and b["min_max"] < a["min_max"] and moved("compares") and b["compares"] > a["compares"]:
         said.append(("min/max became jumps", "the profile compiled selections as compares and jumps, which mispredict "
