@@ -60,7 +60,7 @@ build() {
 # (pgo-gen) is trained on a workload apart from the measured one, the PGO build (pgo-use) is compiled
 # with that profile, and both builds run the measured workload in paired rounds; tools/pgo.py turns
 # the rounds into the report's PGO section (ratios with intervals, what the profile changed, where
-# PGO loses). Builds are incremental: the training runs again only when the instrumented binary or
+# PGO loses). Builds are incremental: the training runs again only when the instrumented code or
 # the training workload changed, and the PGO build recompiles everything only when the training
 # workload changed (otherwise just the files whose sources changed: the others keep a profile of the
 # same code). --tuned adds a build trained on the measured workload itself (how much a profile of
@@ -96,16 +96,18 @@ pgo_trace() {  # binary, JSON file, seed, count, min time, repetitions, scene, r
     echo "[pgo] warning: trace $7 $8 K=$9 failed with $1" >&2
 }
 
-pgo_train() {  # profile name (honest | tuned); trains only when the instrumented binary or the workload changed
+pgo_train() {  # profile name (honest | tuned); trains only when the instrumented code or the workload changed
   local name=$1 gen=build/pgo-gen/apps/raybench words
   [ -x "$gen" ] || { echo "error: no instrumented binary ($gen)" >&2; return 1; }
   [ "$name" = honest ] && words=$PGO_HONEST || words=$PGO_TUNED
   local want_bin want_work have=""
-  want_bin=$(sha256sum "$gen" | cut -c1-16)
+  # The code (.text), not the whole binary: every commit changes the revision the binary records
+  # (a string in .rodata), which changes no count of the training.
+  want_bin=$( (objcopy --dump-section .text=/dev/stdout "$gen" /dev/null 2>/dev/null || cat "$gen") | sha256sum | cut -c1-16)
   want_work=$(echo "$words" | sha256sum | cut -c1-16)
   [ -f "$PGO_PROFILES/$name.stamp" ] && have=$(cat "$PGO_PROFILES/$name.stamp")
   if [ -d "$PGO_PROFILES/$name" ] && [ "$have" = "$want_bin $want_work" ]; then
-    echo "[pgo] the $name profile is up to date (same instrumented binary, same training)"
+    echo "[pgo] the $name profile is up to date (same instrumented code, same training)"
     return
   fi
   # A new training workload invalidates every object compiled with the old profile.
