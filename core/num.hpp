@@ -70,9 +70,9 @@ struct scalar_num {
   static constexpr int lanes = 1;
   // a < b ? a : b, the semantics of minps/maxps: a NaN in the first argument yields the second.
   // (std::min and xsimd 8.1's scalar min differ: docs/DESIGN.md section 6.) With AVX these are the
-  // minss/maxss instructions themselves: a profile-guided build otherwise turns the comparison into
-  // a conditional jump wherever its training ran the branch mostly one way, and a kernel's min/max
-  // on rays that go either way then mispredicts (docs/DESIGN.md section 11).
+  // minss/maxss instructions themselves: from the expression, a profile-guided build compiled the
+  // scalar kernels' min/max as compares and conditional jumps, which mispredict on rays that go
+  // either way (docs/DESIGN.md section 11).
   static RB_INLINE T min(T a, T b) {
 #if defined(__AVX__) && defined(__GNUC__)
     if constexpr (std::is_same_v<T, float>) asm("vminss %2, %1, %0" : "=x"(a) : "x"(a), "x"(b));
