@@ -329,7 +329,7 @@ COMPARE = re.compile(r"^v?u?comis[sd]$")
 def code_mix(binary, mangled):
     """The kinds of instructions in one function's code (conditional jumps, scalar min/max, scalar
     floating-point compares), from `objdump`, with its size; None when it cannot be found. Counted over
-    the whole function, not the instructions that took samples: a cpu-clock sample in this guest
+    the whole function, not the instructions that took samples: a cpu-clock sample in a KVM guest
     lands where the timer interrupt finds the processor, so two profiles of one binary sample
     different subsets of a large function (tried: a hot walk's sampled min/max numbered 14 and 22
     in two runs of the same binary), while the code itself is the same in every run."""
@@ -420,11 +420,11 @@ def why_slower(entry):
     if said:
         return ("; ".join(s for s, _ in said), f"in `{fn[:100]}` ({counts}): " + "; ".join(w for _, w in said) + ".")
     if any(moved(k) for k in ("jumps", "min_max", "compares", "size")):
-        return ("code changed, no rule", f"`{fn[:100]}` changed ({counts}) in no way the rules name; this guest has no "
-                                         "hardware counters to say which change costs the time.")
+        return ("code changed, no rule", f"`{fn[:100]}` changed ({counts}) in no way the rules name; a cpu-clock "
+                                         "profile cannot say which change costs the time.")
     return ("same code, slower",
             f"`{fn[:100]}` holds much the same instructions in both builds ({counts}): the same work, placed and "
-            "ordered differently, runs slower; this guest has no hardware counters to say whether branches, the "
+            "ordered differently, runs slower; a cpu-clock profile cannot say whether branches, the "
             "instruction cache or the front end pay.")
 
 
