@@ -251,18 +251,25 @@ def demangle(names):
     return list(names)
 
 
-def engine_functions(binary):
-    """{mangled name: (size in bytes, demangled name)} of the engine's functions (namespace rb) in
-    BINARY's symbol table."""
+def code_symbols(binary):
+    """[(address, size, mangled name)] of the functions in BINARY's symbol table (`nm -S`), or None."""
     try:
         text = subprocess.run(["nm", "-S", "--defined-only", binary], capture_output=True, text=True, check=True).stdout
     except (OSError, subprocess.CalledProcessError):
         return None
+    return [(int(p[0], 16), int(p[1], 16), p[3]) for p in (line.split() for line in text.splitlines())
+            if len(p) == 4 and p[2] in "tTwW"]
+
+
+def engine_functions(binary):
+    """{mangled name: (size in bytes, demangled name)} of the engine's functions (namespace rb) in
+    BINARY's symbol table."""
+    symbols = code_symbols(binary)
+    if symbols is None:
+        return None
     sizes = {}
-    for line in text.splitlines():
-        parts = line.split()
-        if len(parts) == 4 and parts[2] in "tTwW":
-            sizes[parts[3]] = sizes.get(parts[3], 0) + int(parts[1], 16)
+    for _, size, name in symbols:
+        sizes[name] = sizes.get(name, 0) + size
     names = list(sizes)
     return {m: (sizes[m], d) for m, d in zip(names, demangle(names)) if "rb::" in d}
 
@@ -305,19 +312,6 @@ def perf_works():
         return False
 
 
-def symbol_range(binary, mangled):
-    """(start address, size) of MANGLED in BINARY's symbol table, or None."""
-    try:
-        text = subprocess.run(["nm", "-S", "--defined-only", binary], capture_output=True, text=True, check=True).stdout
-    except (OSError, subprocess.CalledProcessError):
-        return None
-    for line in text.splitlines():
-        parts = line.split()
-        if len(parts) == 4 and parts[3] == mangled and parts[2] in "tTwW":
-            return int(parts[0], 16), int(parts[1], 16)
-    return None
-
-
 CONDITIONAL_JUMP = re.compile(r"^j(?!mp)[a-z]+$")
 # Scalar only: a scalar min/max or compare-and-jump is where GCC chooses between a branch and a
 # branch-free selection; the vector ones are the source's own (xsimd), whose count changes only when
@@ -333,10 +327,10 @@ def code_mix(binary, mangled):
     lands where the timer interrupt finds the processor, so two profiles of one binary sample
     different subsets of a large function (tried: a hot walk's sampled min/max numbered 14 and 22
     in two runs of the same binary), while the code itself is the same in every run."""
-    where = symbol_range(binary, mangled)
+    where = [(a, n) for a, n, name in code_symbols(binary) or () if name == mangled]
     if not where:
         return None
-    start, size = where
+    start, size = where[0]
     try:
         asm = subprocess.run(["objdump", "-d", "--no-show-raw-insn", f"--start-address={start:#x}",
                               f"--stop-address={start + size:#x}", binary], capture_output=True, text=True,
