@@ -31,6 +31,8 @@ struct Group<f16> {
   // Lanes 0-7 (h = 0) or 8-15 (h = 1) as an 8-lane group, and the group made of two such halves.
   static RB_INLINE f8 half(const f16& x, int h) { return f8(h ? _mm512_extractf32x8_ps(x, 1) : _mm512_castps512_ps256(x)); }
   static RB_INLINE f16 join(const f8& lo, const f8& hi) { return f16(_mm512_insertf32x8(_mm512_castps256_ps512(lo), hi, 1)); }
+  // The same 8 lanes in both halves (one broadcast; from memory, one load).
+  static RB_INLINE f16 twice(const f8& x) { return f16(_mm512_broadcast_f32x8(x)); }
 };
 
 }  // namespace rb::lanes

@@ -138,7 +138,8 @@ struct MeshLeaves {
     int rays = 0;
     for (int q = 0; q < p.n; ++q) rays += count_true<V>(p.active[p.list[q]]);
     const int tris = int(real_slots(*tri, base));
-    if (rays < tris * p.n) {
+    const int calls = lanes::Group<V>::N == 16 && Any ? (rays + 1) / 2 : rays;  // any hit in 16 lanes: rays in pairs
+    if (calls < tris * p.n) {
       packet_by_ray<Any>(base, p, c);
       return;
     }
@@ -182,6 +183,10 @@ struct MeshLeaves {
   RB_INLINE void packet_by_ray(std::size_t base, bvh::PacketRaysT<V>& p, MeshPacketCache<V>& c) const {
     using Lanes = lanes::Group<V>;
     constexpr int N = Lanes::N;
+    if constexpr (N == 16 && Any) {
+      packet_by_ray_pairs<Any>(base, p, c);
+      return;
+    }
     const float* gr = tri->f32.field(0, base);  // the group: field i at gr + 8 i
     prefetch_ids(*tri, base);
     for (int q = 0; q < p.n; ++q) {
@@ -220,6 +225,84 @@ struct MeshLeaves {
         if constexpr (Any) p.active[g] = p.active[g] & ~Lanes::of(1u << l);
       }
       p.tbest[g] = V::load_aligned(tb);
+    }
+  }
+
+  // Any hit in 16 lanes: two rays at a time against the leaf's 8 triangles, one in the low 8 lanes
+  // and the other in the high 8, each with its own shear and origin (an odd last ray pairs with
+  // itself); where the two share the shear's permutation, as a coherent packet's rays mostly do,
+  // each coordinate row is loaded once into both halves. Half the kernel calls of one ray at a
+  // time, the same arithmetic in every lane. Closest-hit packets keep one ray at a time: in pairs
+  // their primary packets of 16 and 64 ran 4-10 % slower on the bunny and the dragon, choosing
+  // between the two loops either way (docs/DESIGN.md section 12).
+  template <bool Any, class V>
+  RB_INLINE void packet_by_ray_pairs(std::size_t base, bvh::PacketRaysT<V>& p, MeshPacketCache<V>& c) const {
+    using Lanes = lanes::Group<V>;
+    constexpr int N = Lanes::N;
+    static_assert(N == 16);
+    const float* gr = tri->f32.field(0, base);  // the group: field i at gr + 8 i
+    prefetch_ids(*tri, base);
+    alignas(64) float tb[bvh::kMaxRays / N][N], tm[bvh::kMaxRays / N][N];
+    std::uint16_t todo[bvh::kMaxRays];  // q N + l: lane l of the q-th listed group
+    int n = 0;
+    std::uint32_t stored = 0;  // bit q: the q-th listed group's distances are in tb[q]
+    for (int q = 0; q < p.n; ++q) {
+      const int g = p.list[q];
+      unsigned bits = Lanes::bits(p.active[g]);
+      if (!bits) continue;
+      stored |= 1u << q;
+      p.tbest[g].store_aligned(tb[q]);
+      p.r[g].tmin.store_aligned(tm[q]);
+      for (; bits; bits &= bits - 1) {
+        const int l = __builtin_ctz(bits);
+        if (!(c.ray_ready[g] >> l & 1u)) {
+          c.one[N * g + l].make(p.r[g], l);
+          c.ray_ready[g] |= 1u << l;
+        }
+        todo[n++] = std::uint16_t(N * q + l);
+      }
+    }
+    auto code_of = [&](int lane) { return kinds::code(kinds::TriangleKind::id, tri->id[base + std::size_t(lane)]); };
+    // Ray j of todo (its hits in lanes t8) taken where nearer.
+    auto take = [&](int j, const f8& t8) {
+      const int q = todo[j] / N, l = todo[j] % N, g = p.list[q];
+      bvh::Closest h{tb[q][l], p.prim[N * g + l]};
+      if (!bvh::take_nearest(t8, h, code_of)) return;
+      tb[q][l] = h.t;
+      p.prim[N * g + l] = h.prim;
+      p.improved = true;
+      if constexpr (Any) p.active[g] = p.active[g] & ~Lanes::of(1u << l);
+    };
+    for (int j = 0; j < n; j += 2) {
+      const int b = j + 1 < n ? j + 1 : j;  // an odd last ray pairs with itself
+      const int qa = todo[j] / N, la = todo[j] % N, qb = todo[b] / N, lb = todo[b] % N;
+      const typename MeshPacketCache<V>::One& ra = c.one[N * p.list[qa] + la];
+      const typename MeshPacketCache<V>::One& rb = c.one[N * p.list[qb] + lb];
+      auto both = [](float x, float y) { return Lanes::join(f8(x), f8(y)); };
+      WoopRay<V> w;
+      w.Sx = both(ra.S[0], rb.S[0]); w.Sy = both(ra.S[1], rb.S[1]); w.Sz = both(ra.S[2], rb.S[2]);
+      w.uniform = false;
+      Ray<V> rr;
+      rr.tmin = both(tm[qa][la], tm[qb][lb]);
+      rr.tmax = both(tb[qa][la], tb[qb][lb]);
+      const V o[3] = {both(ra.o[0], rb.o[0]), both(ra.o[1], rb.o[1]), both(ra.o[2], rb.o[2])};
+      Hit<V> hit;
+      if (ra.k[0] == rb.k[0] && ra.k[1] == rb.k[1]) {  // one permutation: each row loaded once into both halves
+        auto coord = [&](int v, int a) { return Lanes::twice(load<f8>(gr + 8 * (3 * v + ra.k[a]))) - o[a]; };
+        auto vertex = [&](int v) { return Vec3<V>{coord(v, 0), coord(v, 1), coord(v, 2)}; };
+        hit = intersect_triangle_woop_permuted(w, rr, vertex(0), vertex(1), vertex(2));
+      } else {
+        auto coord = [&](int v, int a) { return Lanes::join(load<f8>(gr + 8 * (3 * v + ra.k[a])), load<f8>(gr + 8 * (3 * v + rb.k[a]))) - o[a]; };
+        auto vertex = [&](int v) { return Vec3<V>{coord(v, 0), coord(v, 1), coord(v, 2)}; };
+        hit = intersect_triangle_woop_permuted(w, rr, vertex(0), vertex(1), vertex(2));
+      }
+      const unsigned hb = Lanes::bits(hit.mask);
+      if (hb & 0xFFu) take(j, Lanes::half(hit.t, 0));
+      if (b != j && hb >> 8) take(b, Lanes::half(hit.t, 1));
+    }
+    for (; stored; stored &= stored - 1) {
+      const int q = __builtin_ctz(stored);
+      p.tbest[p.list[q]] = V::load_aligned(tb[q]);
     }
   }
 
