@@ -7,8 +7,8 @@
 // agree on hit or miss, at a distance no nearer than the closest hit's and within the ray's
 // interval (any-hit leaves test two rays at a time in 16 lanes, one in each half). Rays include zero
 // and tiny direction components, finite and infinite tmax, origins inside the meshes, and invalid
-// rays. Built in the `exact` preset without the tracer's
-// other walks (rb_tracer_core); skipped where the build or the CPU has no AVX-512.
+// rays. Built in the `exact` preset without the tracer's other walks (rb_tracer_core); skipped where
+// the build or the CPU has no AVX-512.
 #include "scene/sources.hpp"
 #include "tracer/accel.hpp"
 #include "tracer/traversal.hpp"
